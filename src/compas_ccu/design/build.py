@@ -1,0 +1,302 @@
+"""Build the design-state geometry and the mechanism of a validated design.
+
+Everything here works in the local frame of the leading crease plane (see
+:mod:`compas_ccu.kinematics.leading`): crease in ``z = 0``, leading plate on the left of the
+crease, rising towards ``+z``. A plate on the right of the profile is handled by mirroring the
+profile's y coordinate (``flip = -1``) in and out of the local frame.
+
+Multi-crease construction (SPEC §2, paper §5.1): the rulings of a plate are trimmed at the next
+crease plane, and the next plate is the mirror image of those ruling lines across that plane,
+trimmed at the plane after it. At the design state every crease is planar by construction.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from compas_ccu.errors import DesignError, GeometryError
+from compas_ccu.kinematics.leading import LeadingStrip
+from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
+from compas_ccu.strips import rulings as ruling_fields
+from compas_ccu.strips.frames import crease_frames
+from compas_ccu.strips.intrinsics import strip_intrinsics
+
+__all__ = ["BuiltDesign", "build"]
+
+
+@dataclass
+class BuiltDesign:
+    """Geometry and kinematics of a design.
+
+    Attributes
+    ----------
+    mechanism : Mechanism
+    plate_ids : list of int
+        Output id of mechanism plate ``i``.
+    design_near, design_far : (p, n + 1, 3) float
+        Plates at the design state (local frame, mechanism order): the 3D target for
+        ``state = "deployed"``, the cut pattern for ``state = "flat"``. They are the reference of
+        the isometry check and independent of the kinematics.
+    design_alpha : float
+        Radians.
+    reference : int
+        Reference crease vertex.
+    flip : float
+        +1 if the leading plate lies left of the profile, -1 if right.
+    profile_points : (n + 1, 2) float
+        The sampled profile in plane coordinates.
+    """
+
+    mechanism: Mechanism
+    plate_ids: list
+    design_near: np.ndarray
+    design_far: np.ndarray
+    design_alpha: float
+    reference: int
+    flip: float
+    profile_points: np.ndarray
+    state: str
+
+
+def _side_flip(points: np.ndarray, side: str, reference: int) -> float:
+    if side == "left":
+        return 1.0
+    if side == "right":
+        return -1.0
+    turn = crease_frames(points).turns
+    if reference in (0, len(points) - 1):
+        reference = 1 if reference == 0 else len(points) - 2
+    t = turn[reference]
+    if abs(t) < 1e-12:
+        raise DesignError(
+            f"the crease is straight at the reference vertex {reference}, so '{side}' is "
+            "undefined; use side = 'left' or 'right'",
+            key="rulings.side",
+        )
+    centre_left = t > 0.0
+    return 1.0 if centre_left == (side == "inside") else -1.0
+
+
+def _gamma_field(value, s_fraction: np.ndarray) -> np.ndarray:
+    if isinstance(value, float):
+        return np.full(len(s_fraction), math.radians(value))
+    table = np.asarray(value, dtype=float)
+    return np.radians(np.interp(s_fraction, table[:, 0], table[:, 1]))
+
+
+def _rulings_3d(values: dict, local: np.ndarray, alpha: float, reference: int, flip: float):
+    spec = values["rulings"]
+    kind = spec["type"]
+    flip2 = np.array([1.0, flip])
+    if kind == "orthogonal":
+        return ruling_fields.orthogonal_rulings(local, alpha=alpha, reference=reference)
+    if kind == "cylindrical":
+        _need(spec, "direction", "rulings", kind)
+        return ruling_fields.cylindrical_rulings(
+            local, direction=np.asarray(spec["direction"]) * flip2, alpha=alpha,
+            reference=reference,
+        )
+    if kind == "conical":
+        _need(spec, "apex", "rulings", kind)
+        return ruling_fields.conical_rulings(
+            local, apex=np.asarray(spec["apex"]) * flip2, alpha=alpha, reference=reference
+        )
+    _need(spec, "gamma", "rulings", kind)
+    f = crease_frames(local)
+    s = np.r_[0.0, np.cumsum(f.lengths)]
+    gamma = _gamma_field(spec["gamma"], s / s[-1])
+    if spec["alpha_field"] == "constant":
+        ruling_fields.check_alpha_field(local, gamma, np.full(len(local), alpha))
+    r, _ = ruling_fields.ruling_angle_rulings(local, gamma=gamma, alpha=alpha,
+                                              reference=reference)
+    return r
+
+
+def _rulings_2d(values: dict, local: np.ndarray, flip: float) -> np.ndarray:
+    """Unit ruling directions in the cut pattern (flat state), plate on the left."""
+    spec = values["rulings"]
+    kind = spec["type"]
+    f = crease_frames(local)
+    if kind == "orthogonal":
+        r = f.normals.copy()
+    elif kind == "cylindrical":
+        _need(spec, "direction", "rulings", kind)
+        d = np.asarray(spec["direction"]) * [1.0, flip]
+        d = d / np.linalg.norm(d)
+        r = np.tile(d if f.normals[0] @ d > 0 else -d, (len(local), 1))
+    elif kind == "conical":
+        _need(spec, "apex", "rulings", kind)
+        to_apex = np.asarray(spec["apex"]) * [1.0, flip] - local
+        r = to_apex / np.linalg.norm(to_apex, axis=1)[:, None]
+        if np.einsum("ij,ij->i", r, f.normals)[0] < 0.0:
+            r = -r
+    else:
+        _need(spec, "gamma", "rulings", kind)
+        s = np.r_[0.0, np.cumsum(f.lengths)]
+        gamma = _gamma_field(spec["gamma"], s / s[-1])
+        if spec["alpha_field"] == "constant" and np.any(np.abs(gamma - np.pi / 2) > 1e-12):
+            i = int(np.flatnonzero(np.abs(gamma - np.pi / 2) > 1e-12)[0])
+            raise DesignError(
+                "a constant reflection angle along a planar crease requires gamma = 90 deg "
+                f"everywhere (SPEC §1, ultra-special case); gamma = "
+                f"{math.degrees(gamma[i]):.6g} deg at crease vertex {i} is not developable "
+                "with a constant alpha (alpha' = cot(gamma) kappa_2D tan(alpha) != 0)",
+                key="rulings.alpha_field",
+            )
+        r = np.cos(gamma)[:, None] * f.tangents + np.sin(gamma)[:, None] * f.normals
+    into = np.einsum("ij,ij->i", r, f.normals)
+    bad = np.flatnonzero(into <= 1e-9)
+    if bad.size:
+        raise DesignError(
+            f"the {kind} rulings do not point into the plate at crease vertex {int(bad[0])}: "
+            "the crease turns past the ruling direction there",
+            key="rulings.type",
+        )
+    return np.c_[r, np.zeros(len(r))]
+
+
+def _need(section: dict, name: str, section_name: str, kind: str) -> None:
+    if section.get(name) is None:
+        raise DesignError(f"required for type '{kind}'", key=f"{section_name}.{name}")
+
+
+def _trim(near: np.ndarray, direction: np.ndarray, z: float, plate: int, plane: int):
+    t = (z - near[:, 2]) / direction[:, 2]
+    bad = np.flatnonzero(~np.isfinite(t) | (t <= 0.0))
+    if bad.size:
+        raise DesignError(
+            f"the rulings of plate {plate} do not reach crease plane {plane} at crease vertex "
+            f"{int(bad[0])} (they run parallel to it or away from it)",
+            key="layout.spacing",
+        )
+    return near + t[:, None] * direction
+
+
+def _reflect_z(v: np.ndarray) -> np.ndarray:
+    return v * np.array([1.0, 1.0, -1.0])
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v, axis=1)[:, None]
+
+
+def build(values: dict) -> BuiltDesign:
+    """Build the design state and the mechanism of a validated design (see ``schema``)."""
+    from compas_ccu.curves import profile_from_dict
+
+    crease = values["crease"]
+    layout = values["layout"]
+    spec = {k: v for k, v in crease.items() if v is not None and k in
+            ("profile", "span", "rise", "radius", "angle", "points")}
+    profile = profile_from_dict(spec)
+    n = crease["segments"]
+    points = np.asarray(profile.sample(n), dtype=float)
+    reference = int(round(crease["reference"] * n))
+    flip = _side_flip(points, values["rulings"]["side"], reference)
+    local = points * np.array([1.0, flip])
+    alpha = math.radians(values["deployment"]["alpha"])
+    state = crease["state"]
+    near0 = np.c_[local, np.zeros(len(local))]
+
+    if layout["type"] == "single":
+        if layout["width"] is None:
+            raise DesignError("required for layout type 'single'", key="layout.width")
+        if state == "deployed":
+            r = _rulings_3d(values, local, alpha, reference, flip)
+        else:
+            r = _rulings_2d(values, local, flip)
+        width = layout["width"]
+        ccf_width = layout["ccf_width"] or width
+        nears = [near0, near0]
+        fars = [near0 + width * r, _reflect_z(near0 + width * r)]
+        links = [(None, "near", "ccu", None), (0, "near", "ccu", 0)]
+        creases = [CreaseLink(0, "near", 1, "ccu", True, (0.0, 0.0, 1.0))]
+        if layout["quadrants"]:
+            cont = -_reflect_z(r)  # collinear with the leading rulings in the pattern
+            nears += [near0, near0]
+            fars += [near0 + ccf_width * cont, _reflect_z(near0 + ccf_width * cont)]
+            links += [(0, "near", "ccf", 1), (2, "near", "ccu", 2)]
+            creases += [
+                CreaseLink(0, "near", 2, "ccf", True, (0.0, 0.0, 1.0)),
+                CreaseLink(2, "near", 3, "ccu", True, (0.0, 0.0, 1.0)),
+                CreaseLink(1, "near", 3, "ccf", True, (0.0, 0.0, 1.0)),
+            ]
+        plate_ids = list(range(len(nears)))
+    else:
+        if state != "deployed":
+            raise DesignError(
+                "layout 'parallel' needs crease.state = 'deployed': the crease planes are "
+                "placed at the design state",
+                key="crease.state",
+            )
+        for key in ("plates", "spacing"):
+            if layout[key] is None:
+                raise DesignError("required for layout type 'parallel'", key=f"layout.{key}")
+        m = layout["plates"]
+        spacing = layout["spacing"]
+        spacing = [spacing] * m if isinstance(spacing, float) else spacing
+        if len(spacing) != m:
+            raise DesignError(
+                f"needs one distance per plate ({m}), got {len(spacing)}", key="layout.spacing"
+            )
+        k0 = m // 2 if layout["leading"] is None else layout["leading"]
+        if k0 >= m:
+            raise DesignError(
+                f"must be a plane with a plate on its positive side, 0 ... {m - 1}, got {k0}",
+                key="layout.leading",
+            )
+        z = np.r_[0.0, np.cumsum(spacing)]
+        z = z - z[k0]
+        r = _rulings_3d(values, local, alpha, reference, flip)
+        nears, fars, links, creases, plate_ids = [], [], [], [], []
+        # the leading plate and the plates after it
+        near, direction = near0, r
+        parent, crease_index = None, None
+        for k in range(k0, m):
+            far = _trim(near, direction, z[k + 1], k, k + 1)
+            nears.append(near)
+            fars.append(far)
+            plate_ids.append(k)
+            links.append((parent, "far", "ccu", crease_index))
+            if k + 1 < m:
+                creases.append(CreaseLink(len(nears) - 1, "far", len(nears), "ccu", False,
+                                          (0.0, 0.0, 1.0)))
+                crease_index = len(creases) - 1
+                parent = len(nears) - 1
+                direction = _reflect_z(_unit(near - far))
+                near = far
+        # the plates before the leading plane, mirrored across it
+        parent, boundary = 0, "near"
+        near, direction = near0, _reflect_z(r)
+        for k in range(k0 - 1, -1, -1):
+            creases.append(CreaseLink(parent, boundary, len(nears), "ccu", k == k0 - 1,
+                                      (0.0, 0.0, 1.0)))
+            far = _trim(near, direction, z[k], k, k)
+            nears.append(near)
+            fars.append(far)
+            plate_ids.append(k)
+            links.append((parent, boundary, "ccu", len(creases) - 1))
+            parent, boundary = len(nears) - 1, "far"
+            direction = _reflect_z(_unit(near - far))
+            near = far
+
+    design_near = np.asarray(nears)
+    design_far = np.asarray(fars)
+    intrinsics = [strip_intrinsics(a, b) for a, b in zip(design_near, design_far)]
+    anchor_angle = math.atan2(*crease_frames(local).tangents[reference][::-1])
+    leading = LeadingStrip(
+        intrinsics[0], reference=reference, anchor_point=local[reference],
+        anchor_angle=anchor_angle,
+    )
+    plates = [
+        PlateLink(intr, parent=p, boundary=b, relation=rel, crease=c)
+        for intr, (p, b, rel, c) in zip(intrinsics, links)
+    ]
+    mechanism = Mechanism(leading, plates, creases)
+    if state == "deployed" and alpha > mechanism.alpha_limit:  # pragma: no cover - guard
+        raise GeometryError("design alpha beyond the deployment limit of its own pattern")
+    return BuiltDesign(mechanism, plate_ids, design_near, design_far, alpha, reference, flip,
+                       points, state)

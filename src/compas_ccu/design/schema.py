@@ -1,0 +1,302 @@
+"""The design-file schema: every key, its type, its allowed values and its documentation.
+
+The table :data:`SCHEMA` is the single source of truth: :func:`validate` checks a parsed TOML
+document against it, and ``docs/design-files.md`` is generated from it
+(``python -m compas_ccu.design.schema > docs/design-files.md``), so the documentation cannot
+drift from the code.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from compas_ccu.errors import DesignError
+
+__all__ = ["Key", "SCHEMA", "validate", "schema_markdown"]
+
+
+@dataclass(frozen=True)
+class Key:
+    """One design-file key."""
+
+    kind: str  # "float", "int", "str", "bool", "point2", "point3", "points2", "float_or_list",
+    # "gamma"
+    doc: str
+    default: Any = None
+    required: bool = False
+    choices: tuple = ()
+    check: Callable | None = field(default=None, compare=False)
+    check_doc: str = ""
+    when: str = ""  # documentation: when the key applies
+
+
+def _positive(v):
+    return v > 0.0
+
+
+def _angle_open(v):
+    return 0.0 < v < 90.0
+
+
+def _fraction(v):
+    return 0.0 <= v <= 1.0
+
+
+SCHEMA: dict = {
+    "design": {
+        "_doc": "Name and description.",
+        "name": Key("str", "Design name, used in file names and reports.", default=None),
+        "description": Key("str", "Free text.", default=""),
+    },
+    "crease": {
+        "_doc": "The leading crease profile, in the 2D coordinates (x, y) of the leading crease "
+        "plane (see [plane]), metres. It is the 3D crease at the design reflection angle "
+        '(state = "deployed") or the crease in the cut pattern (state = "flat").',
+        "profile": Key(
+            "str",
+            "Profile type.",
+            required=True,
+            choices=("arc", "catenary", "elastica", "spline", "polyline"),
+        ),
+        "span": Key("float", "Distance between the end points, m.", check=_positive,
+                    check_doc="> 0", when="arc, catenary, elastica"),
+        "rise": Key("float", "Height of the apex above the chord, m.", check=_positive,
+                    check_doc="> 0", when="arc, catenary, elastica"),
+        "radius": Key("float", "Arc radius, m (instead of span and rise).", check=_positive,
+                      check_doc="> 0", when="arc"),
+        "angle": Key("float", "Arc central angle, degrees (with radius).",
+                     check=lambda v: 0.0 < v < 360.0, check_doc="0 < angle < 360", when="arc"),
+        "points": Key("points2", "Control points [[x, y], ...] (at least 3).",
+                      when="spline, polyline"),
+        "segments": Key("int", "Number of equal-length crease segments (quads per plate).",
+                        default=48, check=lambda v: 2 <= v <= 2_000_000,
+                        check_doc="2 ... 2e6"),
+        "reference": Key("float", "Arc-length fraction of the reference vertex whose reflection "
+                         "angle names the actuation (the nearest vertex is used).", default=0.5,
+                         check=_fraction, check_doc="0 ... 1"),
+        "state": Key("str", "Whether the profile is the deployed 3D crease at the design alpha "
+                     "or the flat crease of the cut pattern.", default="deployed",
+                     choices=("deployed", "flat")),
+    },
+    "rulings": {
+        "_doc": "The developable type of the leading plate (SPEC §1, §3). Directions and points "
+        "are in the 2D coordinates of the leading crease plane; for state = \"deployed\" they "
+        "are the projections of the 3D rulings, whose inclination follows from the design alpha.",
+        "type": Key("str", "Ruling field.", required=True,
+                    choices=("orthogonal", "cylindrical", "conical", "angle")),
+        "side": Key("str", "Which side of the leading crease the leading plate lies on: "
+                    "'inside' = towards the centre of curvature at the reference vertex (the "
+                    "crease is convex for the plate: synclastic CCU pair, Q2), 'outside' "
+                    "(anticlastic, Q4), or 'left' / 'right' of the profile direction.",
+                    default="inside", choices=("inside", "outside", "left", "right")),
+        "direction": Key("point2", "Ruling direction [dx, dy].", when="cylindrical"),
+        "apex": Key("point2", "Apex [x, y] that all ruling lines pass through.",
+                    when="conical"),
+        "gamma": Key("gamma", "Ruling angle to the forward crease tangent, degrees: one number, "
+                     "or [[s, gamma], ...] with s the arc-length fraction (linear in between).",
+                     when="angle"),
+        "alpha_field": Key("str", "'ode': alpha(s) follows alpha' = cot(gamma) kappa_2D "
+                           "tan(alpha) from the reference value (the only developable choice); "
+                           "'constant': request a constant alpha -- refused unless gamma = 90.",
+                           default="ode", choices=("ode", "constant"), when="angle"),
+    },
+    "deployment": {
+        "_doc": "The design state.",
+        "alpha": Key("float", "Design reflection angle at the reference vertex, degrees. The "
+                     "stack is flat-folded at 0.", required=True, check=_angle_open,
+                     check_doc="0 < alpha < 90"),
+    },
+    "layout": {
+        "_doc": "Which plates and creases the structure has.",
+        "type": Key("str", "'single': one crease with the leading plate and its mirror partner "
+                    "(a CCU pair); 'parallel': a corrugated multi-crease structure whose crease "
+                    "planes are parallel (paper Fig. 1).", default="single",
+                    choices=("single", "parallel")),
+        "width": Key("float", "Ruling length of the plates of a single crease, m.",
+                     check=_positive, check_doc="> 0", when="single"),
+        "quadrants": Key("bool", "Also build the curved-crease-folding continuations: the four "
+                         "quadrants of one crease (paper Fig. 2).", default=False,
+                         when="single"),
+        "ccf_width": Key("float", "Ruling length of the continuation plates, m (default: "
+                         "width).", check=_positive, check_doc="> 0", when="single"),
+        "plates": Key("int", "Number of plates between consecutive crease planes.",
+                      check=lambda v: 1 <= v <= 10_000, check_doc="1 ... 10000",
+                      when="parallel"),
+        "spacing": Key("float_or_list", "Distance between consecutive crease planes at the "
+                       "design state, m: one number or one per plate.", check=_positive,
+                       check_doc="> 0", when="parallel"),
+        "leading": Key("int", "Index of the plane (0 ... plates) that holds the leading crease; "
+                       "default: the middle plane.", check=lambda v: v >= 0,
+                       check_doc=">= 0", when="parallel"),
+    },
+    "plane": {
+        "_doc": "Placement of the leading crease plane in world coordinates (metres). Profile "
+        "x runs along xaxis, profile y along yaxis; the plane normal is xaxis x yaxis.",
+        "origin": Key("point3", "Origin.", default=[0.0, 0.0, 0.0]),
+        "xaxis": Key("point3", "Direction of the profile x axis.", default=[1.0, 0.0, 0.0]),
+        "yaxis": Key("point3", "Direction of the profile y axis (made orthogonal to xaxis).",
+                     default=[0.0, 0.0, 1.0]),
+    },
+}
+
+REQUIRED_SECTIONS = ("crease", "rulings", "deployment")
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _coerce(section: str, name: str, key: Key, value):
+    where = f"{section}.{name}"
+
+    def fail(what):
+        raise DesignError(f"{what}, got {value!r}", key=where)
+
+    if key.kind == "float":
+        if not _is_number(value):
+            fail("must be a number")
+        value = float(value)
+    elif key.kind == "int":
+        if not isinstance(value, int) or isinstance(value, bool):
+            fail("must be an integer")
+    elif key.kind == "str":
+        if not isinstance(value, str):
+            fail("must be a string")
+        if key.choices and value not in key.choices:
+            fail(f"must be one of {', '.join(repr(c) for c in key.choices)}")
+    elif key.kind == "bool":
+        if not isinstance(value, bool):
+            fail("must be true or false")
+    elif key.kind in ("point2", "point3"):
+        dim = 2 if key.kind == "point2" else 3
+        if not (isinstance(value, list) and len(value) == dim and all(map(_is_number, value))):
+            fail(f"must be a list of {dim} numbers")
+        value = [float(v) for v in value]
+    elif key.kind == "points2":
+        ok = isinstance(value, list) and all(
+            isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in value
+        )
+        if not ok:
+            fail("must be a list of [x, y] number pairs")
+        if len(value) < 3:
+            fail("needs at least 3 points")
+        value = [[float(x), float(y)] for x, y in value]
+    elif key.kind == "float_or_list":
+        if _is_number(value):
+            value = float(value)
+        elif isinstance(value, list) and value and all(map(_is_number, value)):
+            value = [float(v) for v in value]
+        else:
+            fail("must be a number or a non-empty list of numbers")
+    elif key.kind == "gamma":
+        if _is_number(value):
+            value = float(value)
+        elif isinstance(value, list) and len(value) >= 2 and all(
+            isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in value
+        ):
+            value = [[float(s), float(g)] for s, g in value]
+            s = [p[0] for p in value]
+            if s[0] != 0.0 or s[-1] != 1.0 or any(b <= a for a, b in zip(s, s[1:])):
+                fail("must have increasing arc-length fractions from 0 to 1")
+        else:
+            fail("must be a number or a list of [s, gamma] pairs")
+        values = [value] if isinstance(value, float) else [g for _, g in value]
+        if not all(0.0 < g < 180.0 for g in values):
+            fail("ruling angles must be in (0, 180) degrees")
+    if key.check is not None:
+        values = value if isinstance(value, list) and key.kind == "float_or_list" else [value]
+        for v in values:
+            if not key.check(v):
+                fail(f"must be {key.check_doc}")
+    return value
+
+
+def validate(document: dict) -> dict:
+    """Validate a parsed design document and fill in defaults.
+
+    Parameters
+    ----------
+    document : dict
+        The parsed TOML.
+
+    Returns
+    -------
+    dict
+        ``{section: {key: value}}`` with every key of :data:`SCHEMA` present (None if unset).
+
+    Raises
+    ------
+    DesignError
+        Unknown section or key, wrong type, value out of range, missing required key. The
+        message starts with the dotted key name.
+    """
+    if not isinstance(document, dict):
+        raise DesignError(f"a design must be a table, got {type(document).__name__}")
+    out: dict = {}
+    for section in document:
+        if section not in SCHEMA:
+            raise DesignError(
+                f"unknown section; allowed: {', '.join(SCHEMA)}", key=f"[{section}]"
+            )
+        if not isinstance(document[section], dict):
+            raise DesignError("must be a table", key=f"[{section}]")
+    for section, keys in SCHEMA.items():
+        given = document.get(section, {})
+        if section in REQUIRED_SECTIONS and section not in document:
+            raise DesignError("missing required section", key=f"[{section}]")
+        allowed = [k for k in keys if not k.startswith("_")]
+        for name in given:
+            if name not in allowed:
+                raise DesignError(
+                    f"unknown key; allowed in [{section}]: {', '.join(allowed)}",
+                    key=f"{section}.{name}",
+                )
+        values = {}
+        for name in allowed:
+            key = keys[name]
+            if name in given:
+                values[name] = _coerce(section, name, key, given[name])
+            elif key.required:
+                raise DesignError("missing required key", key=f"{section}.{name}")
+            else:
+                values[name] = key.default
+        out[section] = values
+    return out
+
+
+def schema_markdown() -> str:
+    """The design-file reference as Markdown, generated from :data:`SCHEMA`."""
+    lines = [
+        "# Design files",
+        "",
+        "Designs are TOML files. Every key is listed here (this page is generated from",
+        "`compas_ccu.design.schema.SCHEMA`; regenerate it with",
+        "`python -m compas_ccu.design.schema > docs/design-files.md`).",
+        "Lengths are metres, angles degrees. An unknown section or key, a wrong type or an",
+        "impossible value is an error that names the key, the value and what is allowed.",
+        "",
+    ]
+    for section, keys in SCHEMA.items():
+        req = " (required)" if section in REQUIRED_SECTIONS else ""
+        lines += [f"## [{section}]{req}", "", keys["_doc"], "",
+                  "| key | type | default | allowed | applies to | meaning |",
+                  "|---|---|---|---|---|---|"]
+        for name, key in keys.items():
+            if name.startswith("_"):
+                continue
+            allowed = ", ".join(f"`{c}`" for c in key.choices) or key.check_doc
+            default = "required" if key.required else (
+                "" if key.default is None else f"`{key.default!r}`".replace("'", '"')
+            )
+            lines.append(
+                f"| `{name}` | {key.kind} | {default} | {allowed} | {key.when or 'all'} | "
+                f"{key.doc} |"
+            )
+        lines.append("")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    print(schema_markdown())

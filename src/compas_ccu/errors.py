@@ -1,0 +1,78 @@
+"""Exceptions of compas_ccu.
+
+Every error names the cause and the offending value, so a user can fix the input.
+All derive from :class:`CCUError` (a :class:`ValueError`), so ``except ValueError`` also works.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "CCUError",
+    "ProfileError",
+    "DevelopabilityError",
+    "DeploymentLimitError",
+    "DesignError",
+    "GeometryError",
+    "SelfIntersectionError",
+]
+
+
+class CCUError(ValueError):
+    """Base class of all compas_ccu errors."""
+
+
+class ProfileError(CCUError):
+    """A crease profile cannot be built from the given parameters."""
+
+
+class DevelopabilityError(CCUError):
+    """A requested ruling field / reflection-angle field is not developable (SPEC §1)."""
+
+
+class GeometryError(CCUError):
+    """Input geometry is degenerate or inconsistent (zero-length edge, straight crease, ...)."""
+
+
+class DesignError(CCUError):
+    """A design file is invalid: unknown key, wrong type or impossible value."""
+
+    def __init__(self, message: str, *, key: str | None = None):
+        self.key = key
+        super().__init__(f"{key}: {message}" if key else message)
+
+
+class DeploymentLimitError(CCUError):
+    """The requested reflection angle lies beyond the deployment limit of the mechanism.
+
+    Attributes
+    ----------
+    alpha : float
+        The requested reference reflection angle, degrees.
+    alpha_limit : float
+        The largest reachable reference reflection angle, degrees.
+    vertex : int
+        Index of the crease vertex of the leading crease where the limit occurs.
+    """
+
+    def __init__(self, message: str, *, alpha: float, alpha_limit: float, vertex: int):
+        self.alpha = alpha
+        self.alpha_limit = alpha_limit
+        self.vertex = vertex
+        super().__init__(message)
+
+
+class SelfIntersectionError(CCUError):
+    """A crease overlaps itself in its plane at the requested state (the plates would collide).
+
+    Attributes
+    ----------
+    alpha : float
+        The requested reference reflection angle, degrees.
+    crease : int or None
+        Crease id (None: the leading crease curve when it joins no second plate).
+    """
+
+    def __init__(self, message: str, *, alpha: float, crease):
+        self.alpha = alpha
+        self.crease = crease
+        super().__init__(message)

@@ -1,0 +1,79 @@
+"""Writers for deployed structures: ``structure.json`` (SPEC §4), OBJ and COMPAS JSON."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["write_structure_json", "read_structure_json", "write_obj", "write_compas_json",
+           "write_path_table"]
+
+
+def write_structure_json(structure, path) -> Path:
+    """Write the SPEC §4 contract (``format = "ccu.structure"``, version 1)."""
+    path = Path(path)
+    path.write_text(json.dumps(structure.to_contract(), indent=1), encoding="utf-8")
+    return path
+
+
+def read_structure_json(path):
+    """Read a ``structure.json`` back into a :class:`compas_ccu.structure.Structure`."""
+    from compas_ccu.structure import Structure
+
+    return Structure.from_contract(json.loads(Path(path).read_text(encoding="utf-8")))
+
+
+def write_obj(structure, path, *, state: str = "deployed") -> Path:
+    """Write the plates as one OBJ with a group per plate (quads, metres)."""
+    path = Path(path)
+    points = structure.deployed if state == "deployed" else structure.flat
+    lines = [f"# compas_ccu structure, alpha = {structure.alpha:.12g} deg, units m"]
+    offset = 1
+    for pid, xyz in zip(structure.plate_ids, points):
+        lines.append(f"g plate_{pid}")
+        lines.extend(f"v {x:.12g} {y:.12g} {z:.12g}" for x, y, z in xyz)
+        lines.extend(
+            "f " + " ".join(str(i + offset) for i in face) for face in structure.faces.tolist()
+        )
+        offset += len(xyz)
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def write_compas_json(structure, path) -> Path:
+    """Write the deployed plates as a list of COMPAS meshes (``compas.json_load`` reads it)."""
+    import compas
+
+    path = Path(path)
+    path.write_text(compas.json_dumps(structure.to_meshes()), encoding="utf-8")
+    return path
+
+
+def write_path_table(structures, path) -> Path:
+    """CSV: one row per state with alpha, span, rise, invariants and each crease's planarity."""
+    path = Path(path)
+    ncreases = len(structures[0].creases) if structures else 0
+    header = ["state", "alpha_deg", "span_m", "rise_m", "isometry_rel", "quad_planarity_rel",
+              "crease_planarity_max_m"] + [f"crease_{i}_planarity_m" for i in range(ncreases)]
+    with path.open("w", newline="", encoding="utf-8") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(header)
+        for k, s in enumerate(structures):
+            m = s.metrics
+            writer.writerow(
+                [k, f"{s.alpha:.12g}", f"{m['span']:.12g}", f"{m['rise']:.12g}",
+                 f"{m['isometry_relative']:.3e}", f"{m['quad_planarity_relative']:.3e}",
+                 f"{m['crease_planarity_max']:.3e}"]
+                + [f"{c['planarity']:.3e}" for c in s.creases]
+            )
+    return path
+
+
+def flat_footprint(structure) -> tuple:
+    """Width and height (m) of the bounding box of the flat-folded stack in its plane."""
+    flat = np.asarray(structure.flat).reshape(-1, 3)
+    dx, dy = np.ptp(flat[:, 0]), np.ptp(flat[:, 1])
+    return float(dx), float(dy)

@@ -1,0 +1,284 @@
+"""Exact one-degree-of-freedom deployment of the leading strip of a planar crease.
+
+The leading strip's crease stays in the fixed crease plane O (local ``z = 0``) while its planar
+quads rotate about the ruling edges. SPEC §2 describes the sequential construction: tilt quad 0
+about its crease edge, then rotate every next quad about the shared ruling until its next crease
+vertex returns to O (a circle-plane intersection). That march has a closed form, which is what
+makes the kinematics vectorised and exact:
+
+Local frame: the plate lies on the left of the crease (``+v`` side) and tilts towards ``+z``.
+Quad ``j`` contains crease edge ``u_j`` (unit, in O) and is tilted by ``psi_j`` about it, i.e. it
+is spanned by ``u_j`` and ``w_j = cos(psi_j) v_j + sin(psi_j) z``. ``psi_j`` is exactly the
+reflection angle of crease segment ``j`` (angle between the surface tangent normal to the
+crease and O). The ruling ``r_i`` at an interior crease vertex lies in quads ``i - 1`` and ``i``:
+
+    r_i = cos(a_i) u_{i-1} + sin(a_i) w_{i-1} = cos(b_i) u_i + sin(b_i) w_i,
+
+with ``a_i = pi - sector_back_i`` and ``b_i = sector_forward_i``. Its ``z`` component gives
+
+    sin(psi_i) = sin(psi_{i-1}) * sin(sector_back_i) / sin(sector_forward_i)            (K1)
+
+so ``sin(psi_j) = s0 * c_j`` with ``c`` a cumulative product fixed by the cut pattern and ``s0``
+the one degree of freedom. The in-plane components give the crease turning angle in 3D
+
+    turn_i = atan2(sin(a_i) cos(psi_{i-1}), cos(a_i)) - atan2(sin(b_i) cos(psi_i), cos(b_i))  (K2)
+
+and the crease polyline follows by cumulative sums. (K1) has no solution once
+``s0 * c_j > 1`` for some segment ``j``: that quad would have to stand beyond perpendicular to O,
+which is the deployment limit. ``cos(psi_j) >= 0`` selects the root continuous with the flat
+state. (K1)-(K2) are the discrete, exact form of alpha' = cot(gamma) kappa_2D tan(alpha) and
+cos(alpha) = kappa_2D / kappa_3D (SPEC §1); they are exact for every planar-quad strip.
+
+The actuation is named by the reflection angle alpha at a reference crease vertex, measured as
+the angle between O and the surface tangent ``S_i`` at the vertex: the unit vector in the plane
+spanned by the discrete tangent ``T_i`` (bisector of the crease edges, in O) and the ruling, normal
+to ``T_i``. For orthogonal rulings ``S_i`` is the ruling itself; on the circular cone this makes
+``r_3D = R cos(alpha)`` exact at any discretisation.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from compas_ccu.errors import DeploymentLimitError, GeometryError
+from compas_ccu.strips.intrinsics import StripIntrinsics
+
+__all__ = ["LeadingStrip", "LeadingPlacement"]
+
+
+class LeadingPlacement(NamedTuple):
+    """The leading strip placed in the local crease-plane frame for ``k`` states.
+
+    Attributes
+    ----------
+    near : (k, n + 1, 3) float
+        Crease vertices (``z = 0``).
+    rulings : (k, n + 1, 3) float
+        Unit ruling directions from the crease into the plate.
+    far : (k, n + 1, 3) float
+        Far boundary vertices ``near + ruling_lengths * rulings``.
+    tilts : (k, n) float
+        Reflection angle ``psi_j`` of every crease segment, radians.
+    """
+
+    near: np.ndarray
+    rulings: np.ndarray
+    far: np.ndarray
+    tilts: np.ndarray
+
+
+class LeadingStrip:
+    """Closed-form kinematics of the strip whose crease stays in the fixed plane O.
+
+    Parameters
+    ----------
+    intrinsics : StripIntrinsics
+        Isometry invariants of the strip, plate on the left of the crease.
+    reference : int
+        Index of the reference crease vertex that names the actuation.
+    anchor_point : (2,) float
+        Where the reference vertex stays in the local plane coordinates, in every state.
+    anchor_angle : float
+        Direction (radians) that the crease tangent at the reference vertex keeps in every state.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.strips.intrinsics import strip_intrinsics
+    >>> t = np.linspace(0.0, np.pi / 2, 9)
+    >>> near = np.c_[np.cos(t), np.sin(t)]
+    >>> strip = LeadingStrip(strip_intrinsics(near, 0.8 * near), reference=4)
+    >>> placed = strip.place_alpha([np.radians(30.0)])
+    >>> r3d = np.linalg.norm(placed.near[0, 0, :2] - placed.near[0, 4, :2]) / (
+    ...     2 * np.sin(np.pi / 16))
+    >>> round(r3d / np.cos(np.radians(30.0)), 12)  # the cone: r_3D = R cos(alpha)
+    1.0
+    """
+
+    def __init__(
+        self,
+        intrinsics: StripIntrinsics,
+        *,
+        reference: int,
+        anchor_point=(0.0, 0.0),
+        anchor_angle: float | None = None,
+    ):
+        n = intrinsics.segments
+        if not 0 <= reference <= n:
+            raise GeometryError(f"reference vertex must be in [0, {n}], got {reference}")
+        self.intrinsics = intrinsics
+        self.reference = int(reference)
+        self.n = n
+        back, fwd = intrinsics.sector_back, intrinsics.sector_forward
+        self._sin_back, self._cos_back = np.sin(back), np.cos(back)
+        self._sin_fwd, self._cos_fwd = np.sin(fwd), np.cos(fwd)
+        # (K1): sin(psi_j) = s0 * c_j
+        ratio = self._sin_back[1:-1] / self._sin_fwd[1:-1]
+        self.tilt_factors = np.concatenate([[1.0], np.cumprod(ratio)])
+        j = int(np.argmax(self.tilt_factors))
+        self.limit_segment = j
+        self.s0_max = 1.0 / self.tilt_factors[j]
+        self.anchor_point = np.asarray(anchor_point, dtype=float)
+        if anchor_angle is None:
+            # keep the flat pattern's own orientation (first edge along +x)
+            flat = self._turns(np.zeros(1))[0]
+            theta = np.concatenate([[0.0], np.cumsum(flat)])
+            anchor_angle = float(self._tangent_angle(theta[None, :], flat[None, :])[0])
+        self.anchor_angle = float(anchor_angle)
+        self._alpha_limit = None
+
+    # -- the closed form --------------------------------------------------------------------
+    def tilts(self, s0) -> np.ndarray:
+        """(k, n) reflection angles ``psi_j`` of the crease segments for ``s0 = sin(psi_0)``."""
+        s0 = np.atleast_1d(np.asarray(s0, dtype=float))
+        return np.arcsin(np.clip(s0[:, None] * self.tilt_factors[None, :], -1.0, 1.0))
+
+    def _turns(self, s0: np.ndarray, sin_psi=None, cos_psi=None) -> np.ndarray:
+        """(k, n - 1) crease turning angles in O at the interior vertices (K2)."""
+        if sin_psi is None:
+            sin_psi = np.clip(s0[:, None] * self.tilt_factors[None, :], -1.0, 1.0)
+            cos_psi = np.sqrt(1.0 - sin_psi**2)
+        left = np.arctan2(self._sin_back[1:-1] * cos_psi[:, :-1], -self._cos_back[1:-1])
+        right = np.arctan2(self._sin_fwd[1:-1] * cos_psi[:, 1:], self._cos_fwd[1:-1])
+        return left - right
+
+    def _tangent_angle(self, theta: np.ndarray, turns: np.ndarray) -> np.ndarray:
+        """(k,) direction of the discrete tangent (edge bisector) at the reference vertex."""
+        k = self.reference
+        if k == 0:
+            return theta[:, 0]
+        if k == self.n:
+            return theta[:, -1]
+        return theta[:, k - 1] + 0.5 * turns[:, k - 1]
+
+    def place(self, s0) -> LeadingPlacement:
+        """Place the strip for one or more values of the degree of freedom ``s0``.
+
+        Parameters
+        ----------
+        s0 : float or (k,) float
+            ``sin(psi_0)``, in ``[0, s0_max]``.
+
+        Returns
+        -------
+        LeadingPlacement
+        """
+        s0 = np.atleast_1d(np.asarray(s0, dtype=float))
+        sin_psi = np.clip(s0[:, None] * self.tilt_factors[None, :], -1.0, 1.0)
+        cos_psi = np.sqrt(1.0 - sin_psi**2)
+        turns = self._turns(s0, sin_psi, cos_psi)
+        k = len(s0)
+        theta = np.zeros((k, self.n))
+        np.cumsum(turns, axis=1, out=theta[:, 1:])
+        theta += (self.anchor_angle - self._tangent_angle(theta, turns))[:, None]
+        cos_t, sin_t = np.cos(theta), np.sin(theta)
+        h = self.intrinsics.edge_lengths
+        near = np.zeros((k, self.n + 1, 3))
+        np.cumsum(h * cos_t, axis=1, out=near[:, 1:, 0])
+        np.cumsum(h * sin_t, axis=1, out=near[:, 1:, 1])
+        near[:, :, :2] += (self.anchor_point - near[:, self.reference, :2])[:, None, :]
+        # ruling i < n in quad i, ruling n in quad n - 1
+        rulings = np.empty((k, self.n + 1, 3))
+        cb, sb = self._cos_fwd[:-1], self._sin_fwd[:-1]
+        rulings[:, :-1, 0] = cb * cos_t - sb * cos_psi * sin_t
+        rulings[:, :-1, 1] = cb * sin_t + sb * cos_psi * cos_t
+        rulings[:, :-1, 2] = sb * sin_psi
+        ca, sa = -self._cos_back[-1], self._sin_back[-1]
+        rulings[:, -1, 0] = ca * cos_t[:, -1] - sa * cos_psi[:, -1] * sin_t[:, -1]
+        rulings[:, -1, 1] = ca * sin_t[:, -1] + sa * cos_psi[:, -1] * cos_t[:, -1]
+        rulings[:, -1, 2] = sa * sin_psi[:, -1]
+        far = near + self.intrinsics.ruling_lengths[None, :, None] * rulings
+        return LeadingPlacement(near, rulings, far, np.arcsin(sin_psi))
+
+    # -- naming the actuation by alpha at the reference vertex ------------------------------------
+    def reference_alpha(self, s0) -> np.ndarray:
+        """(k,) reflection angle alpha (radians) at the reference vertex for given ``s0``."""
+        s0 = np.atleast_1d(np.asarray(s0, dtype=float))
+        k = self.reference
+        if k == self.n:  # ruling in quad n - 1, tangent along its edge: alpha = psi_{n-1}
+            return np.arcsin(np.clip(s0 * self.tilt_factors[-1], -1.0, 1.0))
+        sin_psi = np.clip(s0 * self.tilt_factors[k], -1.0, 1.0)
+        cos_psi = np.sqrt(1.0 - sin_psi**2)
+        if k == 0:
+            return np.arcsin(sin_psi)
+        sp_prev = np.clip(s0 * self.tilt_factors[k - 1], -1.0, 1.0)
+        cp_prev = np.sqrt(1.0 - sp_prev**2)
+        half = 0.5 * (
+            np.arctan2(self._sin_back[k] * cp_prev, -self._cos_back[k])
+            - np.arctan2(self._sin_fwd[k] * cos_psi, self._cos_fwd[k])
+        )
+        # ruling in the frame of quad k; S is its component normal to the tangent T_k
+        sb, cb = self._sin_fwd[k], self._cos_fwd[k]
+        return np.arctan2(sb * sin_psi, cb * np.sin(half) + sb * cos_psi * np.cos(half))
+
+    @property
+    def alpha_limit(self) -> float:
+        """Largest reachable reference reflection angle, radians (the deployment limit)."""
+        if self._alpha_limit is None:
+            self._alpha_limit = float(self.reference_alpha(self.s0_max)[0])
+        return self._alpha_limit
+
+    def s0_for_alpha(self, alpha) -> np.ndarray:
+        """Invert :meth:`reference_alpha`: the degree of freedom for reference angles ``alpha``.
+
+        Parameters
+        ----------
+        alpha : float or (k,) float
+            Reference reflection angles in radians, ``0 <= alpha <= alpha_limit``.
+
+        Raises
+        ------
+        DeploymentLimitError
+            An angle is negative or beyond the deployment limit.
+        """
+        alpha = np.atleast_1d(np.asarray(alpha, dtype=float))
+        if not np.all(np.isfinite(alpha)):
+            raise GeometryError(f"alpha must be finite, got {alpha.tolist()}")
+        limit = self.alpha_limit
+        j = self.limit_segment
+        if np.any(alpha < 0.0):
+            bad = float(np.degrees(alpha[alpha < 0.0][0]))
+            raise DeploymentLimitError(
+                f"alpha = {bad:.6g} deg is negative; the mechanism runs from the flat-folded "
+                f"stack (alpha = 0) to its limit alpha = {math.degrees(limit):.6g} deg",
+                alpha=bad, alpha_limit=math.degrees(limit), vertex=j,
+            )
+        if np.any(alpha > limit * (1.0 + 1e-12)):
+            bad = float(np.degrees(alpha[alpha > limit * (1.0 + 1e-12)][0]))
+            raise DeploymentLimitError(
+                f"alpha = {bad:.6g} deg is beyond the deployment limit: the largest reachable "
+                f"alpha at reference vertex {self.reference} is {math.degrees(limit):.6g} deg, "
+                f"where crease segment {j} (crease vertices {j}-{j + 1}) stands perpendicular "
+                "to the crease plane",
+                alpha=bad, alpha_limit=math.degrees(limit), vertex=j,
+            )
+        return self._invert(np.minimum(alpha, limit))
+
+    def _invert(self, alpha: np.ndarray) -> np.ndarray:
+        # alpha(s0) is increasing on [0, s0_max]: safeguarded Newton with a shrinking bracket
+        lo = np.zeros_like(alpha)
+        hi = np.full_like(alpha, self.s0_max)
+        guess_factor = self.tilt_factors[min(self.reference, self.n - 1)]
+        s = np.clip(np.sin(alpha) / guess_factor, 0.0, self.s0_max)
+        tol = 1e-15
+        for _ in range(60):
+            f = self.reference_alpha(s) - alpha
+            if np.all(np.abs(f) <= tol):
+                break
+            lo = np.where(f < 0.0, s, lo)
+            hi = np.where(f > 0.0, s, hi)
+            ds = 1e-7 * self.s0_max
+            probe = np.where(s + ds <= self.s0_max, s + ds, s - ds)
+            slope = (self.reference_alpha(probe) - alpha - f) / (probe - s)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = s - f / slope
+            newton_ok = (step >= lo) & (step <= hi) & np.isfinite(step)
+            s = np.where(np.abs(f) <= tol, s, np.where(newton_ok, step, 0.5 * (lo + hi)))
+        return s
+
+    def place_alpha(self, alpha) -> LeadingPlacement:
+        """Place the strip at reference reflection angles ``alpha`` (radians, scalar or (k,))."""
+        return self.place(self.s0_for_alpha(alpha))

@@ -1,0 +1,138 @@
+"""Intrinsic description of a planar-quad strip: what isometric deployment preserves.
+
+A strip (SPEC §2) is a chain of planar quads between two polylines: the *near* boundary
+``P_0 .. P_n`` (a crease, or the crease nearest to the leading crease) and the *far* boundary
+``Q_0 .. Q_n`` (the next crease or a free edge). Quad ``j`` is ``P_j, P_{j+1}, Q_{j+1}, Q_j``;
+the segments ``P_i Q_i`` are rulings. Every quad is rigid, so the strip is fixed by
+
+* the crease edge lengths ``|P_{j+1} - P_j|``,
+* at each crease vertex the two sector angles between the ruling and the crease edges,
+* the ruling lengths ``|Q_i - P_i|``.
+
+These are the numbers the kinematics needs; they are the same in the cut pattern and in every
+deployed state.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from compas_ccu.errors import GeometryError
+
+__all__ = ["StripIntrinsics", "strip_intrinsics", "sector_angles"]
+
+
+class StripIntrinsics(NamedTuple):
+    """Isometry invariants of a strip.
+
+    Attributes
+    ----------
+    edge_lengths : (n,) float
+        Crease edge lengths ``|P_{j+1} - P_j|``.
+    sector_back : (n + 1,) float
+        Angle at ``P_i`` between the backward crease edge ``P_{i-1} - P_i`` and the ruling
+        (radians, on the plate's side); NaN at ``i = 0``.
+    sector_forward : (n + 1,) float
+        Angle at ``P_i`` between the forward crease edge ``P_{i+1} - P_i`` and the ruling;
+        NaN at ``i = n``.
+    ruling_lengths : (n + 1,) float
+        ``|Q_i - P_i|``.
+    """
+
+    edge_lengths: np.ndarray
+    sector_back: np.ndarray
+    sector_forward: np.ndarray
+    ruling_lengths: np.ndarray
+
+    @property
+    def segments(self) -> int:
+        return len(self.edge_lengths)
+
+    @property
+    def plate_angles(self) -> np.ndarray:
+        """(n + 1,) interior angle of the plate between the two crease edges, NaN at the ends."""
+        return self.sector_back + self.sector_forward
+
+
+def _angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Unsigned angle between rows of ``a`` and ``b`` (any dimension), robust near 0 and pi."""
+    cross = np.cross(a, b)
+    if cross.ndim == a.ndim:
+        cross = np.linalg.norm(cross, axis=-1)
+    else:
+        cross = np.abs(cross)
+    return np.arctan2(cross, np.einsum("...i,...i->...", a, b))
+
+
+def sector_angles(near: np.ndarray, far: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sector angles at the near-boundary vertices of a strip.
+
+    Parameters
+    ----------
+    near, far : (n + 1, d) float
+        Near boundary (crease) and far boundary points, ``d`` = 2 or 3.
+
+    Returns
+    -------
+    sector_back, sector_forward : (n + 1,) float
+        See :class:`StripIntrinsics`. Unsigned angles in [0, pi]; NaN where the edge is missing.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> near = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> back, fwd = sector_angles(near, near + [0.0, 1.0])
+    >>> np.degrees(fwd[:2]).round(6).tolist(), np.degrees(back[1:]).round(6).tolist()
+    ([90.0, 90.0], [90.0, 90.0])
+    """
+    near = np.asarray(near, dtype=float)
+    far = np.asarray(far, dtype=float)
+    rulings = far - near
+    edges = np.diff(near, axis=0)
+    back = np.full(len(near), np.nan)
+    fwd = np.full(len(near), np.nan)
+    fwd[:-1] = _angle_between(edges, rulings[:-1])
+    back[1:] = _angle_between(-edges, rulings[1:])
+    return back, fwd
+
+
+def strip_intrinsics(near: np.ndarray, far: np.ndarray) -> StripIntrinsics:
+    """Isometry invariants of a strip given by its two boundaries (2D pattern or 3D state).
+
+    Parameters
+    ----------
+    near, far : (n + 1, d) float
+        Near (crease) and far boundary, ``n >= 1`` quads, ``d`` = 2 or 3.
+
+    Raises
+    ------
+    GeometryError
+        Zero-length crease edge or ruling, or a ruling along the crease (sector angle 0 or pi).
+    """
+    near = np.asarray(near, dtype=float)
+    far = np.asarray(far, dtype=float)
+    if near.shape != far.shape or near.ndim != 2 or near.shape[0] < 2:
+        raise GeometryError(
+            f"strip boundaries must be two (n + 1, d) arrays with n >= 1, got {near.shape} "
+            f"and {far.shape}"
+        )
+    edge_lengths = np.linalg.norm(np.diff(near, axis=0), axis=1)
+    ruling_lengths = np.linalg.norm(far - near, axis=1)
+    scale = max(float(edge_lengths.sum()), 1e-300)
+    bad = np.flatnonzero(edge_lengths <= 1e-12 * scale)
+    if bad.size:
+        raise GeometryError(f"crease edge {int(bad[0])} has zero length")
+    bad = np.flatnonzero(ruling_lengths <= 1e-12 * scale)
+    if bad.size:
+        raise GeometryError(f"ruling at crease vertex {int(bad[0])} has zero length")
+    back, fwd = sector_angles(near, far)
+    tol = 1e-9
+    degenerate = np.zeros(len(near), dtype=bool)
+    degenerate[1:] |= (back[1:] < tol) | (back[1:] > np.pi - tol)
+    degenerate[:-1] |= (fwd[:-1] < tol) | (fwd[:-1] > np.pi - tol)
+    if degenerate.any():
+        i = int(np.flatnonzero(degenerate)[0])
+        raise GeometryError(f"the ruling at crease vertex {i} lies along the crease")
+    return StripIntrinsics(edge_lengths, back, fwd, ruling_lengths)
