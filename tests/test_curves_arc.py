@@ -92,8 +92,9 @@ def test_tangent_and_curvature():
     radial = arc.point(s) - arc.center
     clockwise_tangent = np.stack([radial[:, 1], -radial[:, 0]], axis=1) / arc.radius
     theta = arc.tangent_angle(s)
-    np.testing.assert_allclose(np.stack([np.cos(theta), np.sin(theta)], 1), clockwise_tangent,
-                               atol=1e-14)
+    np.testing.assert_allclose(
+        np.stack([np.cos(theta), np.sin(theta)], 1), clockwise_tangent, atol=1e-14
+    )
     np.testing.assert_array_equal(arc.curvature(s), -1.0 / 2.5)
 
 

@@ -64,8 +64,7 @@ def test_tangent_and_curvature_closed_forms():
     s = catenary.sample_s(50)
     x = catenary.point(s)[:, 0]
     np.testing.assert_allclose(catenary.tangent_angle(s), np.arctan(-np.sinh(x / a)), atol=1e-14)
-    np.testing.assert_allclose(catenary.curvature(s), -1.0 / (a * np.cosh(x / a) ** 2),
-                               rtol=1e-13)
+    np.testing.assert_allclose(catenary.curvature(s), -1.0 / (a * np.cosh(x / a) ** 2), rtol=1e-13)
     assert catenary.curvature(0.5 * catenary.length) == pytest.approx(-1.0 / a, rel=1e-15)
 
 
@@ -73,9 +72,9 @@ def test_curvature_is_derivative_of_tangent_angle():
     catenary = CatenaryProfile(span=4.0, rise=1.0)
     s = np.linspace(0.1, catenary.length - 0.1, 30)
     step = 1e-5
-    finite_difference = (
-        catenary.tangent_angle(s + step) - catenary.tangent_angle(s - step)
-    ) / (2.0 * step)
+    finite_difference = (catenary.tangent_angle(s + step) - catenary.tangent_angle(s - step)) / (
+        2.0 * step
+    )
     np.testing.assert_allclose(finite_difference, catenary.curvature(s), rtol=1e-8)
 
 

@@ -45,12 +45,12 @@ def test_endpoints_apex_and_closed_forms(ratio):
     rise = ratio * span
     elastica = ElasticaProfile(span=span, rise=rise)
     k, lam = elastica.modulus, elastica.wavenumber
-    K, E = ellipk(k * k), ellipe(k * k)
+    complete_k, complete_e = ellipk(k * k), ellipe(k * k)
     assert 0.0 < k < largest_modulus()
-    assert k / (2.0 * E - K) == pytest.approx(ratio, rel=1e-12)
+    assert k / (2.0 * complete_e - complete_k) == pytest.approx(ratio, rel=1e-12)
     assert 2.0 * k / lam == pytest.approx(rise, rel=1e-12)
-    assert 2.0 * (2.0 * E - K) / lam == pytest.approx(span, rel=1e-14)
-    assert elastica.length == pytest.approx(2.0 * K / lam, rel=1e-15)
+    assert 2.0 * (2.0 * complete_e - complete_k) / lam == pytest.approx(span, rel=1e-14)
+    assert elastica.length == pytest.approx(2.0 * complete_k / lam, rel=1e-15)
 
     ends = elastica.point([0.0, elastica.length])
     np.testing.assert_allclose(ends, [[-span / 2, 0.0], [span / 2, 0.0]], atol=1e-12)
@@ -74,7 +74,7 @@ def test_curvature_proportional_to_height(ratio):
     height = elastica.point(s)[:, 1]
     load = curvature / height  # the same constant P everywhere
     np.testing.assert_allclose(load, load[0], rtol=1e-11)
-    assert load[0] == pytest.approx(-elastica.wavenumber**2, rel=1e-12)
+    assert load[0] == pytest.approx(-(elastica.wavenumber**2), rel=1e-12)
 
 
 @pytest.mark.parametrize("ratio", RATIOS)
@@ -100,9 +100,9 @@ def test_curvature_is_derivative_of_tangent_angle():
     elastica = ElasticaProfile(span=3.0, rise=1.0)
     s = np.linspace(0.1, elastica.length - 0.1, 30)
     step = 1e-5
-    finite_difference = (
-        elastica.tangent_angle(s + step) - elastica.tangent_angle(s - step)
-    ) / (2.0 * step)
+    finite_difference = (elastica.tangent_angle(s + step) - elastica.tangent_angle(s - step)) / (
+        2.0 * step
+    )
     np.testing.assert_allclose(finite_difference, elastica.curvature(s), rtol=1e-7, atol=1e-9)
 
 

@@ -21,7 +21,9 @@ from compas_ccu.curves import (
 from compas_ccu.errors import ProfileError
 
 POINTS = [[0.0, 0.0], [1.0, 1.0], [2.0, 0.5], [3.0, 0.0]]
-ALLOWED_ARC = r"allowed keys for profile 'arc': span, rise, radius, angle \(and 'profile', 'segments'\)"
+ALLOWED_ARC = (
+    r"allowed keys for profile 'arc': span, rise, radius, angle \(and 'profile', 'segments'\)"
+)
 
 
 @pytest.mark.parametrize(
@@ -67,51 +69,91 @@ def test_parameters_are_json_able():
     "spec, message",
     [
         ([("profile", "arc")], r"profile spec must be a dict, got list"),
-        ({"span": 4.0, "rise": 1.0},
-         r"missing key 'profile'; allowed profiles: arc, catenary, elastica, spline, polyline"),
-        ({"profile": "parabola"},
-         r"profile must be one of arc, catenary, elastica, spline, polyline, got 'parabola'"),
+        (
+            {"span": 4.0, "rise": 1.0},
+            r"missing key 'profile'; allowed profiles: arc, catenary, elastica, spline, polyline",
+        ),
+        (
+            {"profile": "parabola"},
+            r"profile must be one of arc, catenary, elastica, spline, polyline, got 'parabola'",
+        ),
         ({"profile": 3}, r"profile must be one of .*, got 3"),
-        ({"profile": "arc", "span": 4.0, "rise": 1.0, "sag": 2.0},
-         r"unknown key 'sag'; " + ALLOWED_ARC),
+        (
+            {"profile": "arc", "span": 4.0, "rise": 1.0, "sag": 2.0},
+            r"unknown key 'sag'; " + ALLOWED_ARC,
+        ),
         ({"profile": "arc", "span": 4.0}, r"missing key 'rise'; " + ALLOWED_ARC),
         ({"profile": "arc", "angle": 40.0}, r"missing key 'radius'; " + ALLOWED_ARC),
-        ({"profile": "arc", "span": 4.0, "rise": 1.0, "radius": 3.0},
-         r"conflicting keys 'radius', 'rise', 'span' for profile 'arc': "
-         r"give either \(span, rise\) or \(radius, angle\)"),
-        ({"profile": "catenary", "span": 4.0, "radius": 3.0},
-         r"unknown key 'radius'; allowed keys for profile 'catenary': span, rise"),
-        ({"profile": "elastica", "rise": 1.0},
-         r"missing key 'span'; allowed keys for profile 'elastica': span, rise"),
-        ({"profile": "polyline", "points": POINTS, "bc_type": "natural"},
-         r"unknown key 'bc_type'; allowed keys for profile 'polyline': points"),
-        ({"profile": "spline"},
-         r"missing key 'points'; allowed keys for profile 'spline': points, bc_type"),
-        ({"profile": "catenary", "span": True, "rise": 1.0},
-         r"span must be a real finite number \(m\), got True"),
-        ({"profile": "catenary", "span": "4", "rise": 1.0},
-         r"span must be a real finite number \(m\), got '4'"),
-        ({"profile": "elastica", "span": 4.0, "rise": float("nan")},
-         r"rise must be a real finite number \(m\), got nan"),
+        (
+            {"profile": "arc", "span": 4.0, "rise": 1.0, "radius": 3.0},
+            r"conflicting keys 'radius', 'rise', 'span' for profile 'arc': "
+            r"give either \(span, rise\) or \(radius, angle\)",
+        ),
+        (
+            {"profile": "catenary", "span": 4.0, "radius": 3.0},
+            r"unknown key 'radius'; allowed keys for profile 'catenary': span, rise",
+        ),
+        (
+            {"profile": "elastica", "rise": 1.0},
+            r"missing key 'span'; allowed keys for profile 'elastica': span, rise",
+        ),
+        (
+            {"profile": "polyline", "points": POINTS, "bc_type": "natural"},
+            r"unknown key 'bc_type'; allowed keys for profile 'polyline': points",
+        ),
+        (
+            {"profile": "spline"},
+            r"missing key 'points'; allowed keys for profile 'spline': points, bc_type",
+        ),
+        (
+            {"profile": "catenary", "span": True, "rise": 1.0},
+            r"span must be a real finite number \(m\), got True",
+        ),
+        (
+            {"profile": "catenary", "span": "4", "rise": 1.0},
+            r"span must be a real finite number \(m\), got '4'",
+        ),
+        (
+            {"profile": "elastica", "span": 4.0, "rise": float("nan")},
+            r"rise must be a real finite number \(m\), got nan",
+        ),
         ({"profile": "arc", "span": 4.0, "rise": -1.0}, r"rise must be > 0 m, got -1\.0"),
-        ({"profile": "arc", "radius": 1.0, "angle": 400.0},
-         r"angle must be in \(0, 360\) degrees \(exclusive\), got 400\.0"),
-        ({"profile": "arc", "radius": 1.0, "angle": None},
-         r"angle must be a real finite number \(degrees\), got None"),
-        ({"profile": "polyline", "points": "0,0 1,1 2,0"},
-         r"points must be a list of \[x, y\] pairs \(m\), got str"),
-        ({"profile": "polyline", "points": [[0, 0], [1, 1, 1], [2, 0]]},
-         r"points\[1\] must be a pair \[x, y\] \(m\), got \[1, 1, 1\]"),
-        ({"profile": "polyline", "points": [[0, 0], [1, "1"], [2, 0]]},
-         r"points\[1\]\[1\] must be a real finite number \(m\), got '1'"),
-        ({"profile": "spline", "points": [[0, 0], [False, 1], [2, 0]]},
-         r"points\[1\]\[0\] must be a real finite number \(m\), got False"),
-        ({"profile": "spline", "points": [[0, 0], [1, float("inf")], [2, 0]]},
-         r"points\[1\]\[1\] must be a real finite number \(m\), got inf"),
-        ({"profile": "spline", "points": [[0, 0], [2, 0]]},
-         r"points must contain at least 3 points, got 2"),
-        ({"profile": "spline", "points": POINTS, "bc_type": "clamped"},
-         r"bc_type must be one of 'natural', 'not-a-knot', got 'clamped'"),
+        (
+            {"profile": "arc", "radius": 1.0, "angle": 400.0},
+            r"angle must be in \(0, 360\) degrees \(exclusive\), got 400\.0",
+        ),
+        (
+            {"profile": "arc", "radius": 1.0, "angle": None},
+            r"angle must be a real finite number \(degrees\), got None",
+        ),
+        (
+            {"profile": "polyline", "points": "0,0 1,1 2,0"},
+            r"points must be a list of \[x, y\] pairs \(m\), got str",
+        ),
+        (
+            {"profile": "polyline", "points": [[0, 0], [1, 1, 1], [2, 0]]},
+            r"points\[1\] must be a pair \[x, y\] \(m\), got \[1, 1, 1\]",
+        ),
+        (
+            {"profile": "polyline", "points": [[0, 0], [1, "1"], [2, 0]]},
+            r"points\[1\]\[1\] must be a real finite number \(m\), got '1'",
+        ),
+        (
+            {"profile": "spline", "points": [[0, 0], [False, 1], [2, 0]]},
+            r"points\[1\]\[0\] must be a real finite number \(m\), got False",
+        ),
+        (
+            {"profile": "spline", "points": [[0, 0], [1, float("inf")], [2, 0]]},
+            r"points\[1\]\[1\] must be a real finite number \(m\), got inf",
+        ),
+        (
+            {"profile": "spline", "points": [[0, 0], [2, 0]]},
+            r"points must contain at least 3 points, got 2",
+        ),
+        (
+            {"profile": "spline", "points": POINTS, "bc_type": "clamped"},
+            r"bc_type must be one of 'natural', 'not-a-knot', got 'clamped'",
+        ),
     ],
 )
 def test_invalid_specs(spec, message):

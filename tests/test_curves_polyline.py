@@ -30,8 +30,9 @@ def test_vertices_length_and_sample_none():
     np.testing.assert_array_equal(polyline.vertices, TRAPEZOID)
     np.testing.assert_array_equal(polyline.sample(None), TRAPEZOID)
     np.testing.assert_array_equal(polyline.sample(), TRAPEZOID)
-    np.testing.assert_allclose(polyline.vertex_s, [0.0, math.sqrt(2), 2 + math.sqrt(2),
-                                                   2 + 2 * math.sqrt(2)])
+    np.testing.assert_allclose(
+        polyline.vertex_s, [0.0, math.sqrt(2), 2 + math.sqrt(2), 2 + 2 * math.sqrt(2)]
+    )
     np.testing.assert_array_equal(polyline.sample_s(None), polyline.vertex_s)
     assert polyline.length == pytest.approx(2.0 + 2.0 * math.sqrt(2.0), rel=1e-15)
     polyline.sample(None)[0] = 99.0  # a copy
@@ -43,7 +44,8 @@ def test_point_interpolates_linearly():
     np.testing.assert_array_equal(polyline.point(polyline.vertex_s), TRAPEZOID)
     half_diagonal = 0.5 * math.sqrt(2.0)
     np.testing.assert_allclose(
-        polyline.point([half_diagonal, math.sqrt(2.0) + 1.0]), [[0.5, 0.5], [2.0, 1.0]],
+        polyline.point([half_diagonal, math.sqrt(2.0) + 1.0]),
+        [[0.5, 0.5], [2.0, 1.0]],
         atol=1e-15,
     )
 

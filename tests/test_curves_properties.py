@@ -22,8 +22,13 @@ def chord_from_unit_tangent(profile, s_start, s_end, order=20, pieces=32) -> np.
     step = (s_end - s_start)[:, None, None]
     theta = profile.tangent_angle(s_start[:, None, None] + step * fractions)
     scale = step[:, :, 0] / (2.0 * pieces)
-    return np.stack([scale[:, 0] * (np.cos(theta) @ weights).sum(axis=1),
-                     scale[:, 0] * (np.sin(theta) @ weights).sum(axis=1)], axis=1)
+    return np.stack(
+        [
+            scale[:, 0] * (np.cos(theta) @ weights).sum(axis=1),
+            scale[:, 0] * (np.sin(theta) @ weights).sum(axis=1),
+        ],
+        axis=1,
+    )
 
 
 @settings(max_examples=60, deadline=None, database=None)
@@ -41,8 +46,7 @@ def test_arches_hit_ends_and_apex_and_sample_at_equal_arc_length(kind, span, rat
     points = profile.sample(segments)
     assert points.shape == (segments + 1, 2)
     np.testing.assert_array_equal(points[[0, -1]], [[-span / 2, 0.0], [span / 2, 0.0]])
-    np.testing.assert_allclose(profile.point(0.5 * profile.length), [0.0, rise],
-                               atol=1e-12 * scale)
+    np.testing.assert_allclose(profile.point(0.5 * profile.length), [0.0, rise], atol=1e-12 * scale)
     assert np.all(points[:, 1] >= -1e-12 * scale)
 
     # Each sample step is a piece of length length/segments of a unit-speed curve: the chord

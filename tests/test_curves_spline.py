@@ -53,8 +53,9 @@ def test_straight_control_points_give_a_straight_line():
     s = spline.sample_s(10)
     np.testing.assert_allclose(spline.curvature(s), 0.0, atol=1e-12)
     np.testing.assert_allclose(spline.tangent_angle(s), math.atan2(2.0, 1.0), atol=1e-12)
-    np.testing.assert_allclose(spline.sample(6), np.outer(np.linspace(0, 1, 7), [3.0, 6.0]),
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        spline.sample(6), np.outer(np.linspace(0, 1, 7), [3.0, 6.0]), atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("points", [BUMPY, WAVE])
@@ -87,16 +88,15 @@ def test_curvature_is_derivative_of_tangent_angle():
     spline = SplineProfile(BUMPY, bc_type="not-a-knot")
     s = np.linspace(0.1, spline.length - 0.1, 40)
     step = 1e-6
-    finite_difference = (
-        spline.tangent_angle(s + step) - spline.tangent_angle(s - step)
-    ) / (2.0 * step)
+    finite_difference = (spline.tangent_angle(s + step) - spline.tangent_angle(s - step)) / (
+        2.0 * step
+    )
     np.testing.assert_allclose(finite_difference, spline.curvature(s), rtol=1e-6, atol=1e-7)
 
 
 def test_circle_through_many_points():
     angles = np.linspace(0.75 * math.pi, 0.25 * math.pi, 41)
-    spline = SplineProfile(np.column_stack([np.cos(angles), np.sin(angles)]),
-                           bc_type="not-a-knot")
+    spline = SplineProfile(np.column_stack([np.cos(angles), np.sin(angles)]), bc_type="not-a-knot")
     assert spline.length == pytest.approx(0.5 * math.pi, rel=1e-7)
     s = spline.sample_s(50)[5:-5]
     np.testing.assert_allclose(spline.curvature(s), -1.0, atol=1e-3)

@@ -33,13 +33,13 @@ from compas_ccu.curves.polyline import PolylineProfile
 from compas_ccu.curves.spline import SplineProfile
 
 __all__ = [
-    "Profile",
+    "PROFILE_TYPES",
     "ArcProfile",
     "CatenaryProfile",
     "ElasticaProfile",
-    "SplineProfile",
     "PolylineProfile",
-    "PROFILE_TYPES",
-    "profile_from_dict",
+    "Profile",
+    "SplineProfile",
     "discrete_curvature",
+    "profile_from_dict",
 ]

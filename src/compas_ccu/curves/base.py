@@ -210,7 +210,9 @@ class Profile(ABC):
         Returns
         -------
         (k,) float
-            Tangent angles, radians (counter-clockwise from +x).
+            Tangent angles, radians (counter-clockwise from +x). Continuous along the analytic
+            arches (arc, catenary, elastica: in (-pi, pi), beyond +-pi/2 near the ends of tall
+            arches); spline and polyline angles come from ``atan2`` and lie in (-pi, pi].
         """
         return self._tangent_angle(self._checked_s(s))
 

@@ -15,8 +15,8 @@ __all__ = ["SplineProfile"]
 BOUNDARY_CONDITIONS = ("natural", "not-a-knot")
 
 _GAUSS_ORDER = 16
-_MAX_SUBDIVISIONS = 256
-_QUADRATURE_TOLERANCE = 1e-15
+_MAX_BISECTIONS = 40
+_QUADRATURE_TOLERANCE = 1e-14
 _NEWTON_TOLERANCE = 1e-14
 _NEWTON_MAX_ITERATIONS = 60
 
@@ -32,10 +32,10 @@ class SplineProfile(Profile):
 
     The spline ``c(t) = (x(t), y(t))`` interpolates the points at the chord-length parameter
     ``t_i = sum_j<i |p_{j+1} - p_j|`` (:class:`scipy.interpolate.CubicSpline`). The arc length
-    ``S(t) = int |c'|`` is computed by composite 16-point Gauss-Legendre quadrature, each spline
-    piece split into equal sub-intervals until the piece lengths agree to 1e-15 relative when
-    the split is doubled. Arc lengths are mapped to parameters by safeguarded Newton iterations
-    on ``S(t) - s`` to 1e-14 relative. The curvature is the exact curvature of the spline,
+    ``S(t) = int |c'|`` is computed by adaptive 16-point Gauss-Legendre quadrature (the spline
+    pieces are bisected until each cell is integrated to about 1e-14 of the length). Arc
+    lengths are mapped to parameters by safeguarded Newton iterations on ``S(t) - s`` to 1e-14
+    relative. The curvature is the exact curvature of the spline,
     ``(x' y'' - y' x'') / |c'|^3``; it may change sign (inflection points) and is continuous,
     while its derivative jumps at the control points. Hence the discrete (Menger) curvature of
     ``sample(n)`` converges to it at second order only at samples whose two neighbours lie on
@@ -174,24 +174,34 @@ class SplineProfile(Profile):
         return t
 
     def _arc_length_table(self) -> tuple:
-        """Sub-interval break parameters and the arc lengths at them, refined until converged."""
-        knots = self._knots
-        piece_lengths = None
-        subdivisions = 1
-        while True:
-            fractions = np.arange(subdivisions) / subdivisions
-            starts = (knots[:-1, None] + fractions * np.diff(knots)[:, None]).ravel()
-            breaks = np.append(starts, knots[-1])
-            cell_lengths = self._gauss_legendre(breaks[:-1], breaks[1:])
-            refined = cell_lengths.reshape(len(knots) - 1, subdivisions).sum(axis=1)
-            if piece_lengths is not None and (
-                np.abs(refined - piece_lengths).max()
-                <= _QUADRATURE_TOLERANCE * refined.sum()
-                or subdivisions >= _MAX_SUBDIVISIONS
-            ):
+        """Cells ``[breaks[j], breaks[j+1]]`` of the parameter and the arc lengths at ``breaks``.
+
+        Adaptive bisection, vectorised over all cells of one level: starting from the spline
+        pieces, a cell is accepted (as its two halves) when the Gauss-Legendre integral of the
+        speed over the whole cell agrees with the sum over its halves to
+        ``_QUADRATURE_TOLERANCE * length``; otherwise both halves are bisected further.
+        """
+        lower, upper = self._knots[:-1], self._knots[1:]
+        tolerance = _QUADRATURE_TOLERANCE * self._gauss_legendre(lower, upper).sum()
+        accepted_lower, accepted_lengths = [], []
+        for depth in range(_MAX_BISECTIONS + 1):
+            middle = 0.5 * (lower + upper)
+            whole = self._gauss_legendre(lower, upper)
+            left = self._gauss_legendre(lower, middle)
+            right = self._gauss_legendre(middle, upper)
+            done = np.abs(left + right - whole) <= tolerance
+            if depth == _MAX_BISECTIONS:  # (a cusp of the spline) accept what there is
+                done[:] = True
+            accepted_lower += [lower[done], middle[done]]
+            accepted_lengths += [left[done], right[done]]
+            lower = np.concatenate([lower[~done], middle[~done]])
+            upper = np.concatenate([middle[~done], upper[~done]])
+            if lower.size == 0:
                 break
-            piece_lengths = refined
-            subdivisions *= 2
+        cell_lower = np.concatenate(accepted_lower)
+        order = np.argsort(cell_lower, kind="stable")
+        breaks = np.append(cell_lower[order], self._knots[-1])
+        cell_lengths = np.concatenate(accepted_lengths)[order]
         return breaks, np.concatenate([[0.0], np.cumsum(cell_lengths)])
 
     def _gauss_legendre(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:

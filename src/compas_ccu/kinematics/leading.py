@@ -148,10 +148,12 @@ class LeadingStrip:
     def _tangent_angle(self, theta: np.ndarray, turns: np.ndarray) -> np.ndarray:
         """(k,) direction of the discrete tangent (edge bisector) at the reference vertex."""
         k = self.reference
-        if k == 0:
+        if self.n == 1:
             return theta[:, 0]
+        if k == 0:  # ends: the edge turned back by half the neighbouring turn (see frames)
+            return theta[:, 0] - 0.5 * turns[:, 0]
         if k == self.n:
-            return theta[:, -1]
+            return theta[:, -1] + 0.5 * turns[:, -1]
         return theta[:, k - 1] + 0.5 * turns[:, k - 1]
 
     def place(self, s0) -> LeadingPlacement:
@@ -197,22 +199,33 @@ class LeadingStrip:
     def reference_alpha(self, s0) -> np.ndarray:
         """(k,) reflection angle alpha (radians) at the reference vertex for given ``s0``."""
         s0 = np.atleast_1d(np.asarray(s0, dtype=float))
-        k = self.reference
-        if k == self.n:  # ruling in quad n - 1, tangent along its edge: alpha = psi_{n-1}
-            return np.arcsin(np.clip(s0 * self.tilt_factors[-1], -1.0, 1.0))
-        sin_psi = np.clip(s0 * self.tilt_factors[k], -1.0, 1.0)
-        cos_psi = np.sqrt(1.0 - sin_psi**2)
-        if k == 0:
-            return np.arcsin(sin_psi)
-        sp_prev = np.clip(s0 * self.tilt_factors[k - 1], -1.0, 1.0)
-        cp_prev = np.sqrt(1.0 - sp_prev**2)
-        half = 0.5 * (
-            np.arctan2(self._sin_back[k] * cp_prev, -self._cos_back[k])
-            - np.arctan2(self._sin_fwd[k] * cos_psi, self._cos_fwd[k])
-        )
-        # ruling in the frame of quad k; S is its component normal to the tangent T_k
+        k, n = self.reference, self.n
+        factors = self.tilt_factors
+        if n == 1:
+            return np.arcsin(np.clip(s0 * factors[0], -1.0, 1.0))
+
+        def tilt(j):
+            sp = np.clip(s0 * factors[j], -1.0, 1.0)
+            return sp, np.sqrt(1.0 - sp**2)
+
+        def half_turn(i):  # half the crease turn at interior vertex i (K2)
+            sp_prev, cp_prev = tilt(i - 1)
+            _, cp = tilt(i)
+            return 0.5 * (
+                np.arctan2(self._sin_back[i] * cp_prev, -self._cos_back[i])
+                - np.arctan2(self._sin_fwd[i] * cp, self._cos_fwd[i])
+            )
+
+        if k == n:  # ruling in quad n - 1; tangent = last edge turned by +half the last turn
+            sp, cp = tilt(n - 1)
+            half = half_turn(n - 1)
+            sa, ca = self._sin_back[n], self._cos_back[n]
+            return np.arctan2(sa * sp, ca * np.sin(half) + sa * cp * np.cos(half))
+        # ruling in the frame of quad k; the tangent T_k is u_k turned by -half
+        sp, cp = tilt(k)
+        half = half_turn(k if k > 0 else 1)
         sb, cb = self._sin_fwd[k], self._cos_fwd[k]
-        return np.arctan2(sb * sin_psi, cb * np.sin(half) + sb * cos_psi * np.cos(half))
+        return np.arctan2(sb * sp, cb * np.sin(half) + sb * cp * np.cos(half))
 
     @property
     def alpha_limit(self) -> float:

@@ -21,7 +21,9 @@ class CreaseFrames(NamedTuple):
     lengths : (n,) float
         Edge lengths.
     tangents : (n + 1, 2) float
-        Discrete tangent ``T_i`` (bisector of the adjacent edge directions; the edge at the ends).
+        Discrete tangent ``T_i``: bisector of the adjacent edge directions; at the two ends the
+        end edge turned back by half the turning angle of its neighbouring vertex, which is the
+        circle's tangent for a circular polyline.
     normals : (n + 1, 2) float
         ``N_i``: ``T_i`` turned by +90 degrees (towards the left side).
     turns : (n + 1,) float
@@ -61,9 +63,13 @@ def crease_frames(points: np.ndarray) -> CreaseFrames:
         u[:-1, 0] * u[1:, 1] - u[:-1, 1] * u[1:, 0], np.einsum("ij,ij->i", u[:-1], u[1:])
     )
     t = np.empty_like(p)
-    t[0], t[-1] = u[0], u[-1]
     mid = u[:-1] + u[1:]
     t[1:-1] = mid / np.linalg.norm(mid, axis=1)[:, None]
+    t[0], t[-1] = u[0], u[-1]
+    if len(u) >= 2:  # ends: the edge turned back by half the neighbouring turn (2nd order)
+        for end, edge, half in ((0, u[0], -0.5 * turns[1]), (-1, u[-1], 0.5 * turns[-2])):
+            c, s = np.cos(half), np.sin(half)
+            t[end] = [c * edge[0] - s * edge[1], s * edge[0] + c * edge[1]]
     normals = np.c_[-t[:, 1], t[:, 0]]
     return CreaseFrames(u, lengths, t, normals, turns)
 

@@ -58,11 +58,10 @@ class StripIntrinsics(NamedTuple):
 
 def _angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Unsigned angle between rows of ``a`` and ``b`` (any dimension), robust near 0 and pi."""
-    cross = np.cross(a, b)
-    if cross.ndim == a.ndim:
-        cross = np.linalg.norm(cross, axis=-1)
+    if a.shape[-1] == 2:
+        cross = np.abs(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
     else:
-        cross = np.abs(cross)
+        cross = np.linalg.norm(np.cross(a, b), axis=-1)
     return np.arctan2(cross, np.einsum("...i,...i->...", a, b))
 
 

@@ -1,0 +1,65 @@
+"""Shared fixtures: canonical strips and designs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from compas_ccu.design import Design, load_design
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def arc_strip(n: int, radius: float = 1.0, angle: float = np.pi / 2, width: float = 0.2):
+    """Annular-sector cut pattern: crease of radius R, radial rulings (plate inside, on the left).
+
+    Returns near, far : (n + 1, 2).
+    """
+    t = np.linspace(0.0, angle, n + 1)
+    near = radius * np.c_[np.cos(t), np.sin(t)]
+    return near, near * (1.0 - width / radius)
+
+
+def wavy_strip(n: int, seed: int = 0):
+    """A general strip: spiral-like crease, rulings leaning by varying angles (plate on the left)."""
+    rng = np.random.default_rng(seed)
+    s = np.linspace(0.0, 1.0, n + 1)
+    turn = 0.9 + 0.5 * np.sin(3.0 * s + rng.uniform(0, 1))
+    theta = np.r_[0.0, np.cumsum(turn[1:-1] * (1.6 / n))]
+    h = 1.5 / n
+    near = np.zeros((n + 1, 2))
+    near[1:] = np.cumsum(h * np.c_[np.cos(theta), np.sin(theta)], axis=0)
+    tang = np.r_[theta[:1], 0.5 * (theta[:-1] + theta[1:]), theta[-1:]]
+    gamma = np.pi / 2 + 0.35 * np.sin(2.0 * s + rng.uniform(0, 1))
+    direction = np.c_[np.cos(tang + gamma), np.sin(tang + gamma)]
+    return near, near + (0.15 + 0.05 * s)[:, None] * direction
+
+
+@pytest.fixture(scope="session")
+def vault_model():
+    return load_design(EXAMPLES / "vault.toml").build()
+
+
+@pytest.fixture(scope="session")
+def cone_model():
+    return load_design(EXAMPLES / "cone.toml").build()
+
+
+@pytest.fixture(scope="session")
+def quadrants_model():
+    return load_design(EXAMPLES / "quadrants.toml").build()
+
+
+def make_design(**sections) -> Design:
+    """A design from keyword sections, defaulting to a small single-crease arc."""
+    doc = {
+        "crease": {"profile": "arc", "span": 2.0, "rise": 0.6, "segments": 32},
+        "rulings": {"type": "orthogonal"},
+        "deployment": {"alpha": 30.0},
+        "layout": {"type": "single", "width": 0.3},
+    }
+    for name, values in sections.items():
+        doc[name] = {**doc.get(name, {}), **values}
+    return Design(doc)

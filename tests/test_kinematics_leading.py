@@ -1,0 +1,197 @@
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import arc_strip, wavy_strip
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from compas_ccu.errors import DeploymentLimitError
+from compas_ccu.kinematics.leading import LeadingStrip
+from compas_ccu.strips.intrinsics import strip_intrinsics
+
+
+def sequential_march(near2d, far2d, psi0):
+    """Independent reference: SPEC §2's sequential construction, one quad at a time.
+
+    Quad 0 is tilted by psi0 about its crease edge; every next quad is rotated about the shared
+    ruling until its next crease vertex returns to z = 0 (circle-plane intersection, root
+    continuous with the flat state). Returns near, far (n + 1, 3) or None at the limit.
+    """
+    n = len(near2d) - 1
+    p3 = np.zeros((n + 1, 3))
+    q3 = np.zeros((n + 1, 3))
+    e = near2d[1] - near2d[0]
+    c, s = e / np.linalg.norm(e)
+    to_local = np.array([[c, -s], [s, c]])  # rows: x, y components
+
+    def local(pt):
+        return (pt - near2d[0]) @ to_local
+
+    p3[1] = [np.linalg.norm(e), 0.0, 0.0]
+    for i in (0, 1):
+        x, y = local(far2d[i])
+        q3[i] = [x, y * math.cos(psi0), y * math.sin(psi0)]
+    for j in range(1, n):
+        a = q3[j] - p3[j]
+        a /= np.linalg.norm(a)
+        r2 = far2d[j] - near2d[j]
+        r2 /= np.linalg.norm(r2)
+        d2 = near2d[j + 1] - near2d[j]
+        t = d2 @ r2
+        rho = abs(r2[0] * d2[1] - r2[1] * d2[0])
+        centre = p3[j] + t * a
+        e1 = np.cross(a, [0.0, 0.0, 1.0])
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(a, e1)
+        amp = math.hypot(e1[2], e2[2])
+        arg = -centre[2] / (rho * amp)
+        if abs(arg) > 1.0:
+            return None
+        phi0 = math.atan2(e2[2], e1[2])
+        guess = p3[j] + (p3[j] - p3[j - 1])  # continue roughly straight ahead
+        roots = [centre + rho * (math.cos(f) * e1 + math.sin(f) * e2)
+                 for f in (phi0 + math.acos(arg), phi0 - math.acos(arg))]
+        # the continuous root keeps the quad on the plate side (its far side rises)
+        cand = []
+        for root in roots:
+            u = root - p3[j]
+            side = np.cross(u, q3[j] - p3[j])[2]
+            cand.append((side > 0.0, -np.linalg.norm(root - guess), root))
+        cand.sort(key=lambda x: (x[0], x[1]))
+        p3[j + 1] = cand[-1][2]
+        # far vertex: same position in the quad frame (P_j, P_{j+1}, Q_j) as in the pattern
+        b2 = np.c_[near2d[j + 1] - near2d[j], far2d[j] - near2d[j]].T
+        coef = np.linalg.solve(b2.T, far2d[j + 1] - near2d[j])
+        q3[j + 1] = p3[j] + coef[0] * (p3[j + 1] - p3[j]) + coef[1] * (q3[j] - p3[j])
+    return p3, q3
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("psi0_deg", [5.0, 25.0, 50.0])
+def test_closed_form_equals_the_sequential_march(seed, psi0_deg):
+    near, far = wavy_strip(40, seed)
+    strip = LeadingStrip(strip_intrinsics(near, far), reference=0)
+    psi0 = math.radians(psi0_deg)
+    ref = sequential_march(near, far, psi0)
+    if ref is None:
+        assert math.sin(psi0) > strip.s0_max
+        return
+    placed = strip.place(math.sin(psi0))
+    # align: first crease vertex at the origin, first crease edge along +x (rotation about z)
+    p, q = placed.near[0] - placed.near[0, 0], placed.far[0] - placed.near[0, 0]
+    c, s = (p[1, :2]) / np.linalg.norm(p[1, :2])
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    np.testing.assert_allclose(p @ rot, ref[0], atol=1e-12)
+    np.testing.assert_allclose(q @ rot, ref[1], atol=1e-12)
+
+
+@pytest.mark.parametrize("n", [6, 24, 200])
+@pytest.mark.parametrize("alpha_deg", [10.0, 40.0, 75.0])
+def test_cone_crease_radius_is_R_cos_alpha(n, alpha_deg):
+    radius = 2.0
+    near, far = arc_strip(n, radius=radius, angle=math.radians(100.0), width=0.4)
+    strip = LeadingStrip(strip_intrinsics(near, far), reference=n // 2)
+    placed = strip.place_alpha(math.radians(alpha_deg)).near[0]
+    # circumradius of the deployed crease polyline from three of its vertices
+    a, b, c = placed[0, :2], placed[n // 2, :2], placed[-1, :2]
+    lhs = np.array([2 * (b - a), 2 * (c - a)])
+    centre = np.linalg.solve(lhs, [b @ b - a @ a, c @ c - a @ a])
+    r3d = np.linalg.norm(placed[:, :2] - centre, axis=1)
+    # the 2D polyline is inscribed in the circle of radius R: the same holds in 3D with R cos a
+    np.testing.assert_allclose(r3d, radius * math.cos(math.radians(alpha_deg)), rtol=1e-12)
+    # the rulings meet at one apex on the axis of the circle at height R sin(alpha)
+    placed_all = strip.place_alpha(math.radians(alpha_deg))
+    r = placed_all.rulings[0]
+    apex = placed[:, :] + radius * r
+    np.testing.assert_allclose(apex[:, :2], np.tile(centre, (n + 1, 1)), atol=1e-12)
+    np.testing.assert_allclose(apex[:, 2], radius * math.sin(math.radians(alpha_deg)),
+                               rtol=1e-12)
+
+
+def test_flat_state_is_the_pattern():
+    near, far = wavy_strip(30)
+    strip = LeadingStrip(strip_intrinsics(near, far), reference=7, anchor_point=near[7],
+                         anchor_angle=None)
+    placed = strip.place_alpha(0.0)
+    assert np.all(placed.near[0, :, 2] == 0.0) and np.all(placed.far[0, :, 2] == 0.0)
+    # congruent to the pattern: all pairwise distances agree
+    pts2d = np.r_[near, far]
+    pts3d = np.r_[placed.near[0], placed.far[0]][:, :2]
+    d2 = np.linalg.norm(pts2d[:, None] - pts2d[None], axis=-1)
+    d3 = np.linalg.norm(pts3d[:, None] - pts3d[None], axis=-1)
+    np.testing.assert_allclose(d3, d2, atol=1e-13)
+    np.testing.assert_allclose(placed.near[0, 7, :2], near[7], atol=1e-15)
+
+
+def test_reference_alpha_is_met_and_monotone():
+    near, far = wavy_strip(50, seed=3)
+    strip = LeadingStrip(strip_intrinsics(near, far), reference=25)
+    alphas = np.radians(np.linspace(0.0, math.degrees(strip.alpha_limit), 40))
+    s0 = strip.s0_for_alpha(alphas)
+    np.testing.assert_allclose(strip.reference_alpha(s0), alphas, atol=1e-13)
+    assert np.all(np.diff(s0) > 0.0)
+
+
+@pytest.mark.parametrize("reference", [0, 1, 11, 31, 32])
+def test_reference_alpha_equals_measured_alpha_at_the_vertex(reference):
+    from compas_ccu.strips.frames import crease_frames
+    from compas_ccu.strips.rulings import vertex_reflection_angles
+
+    near, far = wavy_strip(32, seed=4)
+    strip = LeadingStrip(strip_intrinsics(near, far), reference=reference,
+                         anchor_point=near[reference], anchor_angle=1.0)
+    placed = strip.place_alpha(math.radians(33.0))
+    measured = vertex_reflection_angles(placed.near[0], placed.rulings[0])
+    assert measured[reference] == pytest.approx(math.radians(33.0), abs=1e-13)
+    # the anchor: reference vertex and its tangent keep their place
+    np.testing.assert_allclose(placed.near[0, reference, :2], near[reference], atol=1e-14)
+    t = crease_frames(placed.near[0]).tangents[reference]
+    assert math.atan2(t[1], t[0]) == pytest.approx(1.0, abs=1e-13)
+
+
+def test_beyond_the_limit_names_vertex_and_largest_alpha():
+    near, far = wavy_strip(30, seed=1)
+    strip = LeadingStrip(strip_intrinsics(near, far), reference=15)
+    limit = math.degrees(strip.alpha_limit)
+    j = strip.limit_segment
+    with pytest.raises(DeploymentLimitError) as info:
+        strip.s0_for_alpha(math.radians(limit + 0.5))
+    err = info.value
+    assert err.vertex == j and err.alpha_limit == pytest.approx(limit)
+    assert f"crease segment {j} (crease vertices {j}-{j + 1})" in str(err)
+    assert f"{limit:.6g} deg" in str(err)
+    # at the limit that segment stands perpendicular to the crease plane
+    placed = strip.place(strip.s0_max)
+    assert placed.tilts[0, j] == pytest.approx(math.pi / 2, abs=1e-7)
+    with pytest.raises(DeploymentLimitError, match="negative"):
+        strip.s0_for_alpha(-0.1)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    n=st.integers(3, 80),
+    fraction=st.floats(0.0, 1.0),
+)
+def test_isometry_and_planarity_hold_for_random_strips(seed, n, fraction):
+    near, far = wavy_strip(n, seed)
+    intr = strip_intrinsics(near, far)
+    strip = LeadingStrip(intr, reference=n // 3)
+    placed = strip.place(fraction * strip.s0_max)
+    p, q = placed.near[0], placed.far[0]
+    got = strip_intrinsics(p, q)
+    size = 2.0
+    np.testing.assert_allclose(got.edge_lengths, intr.edge_lengths, atol=1e-12 * size)
+    np.testing.assert_allclose(got.ruling_lengths, intr.ruling_lengths, atol=1e-12 * size)
+    np.testing.assert_allclose(np.linalg.norm(q[1:] - q[:-1], axis=1),
+                               np.linalg.norm(far[1:] - far[:-1], axis=1), atol=1e-12 * size)
+    diag3 = np.linalg.norm(q[1:] - p[:-1], axis=1)
+    np.testing.assert_allclose(diag3, np.linalg.norm(far[1:] - near[:-1], axis=1),
+                               atol=1e-12 * size)
+    normal = np.cross(p[1:] - p[:-1], q[:-1] - p[:-1])
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    assert np.abs(np.einsum("ij,ij->i", q[1:] - p[:-1], normal)).max() < 1e-12 * size
+    assert np.abs(p[:, 2]).max() == 0.0
