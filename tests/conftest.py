@@ -23,7 +23,7 @@ def arc_strip(n: int, radius: float = 1.0, angle: float = np.pi / 2, width: floa
 
 
 def wavy_strip(n: int, seed: int = 0):
-    """A general strip: spiral-like crease, rulings leaning by varying angles (plate on the left)."""
+    """A general strip: spiral-like crease, rulings leaning by varying angles (plate left)."""
     rng = np.random.default_rng(seed)
     s = np.linspace(0.0, 1.0, n + 1)
     turn = 0.9 + 0.5 * np.sin(3.0 * s + rng.uniform(0, 1))

@@ -4,13 +4,13 @@ import math
 
 import numpy as np
 import pytest
-from conftest import arc_strip, wavy_strip
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from compas_ccu.errors import DeploymentLimitError
 from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.strips.intrinsics import strip_intrinsics
+from conftest import arc_strip, wavy_strip
 
 
 def sequential_march(near2d, far2d, psi0):
@@ -52,8 +52,10 @@ def sequential_march(near2d, far2d, psi0):
             return None
         phi0 = math.atan2(e2[2], e1[2])
         guess = p3[j] + (p3[j] - p3[j - 1])  # continue roughly straight ahead
-        roots = [centre + rho * (math.cos(f) * e1 + math.sin(f) * e2)
-                 for f in (phi0 + math.acos(arg), phi0 - math.acos(arg))]
+        roots = [
+            centre + rho * (math.cos(f) * e1 + math.sin(f) * e2)
+            for f in (phi0 + math.acos(arg), phi0 - math.acos(arg))
+        ]
         # the continuous root keeps the quad on the plate side (its far side rises)
         cand = []
         for root in roots:
@@ -107,14 +109,14 @@ def test_cone_crease_radius_is_R_cos_alpha(n, alpha_deg):
     r = placed_all.rulings[0]
     apex = placed[:, :] + radius * r
     np.testing.assert_allclose(apex[:, :2], np.tile(centre, (n + 1, 1)), atol=1e-12)
-    np.testing.assert_allclose(apex[:, 2], radius * math.sin(math.radians(alpha_deg)),
-                               rtol=1e-12)
+    np.testing.assert_allclose(apex[:, 2], radius * math.sin(math.radians(alpha_deg)), rtol=1e-12)
 
 
 def test_flat_state_is_the_pattern():
     near, far = wavy_strip(30)
-    strip = LeadingStrip(strip_intrinsics(near, far), reference=7, anchor_point=near[7],
-                         anchor_angle=None)
+    strip = LeadingStrip(
+        strip_intrinsics(near, far), reference=7, anchor_point=near[7], anchor_angle=None
+    )
     placed = strip.place_alpha(0.0)
     assert np.all(placed.near[0, :, 2] == 0.0) and np.all(placed.far[0, :, 2] == 0.0)
     # congruent to the pattern: all pairwise distances agree
@@ -141,8 +143,12 @@ def test_reference_alpha_equals_measured_alpha_at_the_vertex(reference):
     from compas_ccu.strips.rulings import vertex_reflection_angles
 
     near, far = wavy_strip(32, seed=4)
-    strip = LeadingStrip(strip_intrinsics(near, far), reference=reference,
-                         anchor_point=near[reference], anchor_angle=1.0)
+    strip = LeadingStrip(
+        strip_intrinsics(near, far),
+        reference=reference,
+        anchor_point=near[reference],
+        anchor_angle=1.0,
+    )
     placed = strip.place_alpha(math.radians(33.0))
     measured = vertex_reflection_angles(placed.near[0], placed.rulings[0])
     assert measured[reference] == pytest.approx(math.radians(33.0), abs=1e-13)
@@ -186,11 +192,15 @@ def test_isometry_and_planarity_hold_for_random_strips(seed, n, fraction):
     size = 2.0
     np.testing.assert_allclose(got.edge_lengths, intr.edge_lengths, atol=1e-12 * size)
     np.testing.assert_allclose(got.ruling_lengths, intr.ruling_lengths, atol=1e-12 * size)
-    np.testing.assert_allclose(np.linalg.norm(q[1:] - q[:-1], axis=1),
-                               np.linalg.norm(far[1:] - far[:-1], axis=1), atol=1e-12 * size)
+    np.testing.assert_allclose(
+        np.linalg.norm(q[1:] - q[:-1], axis=1),
+        np.linalg.norm(far[1:] - far[:-1], axis=1),
+        atol=1e-12 * size,
+    )
     diag3 = np.linalg.norm(q[1:] - p[:-1], axis=1)
-    np.testing.assert_allclose(diag3, np.linalg.norm(far[1:] - near[:-1], axis=1),
-                               atol=1e-12 * size)
+    np.testing.assert_allclose(
+        diag3, np.linalg.norm(far[1:] - near[:-1], axis=1), atol=1e-12 * size
+    )
     normal = np.cross(p[1:] - p[:-1], q[:-1] - p[:-1])
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     assert np.abs(np.einsum("ij,ij->i", q[1:] - p[:-1], normal)).max() < 1e-12 * size

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+
 from conftest import make_design
 
 RULINGS = {
@@ -54,10 +55,15 @@ def test_planar_crease_has_zero_torsion_and_eq4_holds():
 
 @pytest.mark.parametrize("side,kind", [("inside", "synclastic"), ("outside", "anticlastic")])
 def test_sum_beta_classification(side, kind):
-    rel = relations_at(32, RULINGS["cylindrical"] if side == "inside" else
-                       {"type": "cylindrical", "direction": [0.3, 1.0]}, side=side)
+    rel = relations_at(
+        32,
+        RULINGS["cylindrical"]
+        if side == "inside"
+        else {"type": "cylindrical", "direction": [0.3, 1.0]},
+        side=side,
+    )
     sums = rel.sum_beta[1:-1]
-    assert (np.all(sums < 2 * math.pi) if kind == "synclastic" else np.all(sums > 2 * math.pi))
+    assert np.all(sums < 2 * math.pi) if kind == "synclastic" else np.all(sums > 2 * math.pi)
     assert set(rel.kinds[1:-1]) == {kind}
     # CCU: beta_0 = beta_3, beta_1 = beta_2, gamma_0 = gamma_3
     b = rel.sector_angles[1:-1]

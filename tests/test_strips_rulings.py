@@ -4,11 +4,11 @@ import math
 
 import numpy as np
 import pytest
-from conftest import make_design
 
 from compas_ccu.errors import DesignError, DevelopabilityError, GeometryError
 from compas_ccu.strips import rulings as rf
 from compas_ccu.strips.frames import crease_frames
+from conftest import make_design
 
 
 def catenary(n=40):
@@ -43,8 +43,9 @@ def test_orthogonal_rulings_on_an_arc_form_a_right_circular_cone():
     # every ruling line passes through the apex above the arc centre, at height R tan(alpha)
     t = 1.5 / np.cos(alpha)
     apex = np.c_[pts, np.zeros(len(pts))] + t * r
-    np.testing.assert_allclose(apex, np.tile([0.0, 0.0, 1.5 * math.tan(alpha)],
-                                             (len(pts), 1)), atol=1e-12)
+    np.testing.assert_allclose(
+        apex, np.tile([0.0, 0.0, 1.5 * math.tan(alpha)], (len(pts), 1)), atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("maker", ["orthogonal", "cylindrical", "conical", "angle"])
@@ -59,11 +60,11 @@ def test_every_ruling_field_gives_planar_quads_and_the_reference_alpha(maker):
     elif maker == "conical":
         r = rf.conical_rulings(pts, apex=[0.3, 0.9], alpha=alpha, reference=12)
         lines_meet = np.c_[pts, np.zeros(len(pts))] - r * (
-            np.c_[pts, np.zeros(len(pts))][:, 2:] * 0 + 1)
+            np.c_[pts, np.zeros(len(pts))][:, 2:] * 0 + 1
+        )
         assert lines_meet.shape == r.shape
     else:
-        r, tilts = rf.ruling_angle_rulings(pts, gamma=math.radians(75.0), alpha=alpha,
-                                           reference=12)
+        r, tilts = rf.ruling_angle_rulings(pts, gamma=math.radians(75.0), alpha=alpha, reference=12)
         assert np.all(np.diff(tilts) != 0.0)  # alpha varies along the crease when gamma != 90
     assert quads_planar(pts, r) < 1e-14
     assert rf.vertex_reflection_angles(pts, r)[12] == pytest.approx(alpha, abs=1e-12)
@@ -83,8 +84,7 @@ def test_conical_rulings_meet_at_one_apex():
 def test_ruling_angle_field_follows_the_ode():
     pts = right_side(catenary(200))
     gamma = math.radians(70.0)
-    r, tilts = rf.ruling_angle_rulings(pts, gamma=gamma, alpha=math.radians(30.0),
-                                       reference=100)
+    r, tilts = rf.ruling_angle_rulings(pts, gamma=gamma, alpha=math.radians(30.0), reference=100)
     f = crease_frames(pts)
     # realised intrinsic ruling angle: between the ruling and the tangent, in the quad's plane
     mid = np.c_[f.tangents, np.zeros(len(pts))]
@@ -97,8 +97,9 @@ def test_ruling_angle_field_follows_the_ode():
 def test_constant_alpha_with_gamma_not_90_is_refused():
     pts = right_side(catenary())
     with pytest.raises(DevelopabilityError, match="constant reflection angle.*gamma = 90"):
-        rf.check_alpha_field(pts, np.full(len(pts), math.radians(70.0)),
-                             np.full(len(pts), math.radians(30.0)))
+        rf.check_alpha_field(
+            pts, np.full(len(pts), math.radians(70.0)), np.full(len(pts), math.radians(30.0))
+        )
     rf.check_alpha_field(pts, np.full(len(pts), math.pi / 2), np.full(len(pts), 0.5))
 
 
@@ -106,19 +107,21 @@ def test_constant_alpha_request_in_a_design_is_refused():
     with pytest.raises(DevelopabilityError, match="not developable"):
         make_design(rulings={"type": "angle", "gamma": 70.0, "alpha_field": "constant"}).build()
     with pytest.raises(DesignError, match="rulings.alpha_field.*gamma = 90"):
-        make_design(crease={"state": "flat"},
-                    rulings={"type": "angle", "gamma": 70.0, "alpha_field": "constant"}).build()
+        make_design(
+            crease={"state": "flat"},
+            rulings={"type": "angle", "gamma": 70.0, "alpha_field": "constant"},
+        ).build()
     # gamma = 90 with a constant alpha is the ultra-special case: accepted
-    model = make_design(rulings={"type": "angle", "gamma": 90.0,
-                                 "alpha_field": "constant"}).build()
+    model = make_design(rulings={"type": "angle", "gamma": 90.0, "alpha_field": "constant"}).build()
     assert model.deploy().max_invariant_error < 1e-12
 
 
 def test_unreachable_alpha_for_a_ruling_field_is_refused():
     pts = right_side(arc(40, angle=2.5))
     with pytest.raises(DevelopabilityError, match="cannot reach alpha"):
-        rf.ruling_angle_rulings(pts, gamma=math.radians(20.0), alpha=math.radians(80.0),
-                                reference=0)
+        rf.ruling_angle_rulings(
+            pts, gamma=math.radians(20.0), alpha=math.radians(80.0), reference=0
+        )
 
 
 def test_bad_ruling_inputs_name_the_vertex():

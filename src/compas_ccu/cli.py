@@ -32,13 +32,19 @@ def _cmd_deploy(args) -> int:
         write_compas_json(structure, out / "structure.compas.json"),
     ]
     m = structure.metrics
-    _say(args, f"deployed {model.design.name} to alpha = {structure.alpha:g} deg "
-               f"(limit {model.alpha_limit:.4g} deg): span {m['span']:.4f} m, "
-               f"rise {m['rise']:.4f} m")
-    _say(args, f"invariants (relative to size {m['size']:.3f} m): isometry "
-               f"{m['isometry_relative']:.1e}, quad planarity {m['quad_planarity_relative']:.1e}, "
-               f"hinges {m['hinge_gap_relative']:.1e}, mirror {m['mirror_error_relative']:.1e}, "
-               f"crease planarity {m['crease_planarity_max_relative']:.1e}")
+    _say(
+        args,
+        f"deployed {model.design.name} to alpha = {structure.alpha:g} deg "
+        f"(limit {model.alpha_limit:.4g} deg): span {m['span']:.4f} m, "
+        f"rise {m['rise']:.4f} m",
+    )
+    _say(
+        args,
+        f"invariants (relative to size {m['size']:.3f} m): isometry "
+        f"{m['isometry_relative']:.1e}, quad planarity {m['quad_planarity_relative']:.1e}, "
+        f"hinges {m['hinge_gap_relative']:.1e}, mirror {m['mirror_error_relative']:.1e}, "
+        f"crease planarity {m['crease_planarity_max_relative']:.1e}",
+    )
     for f in files:
         _say(args, f"wrote {f}")
     return 0
@@ -62,8 +68,11 @@ def _cmd_path(args) -> int:
         write_structure_json(s, states / f"state_{k:04d}.json")
     table = write_path_table(structures, out / "path.csv")
     worst = max(s.metrics["crease_planarity_max"] for s in structures)
-    _say(args, f"{len(structures)} states from alpha = 0 to {target:g} deg; largest crease "
-               f"planarity deviation along the path {worst:.2e} m")
+    _say(
+        args,
+        f"{len(structures)} states from alpha = 0 to {target:g} deg; largest crease "
+        f"planarity deviation along the path {worst:.2e} m",
+    )
     _say(args, f"wrote {table} and {len(structures)} files in {states}")
     return 0
 
@@ -121,20 +130,30 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
 
-    p = sub.add_parser("deploy", help="deploy a design to one reflection angle",
-                       description="Deploy DESIGN to --alpha and write structure.json "
-                       "(SPEC §4), structure.obj and structure.compas.json into --out.")
+    p = sub.add_parser(
+        "deploy",
+        help="deploy a design to one reflection angle",
+        description="Deploy DESIGN to --alpha and write structure.json "
+        "(SPEC §4), structure.obj and structure.compas.json into --out.",
+    )
     p.add_argument("design", help="design TOML file")
-    p.add_argument("--alpha", type=float, default=None,
-                   help="reference reflection angle in degrees (default: the design alpha)")
+    p.add_argument(
+        "--alpha",
+        type=float,
+        default=None,
+        help="reference reflection angle in degrees (default: the design alpha)",
+    )
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(func=_cmd_deploy)
 
-    p = sub.add_parser("path", help="deploy along a path from the flat stack",
-                       description="Deploy DESIGN from alpha = 0 to the design alpha (or "
-                       "--alpha) in --steps equal steps; write states/state_NNNN.json and "
-                       "path.csv (alpha, span, rise, planarity per state).")
+    p = sub.add_parser(
+        "path",
+        help="deploy along a path from the flat stack",
+        description="Deploy DESIGN from alpha = 0 to the design alpha (or "
+        "--alpha) in --steps equal steps; write states/state_NNNN.json and "
+        "path.csv (alpha, span, rise, planarity per state).",
+    )
     p.add_argument("design", help="design TOML file")
     p.add_argument("--steps", type=int, default=10, help="number of steps (default 10)")
     p.add_argument("--alpha", type=float, default=None, help="final alpha, degrees")
@@ -142,9 +161,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(func=_cmd_path)
 
-    p = sub.add_parser("info", help="print the key figures of a design",
-                       description="Print plates, creases by kind, design alpha, deployment "
-                       "limit, span, rise and the flat stack footprint of DESIGN.")
+    p = sub.add_parser(
+        "info",
+        help="print the key figures of a design",
+        description="Print plates, creases by kind, design alpha, deployment "
+        "limit, span, rise and the flat stack footprint of DESIGN.",
+    )
     p.add_argument("design", help="design TOML file")
     p.set_defaults(func=_cmd_info)
     return parser

@@ -8,8 +8,13 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["write_structure_json", "read_structure_json", "write_obj", "write_compas_json",
-           "write_path_table"]
+__all__ = [
+    "write_structure_json",
+    "read_structure_json",
+    "write_obj",
+    "write_compas_json",
+    "write_path_table",
+]
 
 
 def write_structure_json(structure, path) -> Path:
@@ -32,12 +37,10 @@ def write_obj(structure, path, *, state: str = "deployed") -> Path:
     points = structure.deployed if state == "deployed" else structure.flat
     lines = [f"# compas_ccu structure, alpha = {structure.alpha:.12g} deg, units m"]
     offset = 1
-    for pid, xyz in zip(structure.plate_ids, points):
+    for pid, xyz, faces in zip(structure.plate_ids, points, structure.faces):
         lines.append(f"g plate_{pid}")
-        lines.extend(f"v {x:.12g} {y:.12g} {z:.12g}" for x, y, z in xyz)
-        lines.extend(
-            "f " + " ".join(str(i + offset) for i in face) for face in structure.faces.tolist()
-        )
+        lines.extend(f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in xyz)
+        lines.extend("f " + " ".join(str(i + offset) for i in face) for face in faces.tolist())
         offset += len(xyz)
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
@@ -56,17 +59,30 @@ def write_path_table(structures, path) -> Path:
     """CSV: one row per state with alpha, span, rise, invariants and each crease's planarity."""
     path = Path(path)
     ncreases = len(structures[0].creases) if structures else 0
-    header = ["state", "alpha_deg", "span_m", "rise_m", "isometry_rel", "quad_planarity_rel",
-              "crease_planarity_max_m"] + [f"crease_{i}_planarity_m" for i in range(ncreases)]
+    header = [
+        "state",
+        "alpha_deg",
+        "span_m",
+        "rise_m",
+        "isometry_rel",
+        "quad_planarity_rel",
+        "crease_planarity_max_m",
+    ] + [f"crease_{i}_planarity_m" for i in range(ncreases)]
     with path.open("w", newline="", encoding="utf-8") as fh:
         writer = csv.writer(fh)
         writer.writerow(header)
         for k, s in enumerate(structures):
             m = s.metrics
             writer.writerow(
-                [k, f"{s.alpha:.12g}", f"{m['span']:.12g}", f"{m['rise']:.12g}",
-                 f"{m['isometry_relative']:.3e}", f"{m['quad_planarity_relative']:.3e}",
-                 f"{m['crease_planarity_max']:.3e}"]
+                [
+                    k,
+                    f"{s.alpha:.12g}",
+                    f"{m['span']:.12g}",
+                    f"{m['rise']:.12g}",
+                    f"{m['isometry_relative']:.3e}",
+                    f"{m['quad_planarity_relative']:.3e}",
+                    f"{m['crease_planarity_max']:.3e}",
+                ]
                 + [f"{c['planarity']:.3e}" for c in s.creases]
             )
     return path

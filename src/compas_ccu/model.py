@@ -5,8 +5,9 @@ and crease ids, vertex order, world frame, units); :meth:`CCUModel.deploy` and
 :meth:`CCUModel.path` return :class:`compas_ccu.structure.Structure` objects.
 
 Plate vertex order (every plate has the same layout): crease-side (near) boundary
-``0 .. n`` followed by the far boundary ``n + 1 .. 2n + 1``; quad ``j`` is
-``[j, j + 1, n + 2 + j, n + 1 + j]`` (counter-clockwise in the cut pattern).
+``0 .. n`` followed by the far boundary ``n + 1 .. 2n + 1``; quad ``j`` has the vertices
+``j, j + 1, n + 2 + j, n + 1 + j``, listed counter-clockwise in the plate's cut pattern (so the
+order is reversed for plates that lie on the other side of their crease).
 """
 
 from __future__ import annotations
@@ -34,8 +35,9 @@ def plane_frame(origin, xaxis, yaxis):
     if np.linalg.norm(y) < 1e-12:
         from compas_ccu.errors import DesignError
 
-        raise DesignError(f"must not be parallel to plane.xaxis, got {list(yaxis)}",
-                          key="plane.yaxis")
+        raise DesignError(
+            f"must not be parallel to plane.xaxis, got {list(yaxis)}", key="plane.yaxis"
+        )
     y = _unit(y)
     return np.asarray(origin, dtype=float), np.array([x, y, np.cross(x, y)])
 
@@ -71,7 +73,7 @@ class CCUModel:
         self.plate_ids = [int(b.plate_ids[i]) for i in self.order]
         self._mech_to_out = {int(m): int(b.plate_ids[m]) for m in range(len(b.plate_ids))}
         j = np.arange(n)
-        self.faces = np.c_[j, j + 1, n + 2 + j, n + 1 + j]
+        self._quads = np.c_[j, j + 1, n + 2 + j, n + 1 + j]
         # reference lengths of every quad (4 sides + 2 diagonals) at the design state
         self._reference_lengths = self._quad_lengths(b.design_near[None], b.design_far[None])[0]
         corners = self._to_world(np.concatenate([b.design_near, b.design_far], axis=1))
@@ -79,6 +81,7 @@ class CCUModel:
         self._flat = None
         self._kinds = None
         self._overlap_alpha = None
+        self._faces = None
 
     # -- frames ------------------------------------------------------------------------------
     def _to_world(self, local: np.ndarray) -> np.ndarray:
@@ -124,14 +127,28 @@ class CCUModel:
             self._flat = flat
         return self._flat
 
+    @property
+    def faces(self) -> np.ndarray:
+        """(p, n, 4) quads of every plate, counter-clockwise in its cut pattern."""
+        if self._faces is None:
+            flat = self.flat()
+            q = self._quads
+            a, b, d = flat[:, q[:, 0], :2], flat[:, q[:, 1], :2], flat[:, q[:, 3], :2]
+            area = ((b - a)[..., 0] * (d - a)[..., 1] - (b - a)[..., 1] * (d - a)[..., 0]).sum(1)
+            self._faces = np.where((area < 0.0)[:, None, None], q[:, ::-1], q[None])
+        return self._faces
+
     def crease_kinds(self) -> list:
         """Per crease: (kind, per-vertex kinds, sector angles) from the design state."""
         if self._kinds is None:
             b = self.built
-            st = self.mechanism.place(self.mechanism.leading.s0_for_alpha(b.design_alpha)
-                                      if b.state == "deployed" else 0.0)
+            st = self.mechanism.place(
+                self.mechanism.leading.s0_for_alpha(b.design_alpha)
+                if b.state == "deployed"
+                else 0.0
+            )
             out = []
-            for ci, crease in enumerate(self.mechanism.creases):
+            for ci in range(len(self.mechanism.creases)):
                 rel = self._relations(st, 0, ci)
                 kinds = {k for k in rel.kinds if k not in (None, "straight")}
                 kind = kinds.pop() if len(kinds) == 1 else ("mixed" if kinds else "straight")
@@ -193,7 +210,8 @@ class CCUModel:
                     f"self-intersection at alpha = {alphas[k]:.6g} deg: {what} overlaps itself "
                     f"in its plane (the plates would pass through each other); the largest "
                     f"alpha before any crease overlaps is {self.overlap_alpha:.6g} deg",
-                    alpha=float(alphas[k]), crease=None if ci == 0 else ci - 1,
+                    alpha=float(alphas[k]),
+                    crease=None if ci == 0 else ci - 1,
                 )
         metrics = self.invariants(states)
         kinds = self.crease_kinds()
@@ -211,8 +229,9 @@ class CCUModel:
         cols = [self_intersecting(states.near[:, 0], np.zeros((k, 3)), z)]
         for ci, crease in enumerate(self.mechanism.creases):
             hinge = (states.near if crease.boundary_a == "near" else states.far)[:, crease.plate_a]
-            cols.append(self_intersecting(hinge, states.plane_origins[:, ci],
-                                          states.plane_normals[:, ci]))
+            cols.append(
+                self_intersecting(hinge, states.plane_origins[:, ci], states.plane_normals[:, ci])
+            )
         return np.stack(cols, axis=1)
 
     @property

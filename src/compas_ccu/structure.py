@@ -28,8 +28,8 @@ class Structure(Data):
     ----------
     alpha : float
         Reference reflection angle, degrees.
-    faces : (n, 4) int
-        Quad faces, the same for every plate.
+    faces : (p, n, 4) int
+        Quad faces of every plate, counter-clockwise in the cut pattern.
     flat, deployed : (p, v, 3) float
         Cut patterns (z = 0) and deployed vertices of every plate, same vertex order.
     creases : list of dict
@@ -39,8 +39,7 @@ class Structure(Data):
     plate_ids : list of int, optional
     """
 
-    def __init__(self, alpha, faces, flat, deployed, creases, metrics, plate_ids=None,
-                 name=None):
+    def __init__(self, alpha, faces, flat, deployed, creases, metrics, plate_ids=None, name=None):
         super().__init__(name=name)
         self.alpha = float(alpha)
         self.faces = np.asarray(faces, dtype=int)
@@ -61,10 +60,9 @@ class Structure(Data):
 
     def to_contract(self) -> dict:
         """The ``structure.json`` dictionary of SPEC §4."""
-        faces = self.faces.tolist()
         plates = [
-            {"id": pid, "faces": faces, "flat": _round_list(f), "deployed": _round_list(d)}
-            for pid, f, d in zip(self.plate_ids, self.flat, self.deployed)
+            {"id": pid, "faces": fc.tolist(), "flat": _round_list(f), "deployed": _round_list(d)}
+            for pid, fc, f, d in zip(self.plate_ids, self.faces, self.flat, self.deployed)
         ]
         return {
             "format": FORMAT,
@@ -86,15 +84,20 @@ class Structure(Data):
             )
         plates = data["plates"]
         return cls(
-            data["alpha"], plates[0]["faces"], [p["flat"] for p in plates],
-            [p["deployed"] for p in plates], data["creases"], data.get("metrics", {}),
+            data["alpha"],
+            [p["faces"] for p in plates],
+            [p["flat"] for p in plates],
+            [p["deployed"] for p in plates],
+            data["creases"],
+            data.get("metrics", {}),
             [p["id"] for p in plates],
         )
 
     # -- construction from a model state ---------------------------------------------------
     @classmethod
-    def from_model(cls, model, states, k: int, alpha: float, invariants: dict, kinds: list,
-                   flat: np.ndarray) -> Structure:
+    def from_model(
+        cls, model, states, k: int, alpha: float, invariants: dict, kinds: list, flat: np.ndarray
+    ) -> Structure:
         """Structure of state ``k`` of a :class:`compas_ccu.model.CCUModel` placement."""
         n = model.segments
         local = np.concatenate([states.near[k], states.far[k]], axis=1)[model.order]
@@ -103,8 +106,9 @@ class Structure(Data):
         for ci, crease in enumerate(model.mechanism.creases):
             pa = model._mech_to_out[crease.plate_a]
             pb = model._mech_to_out[crease.plate_b]
-            ia = list(range(n + 1)) if crease.boundary_a == "near" else list(
-                range(n + 1, 2 * n + 2))
+            ia = (
+                list(range(n + 1)) if crease.boundary_a == "near" else list(range(n + 1, 2 * n + 2))
+            )
             rel = model._relations(states, k, ci)
             kind, vertex_kinds, sectors = kinds[ci]
             origin = model._to_world(states.plane_origins[k, ci][None])[0]
@@ -141,22 +145,33 @@ class Structure(Data):
                 crease_alpha_local(states.near[k, 0], states.far[k, 0] - states.near[k, 0])
             ).tolist(),
         }
-        for key in ("isometry", "quad_planarity", "hinge_gap", "mirror_error",
-                    "leading_in_plane"):
+        for key in ("isometry", "quad_planarity", "hinge_gap", "mirror_error", "leading_in_plane"):
             metrics[key] = float(invariants[key][k])
             metrics[key + "_relative"] = float(invariants[key][k]) / size
         cp = invariants["crease_planarity"][k]
         metrics["crease_planarity_max"] = float(cp.max()) if cp.size else 0.0
         metrics["crease_planarity_max_relative"] = metrics["crease_planarity_max"] / size
-        return cls(alpha, model.faces, flat, deployed, creases, metrics, model.plate_ids,
-                   name=model.design.name)
+        return cls(
+            alpha,
+            model.faces,
+            flat,
+            deployed,
+            creases,
+            metrics,
+            model.plate_ids,
+            name=model.design.name,
+        )
 
     # -- key figures -------------------------------------------------------------------------
     @property
     def max_invariant_error(self) -> float:
         """Largest relative invariant error (isometry, planarity, hinge, mirror)."""
-        keys = ("isometry_relative", "quad_planarity_relative", "hinge_gap_relative",
-                "mirror_error_relative")
+        keys = (
+            "isometry_relative",
+            "quad_planarity_relative",
+            "hinge_gap_relative",
+            "mirror_error_relative",
+        )
         return max(self.metrics[k] for k in keys)
 
     def to_meshes(self, *, state: str = "deployed") -> list:
@@ -165,9 +180,8 @@ class Structure(Data):
 
         points = self.deployed if state == "deployed" else self.flat
         meshes = []
-        faces = self.faces.tolist()
-        for pid, xyz in zip(self.plate_ids, points):
-            mesh = Mesh.from_vertices_and_faces(xyz.tolist(), faces)
+        for pid, xyz, faces in zip(self.plate_ids, points, self.faces):
+            mesh = Mesh.from_vertices_and_faces(xyz.tolist(), faces.tolist())
             mesh.name = f"plate_{pid}"
             mesh.attributes["plate"] = pid
             mesh.attributes["alpha"] = self.alpha
@@ -175,8 +189,10 @@ class Structure(Data):
         return meshes
 
     def __repr__(self) -> str:
-        return (f"Structure(alpha={self.alpha:g} deg, plates={len(self.flat)}, "
-                f"creases={len(self.creases)})")
+        return (
+            f"Structure(alpha={self.alpha:g} deg, plates={len(self.flat)}, "
+            f"creases={len(self.creases)})"
+        )
 
 
 def crease_alpha_local(near: np.ndarray, rulings: np.ndarray) -> np.ndarray:
@@ -184,4 +200,3 @@ def crease_alpha_local(near: np.ndarray, rulings: np.ndarray) -> np.ndarray:
     from compas_ccu.strips.rulings import vertex_reflection_angles
 
     return vertex_reflection_angles(near[:, :2], rulings / np.linalg.norm(rulings, axis=1)[:, None])
-

@@ -96,7 +96,9 @@ def _rulings_3d(values: dict, local: np.ndarray, alpha: float, reference: int, f
     if kind == "cylindrical":
         _need(spec, "direction", "rulings", kind)
         return ruling_fields.cylindrical_rulings(
-            local, direction=np.asarray(spec["direction"]) * flip2, alpha=alpha,
+            local,
+            direction=np.asarray(spec["direction"]) * flip2,
+            alpha=alpha,
             reference=reference,
         )
     if kind == "conical":
@@ -110,8 +112,7 @@ def _rulings_3d(values: dict, local: np.ndarray, alpha: float, reference: int, f
     gamma = _gamma_field(spec["gamma"], s / s[-1])
     if spec["alpha_field"] == "constant":
         ruling_fields.check_alpha_field(local, gamma, np.full(len(local), alpha))
-    r, _ = ruling_fields.ruling_angle_rulings(local, gamma=gamma, alpha=alpha,
-                                              reference=reference)
+    r, _ = ruling_fields.ruling_angle_rulings(local, gamma=gamma, alpha=alpha, reference=reference)
     return r
 
 
@@ -189,8 +190,11 @@ def build(values: dict) -> BuiltDesign:
 
     crease = values["crease"]
     layout = values["layout"]
-    spec = {k: v for k, v in crease.items() if v is not None and k in
-            ("profile", "span", "rise", "radius", "angle", "points")}
+    spec = {
+        k: v
+        for k, v in crease.items()
+        if v is not None and k in ("profile", "span", "rise", "radius", "angle", "points")
+    }
     profile = profile_from_dict(spec)
     n = crease["segments"]
     points = np.asarray(profile.sample(n), dtype=float)
@@ -262,8 +266,9 @@ def build(values: dict) -> BuiltDesign:
             plate_ids.append(k)
             links.append((parent, "far", "ccu", crease_index))
             if k + 1 < m:
-                creases.append(CreaseLink(len(nears) - 1, "far", len(nears), "ccu", False,
-                                          (0.0, 0.0, 1.0)))
+                creases.append(
+                    CreaseLink(len(nears) - 1, "far", len(nears), "ccu", False, (0.0, 0.0, 1.0))
+                )
                 crease_index = len(creases) - 1
                 parent = len(nears) - 1
                 direction = _reflect_z(_unit(near - far))
@@ -272,8 +277,9 @@ def build(values: dict) -> BuiltDesign:
         parent, boundary = 0, "near"
         near, direction = near0, _reflect_z(r)
         for k in range(k0 - 1, -1, -1):
-            creases.append(CreaseLink(parent, boundary, len(nears), "ccu", k == k0 - 1,
-                                      (0.0, 0.0, 1.0)))
+            creases.append(
+                CreaseLink(parent, boundary, len(nears), "ccu", k == k0 - 1, (0.0, 0.0, 1.0))
+            )
             far = _trim(near, direction, z[k], k, k)
             nears.append(near)
             fars.append(far)
@@ -288,7 +294,9 @@ def build(values: dict) -> BuiltDesign:
     intrinsics = [strip_intrinsics(a, b) for a, b in zip(design_near, design_far)]
     anchor_angle = math.atan2(*crease_frames(local).tangents[reference][::-1])
     leading = LeadingStrip(
-        intrinsics[0], reference=reference, anchor_point=local[reference],
+        intrinsics[0],
+        reference=reference,
+        anchor_point=local[reference],
         anchor_angle=anchor_angle,
     )
     plates = [
@@ -298,5 +306,6 @@ def build(values: dict) -> BuiltDesign:
     mechanism = Mechanism(leading, plates, creases)
     if state == "deployed" and alpha > mechanism.alpha_limit:  # pragma: no cover - guard
         raise GeometryError("design alpha beyond the deployment limit of its own pattern")
-    return BuiltDesign(mechanism, plate_ids, design_near, design_far, alpha, reference, flip,
-                       points, state)
+    return BuiltDesign(
+        mechanism, plate_ids, design_near, design_far, alpha, reference, flip, points, state
+    )

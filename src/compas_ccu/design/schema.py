@@ -60,84 +60,173 @@ SCHEMA: dict = {
             required=True,
             choices=("arc", "catenary", "elastica", "spline", "polyline"),
         ),
-        "span": Key("float", "Distance between the end points, m.", check=_positive,
-                    check_doc="> 0", when="arc, catenary, elastica"),
-        "rise": Key("float", "Height of the apex above the chord, m.", check=_positive,
-                    check_doc="> 0", when="arc, catenary, elastica"),
-        "radius": Key("float", "Arc radius, m (instead of span and rise).", check=_positive,
-                      check_doc="> 0", when="arc"),
-        "angle": Key("float", "Arc central angle, degrees (with radius).",
-                     check=lambda v: 0.0 < v < 360.0, check_doc="0 < angle < 360", when="arc"),
-        "points": Key("points2", "Control points [[x, y], ...] (at least 3).",
-                      when="spline, polyline"),
-        "segments": Key("int", "Number of equal-length crease segments (quads per plate).",
-                        default=48, check=lambda v: 2 <= v <= 2_000_000,
-                        check_doc="2 ... 2e6"),
-        "reference": Key("float", "Arc-length fraction of the reference vertex whose reflection "
-                         "angle names the actuation (the nearest vertex is used).", default=0.5,
-                         check=_fraction, check_doc="0 ... 1"),
-        "state": Key("str", "Whether the profile is the deployed 3D crease at the design alpha "
-                     "or the flat crease of the cut pattern.", default="deployed",
-                     choices=("deployed", "flat")),
+        "span": Key(
+            "float",
+            "Distance between the end points, m.",
+            check=_positive,
+            check_doc="> 0",
+            when="arc, catenary, elastica",
+        ),
+        "rise": Key(
+            "float",
+            "Height of the apex above the chord, m.",
+            check=_positive,
+            check_doc="> 0",
+            when="arc, catenary, elastica",
+        ),
+        "radius": Key(
+            "float",
+            "Arc radius, m (instead of span and rise).",
+            check=_positive,
+            check_doc="> 0",
+            when="arc",
+        ),
+        "angle": Key(
+            "float",
+            "Arc central angle, degrees (with radius).",
+            check=lambda v: 0.0 < v < 360.0,
+            check_doc="0 < angle < 360",
+            when="arc",
+        ),
+        "points": Key(
+            "points2", "Control points [[x, y], ...] (at least 3).", when="spline, polyline"
+        ),
+        "segments": Key(
+            "int",
+            "Number of equal-length crease segments (quads per plate).",
+            default=48,
+            check=lambda v: 2 <= v <= 2_000_000,
+            check_doc="2 ... 2e6",
+        ),
+        "reference": Key(
+            "float",
+            "Arc-length fraction of the reference vertex whose reflection "
+            "angle names the actuation (the nearest vertex is used).",
+            default=0.5,
+            check=_fraction,
+            check_doc="0 ... 1",
+        ),
+        "state": Key(
+            "str",
+            "Whether the profile is the deployed 3D crease at the design alpha "
+            "or the flat crease of the cut pattern.",
+            default="deployed",
+            choices=("deployed", "flat"),
+        ),
     },
     "rulings": {
         "_doc": "The developable type of the leading plate (SPEC §1, §3). Directions and points "
-        "are in the 2D coordinates of the leading crease plane; for state = \"deployed\" they "
+        'are in the 2D coordinates of the leading crease plane; for state = "deployed" they '
         "are the projections of the 3D rulings, whose inclination follows from the design alpha.",
-        "type": Key("str", "Ruling field.", required=True,
-                    choices=("orthogonal", "cylindrical", "conical", "angle")),
-        "side": Key("str", "Which side of the leading crease the leading plate lies on: "
-                    "'inside' = towards the centre of curvature at the reference vertex (the "
-                    "crease is convex for the plate: synclastic CCU pair, Q2), 'outside' "
-                    "(anticlastic, Q4), or 'left' / 'right' of the profile direction.",
-                    default="inside", choices=("inside", "outside", "left", "right")),
+        "type": Key(
+            "str",
+            "Ruling field.",
+            required=True,
+            choices=("orthogonal", "cylindrical", "conical", "angle"),
+        ),
+        "side": Key(
+            "str",
+            "Which side of the leading crease the leading plate lies on: "
+            "'inside' = towards the centre of curvature at the reference vertex (the "
+            "crease is convex for the plate: synclastic CCU pair, Q2), 'outside' "
+            "(anticlastic, Q4), or 'left' / 'right' of the profile direction.",
+            default="inside",
+            choices=("inside", "outside", "left", "right"),
+        ),
         "direction": Key("point2", "Ruling direction [dx, dy].", when="cylindrical"),
-        "apex": Key("point2", "Apex [x, y] that all ruling lines pass through.",
-                    when="conical"),
-        "gamma": Key("gamma", "Ruling angle to the forward crease tangent, degrees: one number, "
-                     "or [[s, gamma], ...] with s the arc-length fraction (linear in between).",
-                     when="angle"),
-        "alpha_field": Key("str", "'ode': alpha(s) follows alpha' = cot(gamma) kappa_2D "
-                           "tan(alpha) from the reference value (the only developable choice); "
-                           "'constant': request a constant alpha -- refused unless gamma = 90.",
-                           default="ode", choices=("ode", "constant"), when="angle"),
+        "apex": Key("point2", "Apex [x, y] that all ruling lines pass through.", when="conical"),
+        "gamma": Key(
+            "gamma",
+            "Ruling angle to the forward crease tangent, degrees: one number, "
+            "or [[s, gamma], ...] with s the arc-length fraction (linear in between).",
+            when="angle",
+        ),
+        "alpha_field": Key(
+            "str",
+            "'ode': alpha(s) follows alpha' = cot(gamma) kappa_2D "
+            "tan(alpha) from the reference value (the only developable choice); "
+            "'constant': request a constant alpha -- refused unless gamma = 90.",
+            default="ode",
+            choices=("ode", "constant"),
+            when="angle",
+        ),
     },
     "deployment": {
         "_doc": "The design state.",
-        "alpha": Key("float", "Design reflection angle at the reference vertex, degrees. The "
-                     "stack is flat-folded at 0.", required=True, check=_angle_open,
-                     check_doc="0 < alpha < 90"),
+        "alpha": Key(
+            "float",
+            "Design reflection angle at the reference vertex, degrees. The "
+            "stack is flat-folded at 0.",
+            required=True,
+            check=_angle_open,
+            check_doc="0 < alpha < 90",
+        ),
     },
     "layout": {
         "_doc": "Which plates and creases the structure has.",
-        "type": Key("str", "'single': one crease with the leading plate and its mirror partner "
-                    "(a CCU pair); 'parallel': a corrugated multi-crease structure whose crease "
-                    "planes are parallel (paper Fig. 1).", default="single",
-                    choices=("single", "parallel")),
-        "width": Key("float", "Ruling length of the plates of a single crease, m.",
-                     check=_positive, check_doc="> 0", when="single"),
-        "quadrants": Key("bool", "Also build the curved-crease-folding continuations: the four "
-                         "quadrants of one crease (paper Fig. 2).", default=False,
-                         when="single"),
-        "ccf_width": Key("float", "Ruling length of the continuation plates, m (default: "
-                         "width).", check=_positive, check_doc="> 0", when="single"),
-        "plates": Key("int", "Number of plates between consecutive crease planes.",
-                      check=lambda v: 1 <= v <= 10_000, check_doc="1 ... 10000",
-                      when="parallel"),
-        "spacing": Key("float_or_list", "Distance between consecutive crease planes at the "
-                       "design state, m: one number or one per plate.", check=_positive,
-                       check_doc="> 0", when="parallel"),
-        "leading": Key("int", "Index of the plane (0 ... plates) that holds the leading crease; "
-                       "default: the middle plane.", check=lambda v: v >= 0,
-                       check_doc=">= 0", when="parallel"),
+        "type": Key(
+            "str",
+            "'single': one crease with the leading plate and its mirror partner "
+            "(a CCU pair); 'parallel': a corrugated multi-crease structure whose crease "
+            "planes are parallel (paper Fig. 1).",
+            default="single",
+            choices=("single", "parallel"),
+        ),
+        "width": Key(
+            "float",
+            "Ruling length of the plates of a single crease, m.",
+            check=_positive,
+            check_doc="> 0",
+            when="single",
+        ),
+        "quadrants": Key(
+            "bool",
+            "Also build the curved-crease-folding continuations: the four "
+            "quadrants of one crease (paper Fig. 2).",
+            default=False,
+            when="single",
+        ),
+        "ccf_width": Key(
+            "float",
+            "Ruling length of the continuation plates, m (default: width).",
+            check=_positive,
+            check_doc="> 0",
+            when="single",
+        ),
+        "plates": Key(
+            "int",
+            "Number of plates between consecutive crease planes.",
+            check=lambda v: 1 <= v <= 10_000,
+            check_doc="1 ... 10000",
+            when="parallel",
+        ),
+        "spacing": Key(
+            "float_or_list",
+            "Distance between consecutive crease planes at the "
+            "design state, m: one number or one per plate.",
+            check=_positive,
+            check_doc="> 0",
+            when="parallel",
+        ),
+        "leading": Key(
+            "int",
+            "Index of the plane (0 ... plates) that holds the leading crease; "
+            "default: the middle plane.",
+            check=lambda v: v >= 0,
+            check_doc=">= 0",
+            when="parallel",
+        ),
     },
     "plane": {
         "_doc": "Placement of the leading crease plane in world coordinates (metres). Profile "
         "x runs along xaxis, profile y along yaxis; the plane normal is xaxis x yaxis.",
         "origin": Key("point3", "Origin.", default=[0.0, 0.0, 0.0]),
         "xaxis": Key("point3", "Direction of the profile x axis.", default=[1.0, 0.0, 0.0]),
-        "yaxis": Key("point3", "Direction of the profile y axis (made orthogonal to xaxis).",
-                     default=[0.0, 0.0, 1.0]),
+        "yaxis": Key(
+            "point3",
+            "Direction of the profile y axis (made orthogonal to xaxis).",
+            default=[0.0, 0.0, 1.0],
+        ),
     },
 }
 
@@ -193,8 +282,10 @@ def _coerce(section: str, name: str, key: Key, value):
     elif key.kind == "gamma":
         if _is_number(value):
             value = float(value)
-        elif isinstance(value, list) and len(value) >= 2 and all(
-            isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in value
+        elif (
+            isinstance(value, list)
+            and len(value) >= 2
+            and all(isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in value)
         ):
             value = [[float(s), float(g)] for s, g in value]
             s = [p[0] for p in value]
@@ -237,9 +328,7 @@ def validate(document: dict) -> dict:
     out: dict = {}
     for section in document:
         if section not in SCHEMA:
-            raise DesignError(
-                f"unknown section; allowed: {', '.join(SCHEMA)}", key=f"[{section}]"
-            )
+            raise DesignError(f"unknown section; allowed: {', '.join(SCHEMA)}", key=f"[{section}]")
         if not isinstance(document[section], dict):
             raise DesignError("must be a table", key=f"[{section}]")
     for section, keys in SCHEMA.items():
@@ -280,15 +369,22 @@ def schema_markdown() -> str:
     ]
     for section, keys in SCHEMA.items():
         req = " (required)" if section in REQUIRED_SECTIONS else ""
-        lines += [f"## [{section}]{req}", "", keys["_doc"], "",
-                  "| key | type | default | allowed | applies to | meaning |",
-                  "|---|---|---|---|---|---|"]
+        lines += [
+            f"## [{section}]{req}",
+            "",
+            keys["_doc"],
+            "",
+            "| key | type | default | allowed | applies to | meaning |",
+            "|---|---|---|---|---|---|",
+        ]
         for name, key in keys.items():
             if name.startswith("_"):
                 continue
             allowed = ", ".join(f"`{c}`" for c in key.choices) or key.check_doc
-            default = "required" if key.required else (
-                "" if key.default is None else f"`{key.default!r}`".replace("'", '"')
+            default = (
+                "required"
+                if key.required
+                else ("" if key.default is None else f"`{key.default!r}`".replace("'", '"'))
             )
             lines.append(
                 f"| `{name}` | {key.kind} | {default} | {allowed} | {key.when or 'all'} | "

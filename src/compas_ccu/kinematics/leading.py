@@ -257,7 +257,9 @@ class LeadingStrip:
             raise DeploymentLimitError(
                 f"alpha = {bad:.6g} deg is negative; the mechanism runs from the flat-folded "
                 f"stack (alpha = 0) to its limit alpha = {math.degrees(limit):.6g} deg",
-                alpha=bad, alpha_limit=math.degrees(limit), vertex=j,
+                alpha=bad,
+                alpha_limit=math.degrees(limit),
+                vertex=j,
             )
         if np.any(alpha > limit * (1.0 + 1e-12)):
             bad = float(np.degrees(alpha[alpha > limit * (1.0 + 1e-12)][0]))
@@ -266,7 +268,9 @@ class LeadingStrip:
                 f"alpha at reference vertex {self.reference} is {math.degrees(limit):.6g} deg, "
                 f"where crease segment {j} (crease vertices {j}-{j + 1}) stands perpendicular "
                 "to the crease plane",
-                alpha=bad, alpha_limit=math.degrees(limit), vertex=j,
+                alpha=bad,
+                alpha_limit=math.degrees(limit),
+                vertex=j,
             )
         return self._invert(np.minimum(alpha, limit))
 

@@ -170,8 +170,9 @@ class Mechanism:
                 origin, normal, dev = fit_planes(hinge, np.asarray(crease.design_normal))
                 origins[:, plate.crease], planarity[:, plate.crease] = origin, dev
             normals[:, plate.crease] = normal
-            mirrored = away - 2.0 * np.einsum("kmi,ki->km", away, normal)[:, :, None] * (
-                normal[:, None, :]
+            mirrored = (
+                away
+                - 2.0 * np.einsum("kmi,ki->km", away, normal)[:, :, None] * (normal[:, None, :])
             )
             if plate.relation == "ccf":
                 mirrored = -mirrored

@@ -146,14 +146,16 @@ def crease_relations(
     tangent = np.empty_like(p)
     tangent[0], tangent[-1] = u[0], u[-1]
     tangent[1:-1] = _unit(u[:-1] + u[1:])
+    if m >= 3:  # ends: the neighbouring tangent reflected in the end edge (as in strips.frames)
+        tangent[0] = 2.0 * (tangent[1] @ u[0]) * u[0] - tangent[1]
+        tangent[-1] = 2.0 * (tangent[-2] @ u[-1]) * u[-1] - tangent[-2]
     tangent = _unit(tangent - np.outer(tangent @ nrm, nrm))
     s = ra - np.einsum("ij,ij->i", ra, tangent)[:, None] * tangent
     out_of_plane = np.abs(s @ nrm)
     alpha = np.arctan2(out_of_plane, np.linalg.norm(s - np.outer(s @ nrm, nrm), axis=1))
     # reflection angle of every segment: tilt of quad j of plate a about crease edge j
     w = ra[:-1] - np.einsum("ij,ij->i", ra[:-1], u)[:, None] * u
-    segment_alpha = np.arctan2(np.abs(w @ nrm), np.linalg.norm(w - np.outer(w @ nrm, nrm),
-                                                                axis=1))
+    segment_alpha = np.arctan2(np.abs(w @ nrm), np.linalg.norm(w - np.outer(w @ nrm, nrm), axis=1))
     alpha_prime = nan.copy()
     alpha_prime[1:-1] = np.diff(segment_alpha) / (0.5 * (h[:-1] + h[1:]))
 
@@ -165,10 +167,13 @@ def crease_relations(
         with np.errstate(invalid="ignore", divide="ignore"):
             binormal = binormal / size[:, None]
             b0, b1 = binormal[:-1], binormal[1:]
-            edge_tau = np.arctan2(
-                np.einsum("ij,ij->i", np.cross(b0, b1), u[1:-1]),
-                np.abs(np.einsum("ij,ij->i", b0, b1)),
-            ) / h[1:-1]
+            edge_tau = (
+                np.arctan2(
+                    np.einsum("ij,ij->i", np.cross(b0, b1), u[1:-1]),
+                    np.abs(np.einsum("ij,ij->i", b0, b1)),
+                )
+                / h[1:-1]
+            )
         torsion[2:-2] = 0.5 * (edge_tau[:-1] + edge_tau[1:])
 
     cot_a, cot_b = 1.0 / np.tan(gamma_a), 1.0 / np.tan(gamma_b)
@@ -182,6 +187,20 @@ def crease_relations(
         eq4 = torsion + (cot_a - cot_b) * drive
     eq5 = np.cos(alpha) - kappa_2d / kappa_3d
     return CreaseRelations(
-        beta, sum_beta, classify(sum_beta, relation), gamma_a, gamma_b, kappa_2d, kappa_3d,
-        alpha, segment_alpha, alpha_prime, torsion, eq1, eq2, eq3, eq4, eq5,
+        beta,
+        sum_beta,
+        classify(sum_beta, relation),
+        gamma_a,
+        gamma_b,
+        kappa_2d,
+        kappa_3d,
+        alpha,
+        segment_alpha,
+        alpha_prime,
+        torsion,
+        eq1,
+        eq2,
+        eq3,
+        eq4,
+        eq5,
     )

@@ -1,0 +1,159 @@
+"""The ccu command: deploy / path / info, the structure.json contract, errors, --help."""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from compas_ccu.cli import main
+from compas_ccu.io import read_structure_json
+from conftest import EXAMPLES
+
+VAULT = str(EXAMPLES / "vault.toml")
+
+
+def test_deploy_writes_the_spec_contract(tmp_path, capsys):
+    assert main(["deploy", VAULT, "--alpha", "30", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "wrote" in out and "isometry" in out
+    data = json.loads((tmp_path / "structure.json").read_text())
+    assert data["format"] == "ccu.structure" and data["version"] == 1
+    assert data["units"] == "m" and data["alpha"] == 30.0
+    assert set(data) >= {"plates", "creases", "metrics"}
+    n = data["metrics"]["segments"]
+    size = data["metrics"]["size"]
+    for plate in data["plates"]:
+        assert set(plate) >= {"id", "faces", "flat", "deployed"}
+        flat, dep = np.array(plate["flat"]), np.array(plate["deployed"])
+        assert flat.shape == dep.shape == (2 * n + 2, 3)
+        assert np.all(flat[:, 2] == 0.0)
+        faces = np.array(plate["faces"])
+        assert faces.shape == (n, 4)
+        # every deployed quad is congruent to its cut quad (4 sides + 2 diagonals)
+        for i, j in [(0, 1), (1, 2), (2, 3), (3, 0), (0, 2), (1, 3)]:
+            d_flat = np.linalg.norm(flat[faces[:, i]] - flat[faces[:, j]], axis=1)
+            d_dep = np.linalg.norm(dep[faces[:, i]] - dep[faces[:, j]], axis=1)
+            assert np.abs(d_flat - d_dep).max() < 1e-9 * size
+        # quads are planar and counter-clockwise in the cut pattern
+        a, b, c, d = (dep[faces[:, k]] for k in range(4))
+        nrm = np.cross(b - a, d - a)
+        nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+        assert np.abs(np.einsum("ij,ij->i", c - a, nrm)).max() < 1e-9 * size
+        fa, fb, fd = flat[faces[:, 0]], flat[faces[:, 1]], flat[faces[:, 3]]
+        area = np.cross(fb - fa, fd - fa)[:, 2]
+        assert np.all(area > 0.0)
+    plates = {p["id"]: np.array(p["deployed"]) for p in data["plates"]}
+    for crease in data["creases"]:
+        assert set(crease) >= {"id", "plates", "vertices", "kind", "plane"}
+        assert crease["kind"] in ("synclastic", "anticlastic", "ccf")
+        a, b = crease["plates"]
+        ia, ib = crease["vertices"]
+        assert len(ia) == len(ib) == n + 1
+        # hinge coincidence, and the crease lies in its plane
+        assert np.abs(plates[a][ia] - plates[b][ib]).max() < 1e-9 * size
+        o, nrm = np.array(crease["plane"]["origin"]), np.array(crease["plane"]["normal"])
+        assert abs(np.linalg.norm(nrm) - 1.0) < 1e-12
+        assert np.abs((plates[a][ia] - o) @ nrm).max() < 1e-9 * size
+        # mirror symmetry: plate b's vertex rows near the crease reflected land on plate a's
+        ra = plates[a][np.array(ia) + (n + 1 if ia[0] == 0 else -(n + 1))] - plates[a][ia]
+        rb = plates[b][np.array(ib) + n + 1] - plates[b][ib]
+        t = np.minimum(np.linalg.norm(ra, axis=1), np.linalg.norm(rb, axis=1))[:, None]
+        pa = plates[a][ia] + ra / np.linalg.norm(ra, axis=1)[:, None] * t
+        pb = plates[b][ib] + rb / np.linalg.norm(rb, axis=1)[:, None] * t
+        mirrored = pb - 2 * ((pb - o) @ nrm)[:, None] * nrm
+        assert np.abs(mirrored - pa).max() < 1e-9 * size
+    # the round trip through the reader
+    s = read_structure_json(tmp_path / "structure.json")
+    assert s.alpha == 30.0 and len(s.plate_ids) == 10
+
+
+def test_deploy_writes_obj_and_compas_json(tmp_path):
+    import compas
+
+    assert main(["deploy", VAULT, "--out", str(tmp_path), "--quiet"]) == 0
+    lines = (tmp_path / "structure.obj").read_text().splitlines()
+    assert sum(line.startswith("g plate_") for line in lines) == 10
+    assert sum(line.startswith("v ") for line in lines) == 10 * 2 * 65
+    assert sum(line.startswith("f ") for line in lines) == 10 * 64
+    meshes = compas.json_load(str(tmp_path / "structure.compas.json"))
+    assert len(meshes) == 10
+    assert meshes[0].number_of_faces() == 64 and meshes[0].number_of_vertices() == 130
+
+
+def test_path_writes_states_and_table(tmp_path, capsys):
+    assert main(["path", VAULT, "--steps", "4", "--out", str(tmp_path)]) == 0
+    states = sorted((tmp_path / "states").glob("state_*.json"))
+    assert len(states) == 5
+    rows = list(csv.DictReader((tmp_path / "path.csv").open()))
+    assert [float(r["alpha_deg"]) for r in rows] == [0.0, 7.5, 15.0, 22.5, 30.0]
+    assert float(rows[-1]["span_m"]) == pytest.approx(2.5, abs=1e-9)
+    assert float(rows[-1]["rise_m"]) == pytest.approx(1.0, abs=1e-9)
+    assert all(float(r["crease_planarity_max_m"]) < 1e-12 for r in rows)
+    assert "crease_8_planarity_m" in rows[0]
+    spans = [float(r["span_m"]) for r in rows]
+    assert all(a > b for a, b in zip(spans, spans[1:]))  # the vault closes as it deploys
+
+
+def test_info_prints_key_figures(capsys):
+    assert main(["info", VAULT]) == 0
+    out = capsys.readouterr().out
+    for text in (
+        "plates            10",
+        "creases           9 (4 anticlastic, 5 synclastic)",
+        "design alpha      30 deg",
+        "deployment limit  88.95",
+        "span              2.5000",
+        "rise              1.0000",
+        "flat stack",
+    ):
+        assert text in out, text
+
+
+@pytest.mark.parametrize(
+    "argv,message",
+    [
+        (["deploy", VAULT, "--alpha", "95", "--out", "x"], "beyond the deployment limit"),
+        (["deploy", VAULT, "--alpha", "80", "--out", "x"], "self-intersection at alpha = 80"),
+        (["deploy", VAULT, "--alpha", "-3", "--out", "x"], "negative"),
+        (["info", "missing.toml"], "cannot read design file"),
+    ],
+)
+def test_errors_exit_2_with_the_cause(argv, message, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ccu: error:") and message in err
+
+
+def test_bad_design_key_is_named(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text((EXAMPLES / "cone.toml").read_text().replace("radius = 2.0", "radius = -2.0"))
+    assert main(["info", str(bad)]) == 2
+    assert "crease.radius: must be > 0, got -2.0" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("sub", [[], ["deploy"], ["path"], ["info"]])
+def test_help_everywhere(sub):
+    out = subprocess.run(
+        [sys.executable, "-m", "compas_ccu.cli", *sub, "--help"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert "usage: ccu" in out
+
+
+def test_import_is_cheap():
+    code = (
+        "import sys, compas_ccu; "
+        "print(any(m.split('.')[0] in ('compas', 'scipy', 'shapely') for m in sys.modules))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout
+    assert out.strip() == "False"

@@ -1,0 +1,187 @@
+"""Deployment of whole designs: invariants, planarity tracking, design round trip, errors."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from compas_ccu.errors import DeploymentLimitError, SelfIntersectionError
+from conftest import make_design
+
+TOL = 1e-9  # SPEC §5, relative to the structure size
+
+
+def assert_invariants(structure, tol=TOL):
+    m = structure.metrics
+    for key in (
+        "isometry_relative",
+        "quad_planarity_relative",
+        "hinge_gap_relative",
+        "mirror_error_relative",
+        "leading_in_plane_relative",
+    ):
+        assert m[key] <= tol, (key, m[key])
+
+
+@pytest.mark.parametrize("alpha", [0.0, 1.0, 12.5, 30.0, 45.0, 60.0, 68.0])
+def test_vault_invariants_along_the_path(vault_model, alpha):
+    s = vault_model.deploy(alpha)
+    assert_invariants(s)
+    # parallel planes with conical strips: every crease stays planar to rounding
+    assert s.metrics["crease_planarity_max_relative"] < 1e-14
+    assert s.alpha == alpha
+    np.testing.assert_allclose(s.metrics["alpha_leading"], alpha, atol=1e-12)
+    for crease in s.creases:
+        np.testing.assert_allclose(crease["alpha"], alpha, atol=1e-11)
+
+
+def test_vault_alternates_synclastic_and_anticlastic(vault_model):
+    s = vault_model.deploy(30.0)
+    assert len(s.plate_ids) == 10 and len(s.creases) == 9
+    by_plane = sorted(s.creases, key=lambda c: min(c["plates"]))
+    kinds = [c["kind"] for c in by_plane]
+    assert kinds == ["synclastic", "anticlastic"] * 4 + ["synclastic"]
+    for c in by_plane:
+        assert sorted(c["plates"])[1] - sorted(c["plates"])[0] == 1
+
+
+def test_vault_design_state_round_trip(vault_model):
+    b = vault_model.built
+    st = vault_model.mechanism.deploy(b.design_alpha)
+    scale = vault_model.size
+    assert np.abs(st.near[0] - b.design_near).max() < 1e-13 * scale
+    assert np.abs(st.far[0] - b.design_far).max() < 1e-13 * scale
+    s = vault_model.deploy(30.0)
+    assert s.metrics["span"] == pytest.approx(2.5, abs=1e-12)
+    assert s.metrics["rise"] == pytest.approx(1.0, abs=1e-12)
+    # the crease planes keep the design spacing 0.12 m at the design state
+    normals = np.array([c["plane"]["normal"] for c in s.creases])
+    origins = np.array([c["plane"]["origin"] for c in s.creases])
+    np.testing.assert_allclose(np.abs(normals @ [0.0, 1.0, 0.0]), 1.0, atol=1e-14)
+    offsets = np.sort(origins[:, 1])
+    np.testing.assert_allclose(np.diff(offsets), 0.12, atol=1e-12)
+
+
+def test_flat_folded_stack(vault_model):
+    s = vault_model.deploy(0.0)
+    # at alpha = 0 every plate lies in the leading plane (world y = 0) ...
+    np.testing.assert_allclose(s.deployed[..., 1], 0.0, atol=1e-14)
+    # ... and the plates lie exactly on top of each other near each crease
+    for crease in s.creases:
+        a, b = crease["plates"]
+        ia, ib = crease["vertices"]
+        np.testing.assert_allclose(s.deployed[a][ia], s.deployed[b][ib], atol=1e-15)
+    flat = vault_model.flat()
+    np.testing.assert_allclose(flat[..., 2], 0.0, atol=0.0)
+
+
+def test_cone_example_radius_is_R_cos_alpha(cone_model):
+    n = cone_model.segments
+    for alpha in (10.0, 40.0, 70.0):
+        s = cone_model.deploy(alpha)
+        crease = s.deployed[0][: n + 1]
+        a, b, c = crease[0], crease[n // 2], crease[-1]
+        # circumcentre in the crease plane (world xz)
+        ax, bx, cx = a[[0, 2]], b[[0, 2]], c[[0, 2]]
+        centre = np.linalg.solve(
+            np.array([2 * (bx - ax), 2 * (cx - ax)]), [bx @ bx - ax @ ax, cx @ cx - ax @ ax]
+        )
+        r3d = np.linalg.norm(crease[:, [0, 2]] - centre, axis=1)
+        np.testing.assert_allclose(r3d, 2.0 * math.cos(math.radians(alpha)), rtol=1e-12)
+        assert_invariants(s, 1e-13)
+
+
+def cylindrical_vault(**layout):
+    return make_design(
+        crease={"profile": "catenary", "span": 2.4, "rise": 0.9, "segments": 40},
+        rulings={"type": "cylindrical", "direction": [0.0, -1.0], "side": "inside"},
+        layout={"type": "parallel", "plates": 6, "spacing": 0.1, **layout},
+    ).build()
+
+
+def test_parallel_planes_with_cylindrical_strips_stay_planar():
+    model = cylindrical_vault()
+    alphas = np.linspace(0.0, 30.0, 13)
+    path = model.path(alphas)
+    for s in path:
+        assert_invariants(s)
+        assert s.metrics["crease_planarity_max_relative"] < 1e-14
+
+
+def test_parallel_planes_keep_every_crease_planar_for_any_ruling_field():
+    """Not only cylinders and cones: by (K1) the height of a ruling point above the leading
+    plane is t * sin(beta) * s0 * c_j, proportional to s0, so a crease that is parallel to the
+    leading plane at the design state stays parallel in every state (paper §5.1, Fig. 6a)."""
+    model = make_design(
+        crease={"profile": "catenary", "span": 2.0, "rise": 0.7, "segments": 40},
+        rulings={"type": "angle", "gamma": [[0.0, 60.0], [1.0, 110.0]]},
+        layout={"type": "parallel", "plates": 4, "spacing": 0.1, "leading": 1},
+    ).build()
+    for s in model.path(np.linspace(0.0, 45.0, 10)):
+        assert_invariants(s)
+        assert s.metrics["crease_planarity_max_relative"] < 1e-14
+
+
+def test_leading_plane_anywhere_in_the_layout():
+    for leading in (0, 3, 5):
+        model = cylindrical_vault(leading=leading)
+        s = model.deploy(22.0)
+        assert_invariants(s)
+        assert sorted(s.plate_ids) == list(range(6))
+        kinds = [c["kind"] for c in sorted(s.creases, key=lambda c: min(c["plates"]))]
+        assert set(kinds[::2]) != set(kinds[1::2])
+
+
+def test_path_is_one_vectorised_call_with_the_same_numbers(vault_model):
+    alphas = [0.0, 10.0, 20.0, 30.0]
+    path = vault_model.path(alphas)
+    for alpha, s in zip(alphas, path):
+        single = vault_model.deploy(alpha)
+        np.testing.assert_allclose(s.deployed, single.deployed, atol=1e-15)
+
+
+def test_beyond_the_limit_is_an_error_naming_vertex_and_alpha(vault_model):
+    limit = vault_model.alpha_limit
+    with pytest.raises(DeploymentLimitError) as info:
+        vault_model.deploy(limit + 1.0)
+    assert info.value.alpha_limit == pytest.approx(limit)
+    assert f"crease segment {vault_model.limit_vertex}" in str(info.value)
+    with pytest.raises(DeploymentLimitError, match="negative"):
+        vault_model.deploy(-5.0)
+
+
+def test_self_intersection_is_refused(vault_model):
+    overlap = vault_model.overlap_alpha
+    assert 60.0 < overlap < vault_model.alpha_limit
+    vault_model.deploy(overlap - 0.01)
+    with pytest.raises(SelfIntersectionError, match="overlaps itself") as info:
+        vault_model.deploy(overlap + 0.5)
+    assert info.value.alpha == pytest.approx(overlap + 0.5)
+    # the 3D crease angle is the 2D angle / cos(alpha): it closes a full turn at the overlap
+    flat_angle = 2.0 * math.asin(1.25 / 1.28125) * math.cos(math.radians(30.0))
+    closing = math.degrees(math.acos(flat_angle / (2.0 * math.pi)))
+    assert overlap == pytest.approx(closing, abs=0.5)
+
+
+def test_mirror_partner_is_the_mirror_image(cone_model):
+    s = cone_model.deploy(40.0)
+    a, b = s.deployed
+    # the crease plane is world y = const; plate 1 is plate 0 reflected in it
+    plane = s.creases[0]["plane"]
+    nrm = np.asarray(plane["normal"])
+    d = (a - plane["origin"]) @ nrm
+    np.testing.assert_allclose(a - 2 * d[:, None] * nrm, b, atol=1e-14)
+
+
+def test_cone_overlaps_exactly_when_its_3d_angle_closes_a_full_turn(cone_model):
+    # smooth: 90 deg of arc in the pattern become 90 / cos(alpha) in space, closing at
+    # cos(alpha) = 1/4; discrete (exact for the planar-quad model): the half sector angles obey
+    # tan(mu_3D) = cos(alpha) tan(mu_2D), and the 48-gon closes when mu_3D = 90 - 360 / 96
+    n = cone_model.segments
+    mu2d = math.radians(90.0 - 0.5 * 90.0 / n)
+    mu3d = math.radians(90.0 - 0.5 * 360.0 / n)
+    exact = math.degrees(math.acos(math.tan(mu3d) / math.tan(mu2d)))
+    assert cone_model.overlap_alpha == pytest.approx(exact, abs=1e-6)
+    assert abs(exact - math.degrees(math.acos(0.25))) < 0.02
