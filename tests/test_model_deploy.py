@@ -177,11 +177,12 @@ def test_mirror_partner_is_the_mirror_image(cone_model):
 
 def test_cone_overlaps_exactly_when_its_3d_angle_closes_a_full_turn(cone_model):
     # smooth: 90 deg of arc in the pattern become 90 / cos(alpha) in space, closing at
-    # cos(alpha) = 1/4; discrete (exact for the planar-quad model): the half sector angles obey
-    # tan(mu_3D) = cos(alpha) tan(mu_2D), and the 48-gon closes when mu_3D = 90 - 360 / 96
+    # cos(alpha) = 1/4. Discrete (exact for the planar-quad cone): the chords keep their length
+    # and r_3D = R cos(alpha), so sin(d3/2) = sin(d2/2) / cos(alpha) for the central angles of
+    # one segment; the 48-gon closes when d3 = 360 / 48.
     n = cone_model.segments
-    mu2d = math.radians(90.0 - 0.5 * 90.0 / n)
-    mu3d = math.radians(90.0 - 0.5 * 360.0 / n)
-    exact = math.degrees(math.acos(math.tan(mu3d) / math.tan(mu2d)))
+    d2 = math.radians(90.0 / n)
+    d3 = math.radians(360.0 / n)
+    exact = math.degrees(math.acos(math.sin(d2 / 2) / math.sin(d3 / 2)))
     assert cone_model.overlap_alpha == pytest.approx(exact, abs=1e-6)
     assert abs(exact - math.degrees(math.acos(0.25))) < 0.02
