@@ -61,5 +61,8 @@ def make_design(**sections) -> Design:
         "layout": {"type": "single", "width": 0.3},
     }
     for name, values in sections.items():
-        doc[name] = {**doc.get(name, {}), **values}
+        if name == "crease" and values.get("profile", "arc") != "arc":
+            doc[name] = {"segments": 32, **values}  # other profiles take other keys
+        else:
+            doc[name] = {**doc.get(name, {}), **values}
     return Design(doc)

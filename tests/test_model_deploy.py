@@ -186,3 +186,54 @@ def test_cone_overlaps_exactly_when_its_3d_angle_closes_a_full_turn(cone_model):
     exact = math.degrees(math.acos(math.sin(d2 / 2) / math.sin(d3 / 2)))
     assert cone_model.overlap_alpha == pytest.approx(exact, abs=1e-6)
     assert abs(exact - math.degrees(math.acos(0.25))) < 0.02
+
+
+def test_inflected_spline_crease_changes_kind_along_it():
+    """A freeform crease with an inflection: Q4 (anticlastic) turns into Q2 (synclastic)."""
+    model = make_design(
+        crease={
+            "profile": "spline",
+            "segments": 60,
+            "points": [[-1.2, 0.0], [-0.6, 0.5], [0.0, 0.3], [0.6, 0.1], [1.2, 0.5]],
+        },
+        rulings={"type": "orthogonal", "side": "left"},
+    ).build()
+    s = model.deploy(25.0)
+    crease = s.creases[0]
+    assert crease["kind"] == "mixed"
+    kinds = crease["vertex_kinds"]
+    assert kinds[1] == "anticlastic" and kinds[-2] == "synclastic"
+    switch = [i for i in range(1, 59) if kinds[i] != kinds[i + 1]]
+    assert len(switch) == 1  # one inflection
+    assert_invariants(s)
+
+
+@pytest.mark.parametrize(
+    "crease",
+    [
+        {"profile": "elastica", "span": 2.0, "rise": 0.8, "segments": 60},
+        {
+            "profile": "polyline",
+            "segments": 40,
+            "points": [[-1.0, 0.0], [-0.5, 0.4], [0.0, 0.55], [0.5, 0.4], [1.0, 0.0]],
+        },
+    ],
+)
+def test_other_profiles_deploy_exactly(crease):
+    model = make_design(
+        crease=crease,
+        rulings={"type": "conical", "apex": [0.1, -0.5]},
+        layout={"type": "parallel", "plates": 4, "spacing": 0.08},
+    ).build()
+    for s in model.path([0.0, 10.0, 30.0]):
+        assert_invariants(s)
+        assert s.metrics["crease_planarity_max_relative"] < 1e-14
+
+
+def test_profile_errors_are_design_errors_naming_the_section():
+    from compas_ccu.errors import DesignError
+
+    with pytest.raises(DesignError, match=r"\[crease\]: unknown key 'span'"):
+        make_design(
+            crease={"profile": "spline", "span": 2.0, "points": [[0, 0], [1, 1], [2, 0]]}
+        ).build()

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from compas_ccu.errors import DesignError, GeometryError
+from compas_ccu.errors import DesignError, GeometryError, ProfileError
 from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.strips import rulings as ruling_fields
@@ -195,7 +195,10 @@ def build(values: dict) -> BuiltDesign:
         for k, v in crease.items()
         if v is not None and k in ("profile", "span", "rise", "radius", "angle", "points")
     }
-    profile = profile_from_dict(spec)
+    try:
+        profile = profile_from_dict(spec)
+    except ProfileError as exc:
+        raise DesignError(str(exc), key="[crease]") from exc
     n = crease["segments"]
     points = np.asarray(profile.sample(n), dtype=float)
     reference = int(round(crease["reference"] * n))

@@ -185,7 +185,8 @@ def crease_relations(
     else:
         eq2 = alpha_prime - (cot_a + cot_b) * drive
         eq4 = torsion + (cot_a - cot_b) * drive
-    eq5 = np.cos(alpha) - kappa_2d / kappa_3d
+    with np.errstate(divide="ignore", invalid="ignore"):  # straight vertices: kappa = 0
+        eq5 = np.where(kappa_3d != 0.0, np.cos(alpha) - kappa_2d / kappa_3d, np.nan)
     return CreaseRelations(
         beta,
         sum_beta,
