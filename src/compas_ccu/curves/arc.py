@@ -6,13 +6,13 @@ import math
 
 import numpy as np
 
-from compas_ccu.curves.base import Profile, require_positive, require_real
+from compas_ccu.curves.base import SpanRiseProfile, require_positive, require_real
 from compas_ccu.errors import ProfileError
 
 __all__ = ["ArcProfile"]
 
 
-class ArcProfile(Profile):
+class ArcProfile(SpanRiseProfile):
     """Circular arc through ``(-span/2, 0)``, ``(0, rise)`` and ``(span/2, 0)``.
 
     The arc is traversed from left to right, so it turns clockwise: its curvature is
@@ -99,16 +99,6 @@ class ArcProfile(Profile):
     # -- properties ---------------------------------------------------------------------------
 
     @property
-    def span(self) -> float:
-        """Distance between the end points, m."""
-        return self._span
-
-    @property
-    def rise(self) -> float:
-        """Height of the apex above the chord, m."""
-        return self._rise
-
-    @property
     def radius(self) -> float:
         """Radius, m."""
         return self._radius
@@ -122,21 +112,6 @@ class ArcProfile(Profile):
     def center(self) -> np.ndarray:
         """(2,) float: centre of the circle, ``(0, rise - radius)``, m."""
         return np.array([0.0, self._rise - self._radius])
-
-    @property
-    def length(self) -> float:
-        """Arc length ``radius * angle``, m."""
-        return self._length
-
-    @property
-    def start_point(self) -> np.ndarray:
-        """(2,) float: ``(-span/2, 0)``, m."""
-        return np.array([-0.5 * self._span, 0.0])
-
-    @property
-    def end_point(self) -> np.ndarray:
-        """(2,) float: ``(span/2, 0)``, m."""
-        return np.array([0.5 * self._span, 0.0])
 
     def parameters(self) -> dict:
         """``{"span", "rise"}`` or, if built by :meth:`from_radius_angle`, ``{"radius", "angle"}``

@@ -304,3 +304,43 @@ class Profile(ABC):
             bad = float(values[outside].flat[0])
             raise ProfileError(f"s must lie in [0, {length!r}] m (the profile length), got {bad!r}")
         return np.clip(values, 0.0, length)
+
+
+class SpanRiseProfile(Profile):
+    """A symmetric arch from ``(-span/2, 0)`` over ``(0, rise)`` to ``(span/2, 0)``.
+
+    Subclasses set ``_span``, ``_rise`` and ``_length`` and implement the evaluation.
+    """
+
+    _span: float
+    _rise: float
+    _length: float
+
+    @property
+    def span(self) -> float:
+        """Distance between the end points, m."""
+        return self._span
+
+    @property
+    def rise(self) -> float:
+        """Height of the apex above the chord, m."""
+        return self._rise
+
+    @property
+    def length(self) -> float:
+        """Arc length, m."""
+        return self._length
+
+    @property
+    def start_point(self) -> np.ndarray:
+        """(2,) float: ``(-span/2, 0)``, m."""
+        return np.array([-0.5 * self._span, 0.0])
+
+    @property
+    def end_point(self) -> np.ndarray:
+        """(2,) float: ``(span/2, 0)``, m."""
+        return np.array([0.5 * self._span, 0.0])
+
+    def parameters(self) -> dict:
+        """``{"span": float, "rise": float}``."""
+        return {"span": self._span, "rise": self._rise}

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from compas_ccu.curves.base import Profile, require_positive
+from compas_ccu.curves.base import SpanRiseProfile, require_positive
 
 __all__ = ["CatenaryProfile"]
 
@@ -57,7 +57,7 @@ def solve_catenary_parameter(*, span: float, rise: float) -> float:
     return 0.5 * span / t
 
 
-class CatenaryProfile(Profile):
+class CatenaryProfile(SpanRiseProfile):
     """Inverted catenary arch ``y = rise - a (cosh(x/a) - 1)`` for ``x`` in ``[-span/2, span/2]``.
 
     The arc length measured from the apex is ``sigma = a sinh(x/a)``, so the profile is
@@ -88,38 +88,9 @@ class CatenaryProfile(Profile):
         self._length = 2.0 * self._a * math.sinh(0.5 * self._span / self._a)
 
     @property
-    def span(self) -> float:
-        """Distance between the end points, m."""
-        return self._span
-
-    @property
-    def rise(self) -> float:
-        """Height of the apex above the chord, m."""
-        return self._rise
-
-    @property
     def a(self) -> float:
         """Catenary parameter ``a`` (radius of curvature at the apex), m."""
         return self._a
-
-    @property
-    def length(self) -> float:
-        """Arc length ``2 a sinh(span / (2 a))``, m."""
-        return self._length
-
-    @property
-    def start_point(self) -> np.ndarray:
-        """(2,) float: ``(-span/2, 0)``, m."""
-        return np.array([-0.5 * self._span, 0.0])
-
-    @property
-    def end_point(self) -> np.ndarray:
-        """(2,) float: ``(span/2, 0)``, m."""
-        return np.array([0.5 * self._span, 0.0])
-
-    def parameters(self) -> dict:
-        """``{"span": float, "rise": float}``."""
-        return {"span": self._span, "rise": self._rise}
 
     def arc_length_at_x(self, x: object) -> np.ndarray:
         """Arc length from the start to the point of abscissa ``x``.

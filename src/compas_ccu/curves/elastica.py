@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from compas_ccu.curves.base import Profile, require_positive
+from compas_ccu.curves.base import SpanRiseProfile, require_positive
 
 __all__ = ["ElasticaProfile"]
 
@@ -51,7 +51,7 @@ def solve_elastica_modulus(*, span: float, rise: float) -> float:
     )
 
 
-class ElasticaProfile(Profile):
+class ElasticaProfile(SpanRiseProfile):
     """Euler elastica with pinned ends: the first buckling mode of an inextensible rod.
 
     The curvature vanishes at the end points ``(-span/2, 0)``, ``(span/2, 0)`` and is
@@ -100,16 +100,6 @@ class ElasticaProfile(Profile):
         self._length = 2.0 * self._complete_k / self._wavenumber
 
     @property
-    def span(self) -> float:
-        """Distance between the end points, m."""
-        return self._span
-
-    @property
-    def rise(self) -> float:
-        """Height of the apex above the chord, m."""
-        return self._rise
-
-    @property
     def modulus(self) -> float:
         """Elliptic modulus ``k = sin(theta0 / 2)`` in ``(0, k_max)``, ``k_max ~ 0.9089``."""
         return self._modulus
@@ -123,25 +113,6 @@ class ElasticaProfile(Profile):
     def end_angle(self) -> float:
         """Tangent angle ``theta0 = 2 asin(k)`` at the left end, radians (-theta0 at the right)."""
         return 2.0 * math.asin(self._modulus)
-
-    @property
-    def length(self) -> float:
-        """Arc length ``2 K(k) / lambda``, m."""
-        return self._length
-
-    @property
-    def start_point(self) -> np.ndarray:
-        """(2,) float: ``(-span/2, 0)``, m."""
-        return np.array([-0.5 * self._span, 0.0])
-
-    @property
-    def end_point(self) -> np.ndarray:
-        """(2,) float: ``(span/2, 0)``, m."""
-        return np.array([0.5 * self._span, 0.0])
-
-    def parameters(self) -> dict:
-        """``{"span": float, "rise": float}``."""
-        return {"span": self._span, "rise": self._rise}
 
     # -- evaluation ---------------------------------------------------------------------------
 
