@@ -59,10 +59,10 @@ def test_every_ruling_field_gives_planar_quads_and_the_reference_alpha(maker):
         np.testing.assert_allclose(r, np.tile(r[0], (len(r), 1)), atol=1e-15)
     elif maker == "conical":
         r = rf.conical_rulings(pts, apex=[0.3, 0.9], alpha=alpha, reference=12)
-        lines_meet = np.c_[pts, np.zeros(len(pts))] - r * (
-            np.c_[pts, np.zeros(len(pts))][:, 2:] * 0 + 1
-        )
-        assert lines_meet.shape == r.shape
+        # every ruling line passes through the apex projection (0.3, 0.9) in plan
+        p = np.c_[pts, np.zeros(len(pts))]
+        t = (0.9 - p[:, 1]) / r[:, 1]
+        np.testing.assert_allclose((p + t[:, None] * r)[:, 0], 0.3, atol=1e-12)
     else:
         r, tilts = rf.ruling_angle_rulings(pts, gamma=math.radians(75.0), alpha=alpha, reference=12)
         assert np.all(np.diff(tilts) != 0.0)  # alpha varies along the crease when gamma != 90
