@@ -1,25 +1,40 @@
-# Quick start: `make demo` (set up + run the vault example), `make test` (set up + lint + tests).
-PYTHON ?= python3
-VENV   ?= .venv
-BIN    := $(VENV)/bin
-OUT    ?= out
+# Quick start: `make demo` (set up + run the vault example and write its report),
+# `make test` (set up + browser + lint + tests).
+PYTHON   ?= python3
+VENV     ?= .venv
+BIN      := $(VENV)/bin
+OUT      ?= out
+CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup demo test lint bench clean
+.PHONY: setup browser demo test lint bench clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[dev]"
+	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev]"
 	@touch $(BIN)/ccu
 
 setup: $(BIN)/ccu
+
+# Debian's chromium for the viewer page test (the tests drive it with playwright).
+browser:
+	@if [ -n "$(CHROMIUM)" ]; then echo "chromium: $(CHROMIUM)"; \
+	elif command -v apt-get >/dev/null 2>&1; then \
+	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$SUDO apt-get install -y -qq chromium >/dev/null 2>&1 || \
+	  { $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq chromium >/dev/null; }; \
+	  command -v chromium; \
+	else echo "make browser: no chromium and no apt-get; install chromium and set CCU_CHROMIUM" >&2; exit 1; fi
 
 demo: setup
 	$(BIN)/ccu info examples/vault.toml
 	$(BIN)/ccu deploy examples/vault.toml --out $(OUT)/vault
 	$(BIN)/ccu path examples/vault.toml --steps 12 --out $(OUT)/vault-path
+	$(BIN)/ccu report examples/vault.toml --out $(OUT)/vault-report
 	@echo ""
-	@echo "Demo finished. Files written:"
+	@echo "Demo finished. Open the report to see the vault deploy:"
+	@echo "  $(OUT)/vault-report/index.html      (viewer, figures, animation, key figures, all files)"
+	@echo "Other files written:"
 	@echo "  $(OUT)/vault/structure.json        (the deployed vault, SPEC section 4 contract)"
 	@echo "  $(OUT)/vault/structure.obj         (deployed plates, OBJ)"
 	@echo "  $(OUT)/vault/structure.compas.json (COMPAS meshes)"
@@ -30,7 +45,7 @@ lint: setup
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/ruff format --check src tests benchmarks
 
-test: setup lint
+test: setup browser lint
 	$(BIN)/python -m pytest -q
 
 bench: setup

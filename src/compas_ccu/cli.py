@@ -1,4 +1,4 @@
-"""Command line interface: ``ccu deploy``, ``ccu path``, ``ccu info``.
+"""Command line interface: ``ccu deploy | path | info | figures | animate | view | sheet | report``.
 
 Every command takes a design TOML file (see ``docs/design-files.md``). Errors in the input are
 printed as one line naming the cause and the value, with exit status 2.
@@ -58,7 +58,7 @@ def _cmd_path(args) -> int:
     model = _load(args.design)
     target = model.alpha_design if args.alpha is None else args.alpha
     if args.steps < 1:
-        raise SystemExit(_fail(f"--steps must be >= 1, got {args.steps}"))
+        raise ValueError(f"--steps must be >= 1, got {args.steps}")
     alphas = np.linspace(0.0, target, args.steps + 1)
     structures = model.path(alphas)
     out = Path(args.out)
@@ -106,6 +106,149 @@ def _cmd_info(args) -> int:
         f"{m['crease_planarity_max']:.1e} m",
     ]
     print("\n".join(lines))
+    return 0
+
+
+def _need_viz(command: str) -> None:
+    import importlib.util
+
+    missing = [m for m in ("matplotlib", "plotly", "tqdm") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise ValueError(
+            f"'ccu {command}' needs the viz extra ({', '.join(missing)} not installed): "
+            "pip install 'compas_ccu[viz]'"
+        )
+
+
+def _formats(text: str, allowed, option: str) -> list:
+    items = [f.strip().lower() for f in text.split(",") if f.strip()]
+    bad = [f for f in items if f not in allowed]
+    if bad or not items:
+        allowed = ", ".join(allowed)
+        raise ValueError(f"{option} must be a comma list of {allowed}, got {text!r}")
+    return list(dict.fromkeys(items))
+
+
+FIGURE_NAMES = (
+    "views",
+    "cut-patterns",
+    "sequence",
+    "quadrants",
+    "planarity",
+)
+
+
+def _cmd_figures(args) -> int:
+    import numpy as np
+
+    _need_viz("figures")
+    from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
+    from compas_ccu.viz.patterns import plot_cut_patterns
+    from compas_ccu.viz.planarity import plot_planarity
+    from compas_ccu.viz.quadrants import plot_quadrants
+    from compas_ccu.viz.sequence import plot_deployment_sequence
+    from compas_ccu.viz.views import plot_views
+
+    formats = _formats(args.format, FIGURE_FORMATS, "--format")
+    only = _formats(args.only, FIGURE_NAMES, "--only") if args.only else list(FIGURE_NAMES)
+    model = _load(args.design)
+    structure = model.deploy(args.alpha)
+    alpha = structure.alpha
+    out = Path(args.out)
+    written = []
+    if "views" in only:
+        if args.values:
+            try:
+                values = np.load(args.values) if args.values.endswith(".npy") else None
+                if values is None:
+                    import json
+
+                    values = np.asarray(json.loads(Path(args.values).read_text()), dtype=float)
+            except (OSError, ValueError) as exc:
+                raise ValueError(f"cannot read --values {args.values!r}: {exc}") from None
+            colorings = [("values", values)]
+        else:
+            colorings = [(c, c) for c in args.color_by.split(",")]
+            for name, _ in colorings:
+                if name not in ("kind", "curvature", "alpha"):
+                    raise ValueError(f"--color-by must be kind, curvature or alpha, got {name!r}")
+        for name, color_by in colorings:
+            fig = plot_views(structure, color_by=color_by, label=args.label)
+            written += save_figure(fig, out / f"views-{name}", formats=formats)
+    makers = {
+        "cut-patterns": lambda: plot_cut_patterns(structure),
+        "sequence": lambda: plot_deployment_sequence(model, alpha=alpha),
+        "quadrants": lambda: plot_quadrants(model.design, alpha=alpha),
+        "planarity": lambda: plot_planarity(model, alpha=alpha),
+    }
+    for name in only:
+        if name in makers:
+            written += save_figure(makers[name](), out / name, formats=formats)
+    for path in written:
+        _say(args, f"wrote {path}")
+    return 0
+
+
+def _cmd_animate(args) -> int:
+    _need_viz("animate")
+    from compas_ccu.viz.animation import ANIMATION_FORMATS, mp4_available, write_animation
+
+    if args.format is None:
+        formats = ["gif"] + (["mp4"] if mp4_available() else [])
+    else:
+        formats = _formats(args.format, ANIMATION_FORMATS, "--format")
+    model = _load(args.design)
+    out = Path(args.out)
+    for fmt in formats:
+        path = write_animation(
+            model,
+            out / f"deployment.{fmt}",
+            frames=args.frames,
+            fps=args.fps,
+            alpha=args.alpha,
+            progress=not args.quiet,
+        )
+        _say(args, f"wrote {path} ({args.frames} frames)")
+    if args.format is None and "mp4" not in formats:
+        _say(args, "no MP4 encoder (pip install 'compas_ccu[video]'): wrote the GIF only")
+    return 0
+
+
+def _cmd_view(args) -> int:
+    _need_viz("view")
+    from compas_ccu.viz.viewer import write_viewer
+
+    model = _load(args.design)
+    path = write_viewer(model, Path(args.out) / "viewer.html", steps=args.steps, alpha=args.alpha)
+    _say(args, f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, works offline)")
+    return 0
+
+
+def _cmd_sheet(args) -> int:
+    _need_viz("sheet")
+    from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
+    from compas_ccu.viz.sheet import plot_contact_sheet
+
+    formats = _formats(args.format, FIGURE_FORMATS, "--format")
+    structures = [_load(d).deploy() for d in args.designs]
+    fig = plot_contact_sheet(structures, columns=args.columns, title=args.title)
+    for path in save_figure(fig, Path(args.out) / "contact-sheet", formats=formats):
+        _say(args, f"wrote {path}")
+    return 0
+
+
+def _cmd_report(args) -> int:
+    _need_viz("report")
+    from compas_ccu.viz.report import write_report
+
+    model = _load(args.design)
+    report = write_report(
+        model, args.out, steps=args.steps, frames=args.frames, progress=not args.quiet
+    )
+    for name, reason in sorted(report.skipped.items()):
+        print(f"ccu: warning: {name} not produced: {reason}", file=sys.stderr)
+    _say(args, f"wrote {len(report.files)} files into {Path(args.out)}")
+    _say(args, f"report: {report.index.resolve()}")
     return 0
 
 
@@ -169,6 +312,88 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("design", help="design TOML file")
     p.set_defaults(func=_cmd_info)
+
+    p = sub.add_parser(
+        "figures",
+        help="write the figures of a design (PNG, SVG)",
+        description="Write into --out: 3D views (views-<colouring>), the cut patterns, the "
+        "deployment sequence, the four quadrants of the leading crease and the crease "
+        "planarity along the path.",
+    )
+    p.add_argument("design", help="design TOML file")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--alpha", type=float, default=None, help="state to show, degrees")
+    p.add_argument(
+        "--color-by",
+        default="kind,curvature,alpha",
+        help="colourings of the 3D views: kind, curvature, alpha (comma list; default all)",
+    )
+    p.add_argument(
+        "--values",
+        default=None,
+        help="colour the 3D views by a per-vertex (plates, vertices) or per-face (plates, "
+        "faces) array from a .npy or JSON file instead",
+    )
+    p.add_argument("--label", default=None, help="colour bar label for --values")
+    p.add_argument("--only", default=None, help="comma list of " + ", ".join(FIGURE_NAMES))
+    p.add_argument("--format", default="png,svg", help="png, svg, pdf (default png,svg)")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=_cmd_figures)
+
+    p = sub.add_parser(
+        "animate",
+        help="animate the deployment (GIF, MP4)",
+        description="Write --out/deployment.gif (and .mp4 where an encoder is available) from "
+        "the flat-folded stack to the design alpha.",
+    )
+    p.add_argument("design", help="design TOML file")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--frames", type=int, default=48, help="number of frames (default 48)")
+    p.add_argument("--fps", type=float, default=12.0, help="frames per second (default 12)")
+    p.add_argument("--alpha", type=float, default=None, help="last state, degrees")
+    p.add_argument("--format", default=None, help="gif, mp4 (default: gif, and mp4 if possible)")
+    p.add_argument("--quiet", action="store_true", help="no progress, print nothing on success")
+    p.set_defaults(func=_cmd_animate)
+
+    p = sub.add_parser(
+        "view",
+        help="write the interactive 3D viewer page",
+        description="Write --out/viewer.html: one self-contained page (works offline) with "
+        "orbit / zoom, a deployment slider and toggles for plates, creases, rulings and cut "
+        "patterns.",
+    )
+    p.add_argument("design", help="design TOML file")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--steps", type=int, default=24, help="slider steps (default 24)")
+    p.add_argument("--alpha", type=float, default=None, help="last state, degrees")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=_cmd_view)
+
+    p = sub.add_parser(
+        "sheet",
+        help="contact sheet of several designs",
+        description="Write --out/contact-sheet.png (and .svg): one perspective per design.",
+    )
+    p.add_argument("designs", nargs="+", help="design TOML files")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--columns", type=int, default=None, help="columns (default: about square)")
+    p.add_argument("--title", default=None, help="sheet title")
+    p.add_argument("--format", default="png,svg", help="png, svg, pdf (default png,svg)")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=_cmd_sheet)
+
+    p = sub.add_parser(
+        "report",
+        help="write the design report (index.html)",
+        description="Write --out/index.html with the viewer, the figures, the animation, the "
+        "key figures of the design and links to every file written (data, figures, viewer).",
+    )
+    p.add_argument("design", help="design TOML file")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--steps", type=int, default=24, help="deployment path steps (default 24)")
+    p.add_argument("--frames", type=int, default=48, help="animation frames (default 48)")
+    p.add_argument("--quiet", action="store_true", help="no progress, print nothing on success")
+    p.set_defaults(func=_cmd_report)
     return parser
 
 
@@ -179,7 +404,8 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except CCUError as exc:
+    except (CCUError, ValueError) as exc:
+        # CCUError: bad design or state; ValueError: a bad option value, named by the message
         return _fail(str(exc))
 
 

@@ -221,6 +221,17 @@ class CCUModel:
             out.append(Structure.from_model(self, states, k, float(alpha), metrics, kinds, flat))
         return out
 
+    def crease_planarity(self, alphas) -> np.ndarray:
+        """(k, c) largest distance (m) of each crease's vertices from its fitted plane.
+
+        Parameters
+        ----------
+        alphas : (k,) float
+            Reference reflection angles, degrees.
+        """
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        return self.mechanism.deploy(np.radians(alphas)).planarity
+
     def _overlapping(self, states) -> np.ndarray:
         """(k, 1 + c) bool: the leading crease, then every crease, overlapping itself."""
         k = states.near.shape[0]

@@ -1,0 +1,45 @@
+"""Derived designs: the same crease and rulings in another layout."""
+
+from __future__ import annotations
+
+import copy
+
+__all__ = ["quadrant_design"]
+
+
+def quadrant_design(design, *, width: float | None = None):
+    """The four quadrants of a design's leading crease (paper Fig. 2, Tachi 2013).
+
+    The leading crease and ruling field of ``design`` with a single-crease layout: the leading
+    plate, its CCU mirror partner, and the CCF continuations of both across the crease.
+
+    Parameters
+    ----------
+    design : Design
+    width : float, optional
+        Plate width along the rulings, metres (default: the design's ``layout.width``, else a
+        fifth of the crease span, else 0.3 m).
+
+    Returns
+    -------
+    Design
+
+    Examples
+    --------
+    >>> from compas_ccu.design import load_design
+    >>> q = quadrant_design(load_design("examples/vault.toml"))
+    >>> q.values["layout"]["quadrants"], len(q.build().plate_ids)
+    (True, 4)
+    """
+    from compas_ccu.design.model import Design
+
+    doc = copy.deepcopy(design.document)
+    layout = design.values["layout"]
+    if width is None:
+        width = layout.get("width")
+    if width is None:
+        span = design.values["crease"].get("span")
+        width = 0.2 * span if span else 0.3
+    doc["layout"] = {"type": "single", "width": float(width), "quadrants": True}
+    doc.setdefault("design", {})["name"] = f"{design.name} (four quadrants)"
+    return Design(doc, name=design.name)

@@ -1,0 +1,372 @@
+"""The design report: one folder with ``index.html``, the viewer, the figures and the data.
+
+``write_report`` runs every picture of the toolkit on one design and writes a page that shows
+them with the key figures of the design and links to every file written.
+"""
+
+from __future__ import annotations
+
+import html
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["write_report", "Report", "design_figures"]
+
+FIGURES = (
+    ("views-kind", "3D views, creases coloured by kind"),
+    ("views-curvature", "3D views, plates coloured by their bending curvature |κ|"),
+    ("views-alpha", "3D views, creases coloured by the reflection angle α"),
+    ("cut-patterns", "Cut patterns of all plates: creases by kind, rulings as score lines"),
+    ("sequence", "Deployment sequence from the flat-folded stack (paper Fig. 1)"),
+    ("quadrants", "The four quadrants of the leading crease (paper Fig. 2)"),
+    ("planarity", "Planarity of every crease along the deployment path (paper Fig. 6d)"),
+)
+
+
+@dataclass
+class Report:
+    """What :func:`write_report` wrote.
+
+    Attributes
+    ----------
+    index : Path
+        The report page.
+    files : list of Path
+        Every file written (the page included).
+    skipped : dict
+        Picture name to the reason it could not be made (e.g. no MP4 encoder).
+    figures : dict
+        Key figures of the design shown on the page.
+    """
+
+    index: Path
+    files: list = field(default_factory=list)
+    skipped: dict = field(default_factory=dict)
+    figures: dict = field(default_factory=dict)
+
+
+def design_figures(model, structure, path_structures) -> dict:
+    """Key figures of a design at its design state and along its deployment path."""
+    from compas_ccu.io import flat_footprint
+
+    m = structure.metrics
+    kinds: dict = {}
+    for c in structure.creases:
+        kinds[c["kind"]] = kinds.get(c["kind"], 0) + 1
+    alphas = [np.asarray(c["alpha"], dtype=float) for c in structure.creases]
+    alphas.append(np.asarray(m["alpha_leading"], dtype=float))
+    allv = np.concatenate(alphas)
+    planarity = max(s.metrics["crease_planarity_max"] for s in path_structures)
+    width, height = flat_footprint(structure)
+    return {
+        "name": model.design.name,
+        "description": model.design.values["design"].get("description") or "",
+        "span": m["span"],
+        "rise": m["rise"],
+        "bounding_box": m["bounding_box"],
+        "plates": len(structure.plate_ids),
+        "creases": len(structure.creases),
+        "creases_by_kind": kinds,
+        "segments": model.segments,
+        "alpha_design": model.alpha_design,
+        "alpha_min": float(allv.min()),
+        "alpha_max": float(allv.max()),
+        "alpha_limit": model.alpha_limit,
+        "overlap_alpha": model.overlap_alpha,
+        "flat_stack": [width, height],
+        "size": m["size"],
+        "isometry_relative": m["isometry_relative"],
+        "quad_planarity_relative": m["quad_planarity_relative"],
+        "hinge_gap_relative": m["hinge_gap_relative"],
+        "mirror_error_relative": m["mirror_error_relative"],
+        "crease_planarity_path_max": planarity,
+    }
+
+
+def write_report(
+    model,
+    out,
+    *,
+    steps: int = 24,
+    frames: int = 48,
+    formats=("png", "svg"),
+    progress: bool = False,
+) -> Report:
+    """Write the report of a design into the folder ``out``.
+
+    Parameters
+    ----------
+    model : compas_ccu.model.CCUModel
+    out : str or Path
+        Output folder (created).
+    steps : int
+        Intervals of the deployment path (viewer slider, path table, planarity).
+    frames : int
+        Frames of the animation.
+    formats : sequence of str
+        Figure formats (PNG is always written: the page shows it).
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    Report
+
+    Examples
+    --------
+    >>> from compas_ccu.design import load_design
+    >>> import tempfile
+    >>> r = write_report(load_design("examples/cone.toml").build(), tempfile.mkdtemp(),
+    ...                  steps=4, frames=3)
+    >>> r.index.name, r.figures["plates"]
+    ('index.html', 2)
+    """
+    from compas_ccu.errors import CCUError
+    from compas_ccu.io import (
+        write_compas_json,
+        write_obj,
+        write_path_table,
+        write_structure_json,
+    )
+    from compas_ccu.viz.animation import mp4_available, write_animation
+    from compas_ccu.viz.export import save_figure
+
+    if int(steps) != steps or steps < 1:
+        raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
+    formats = tuple(dict.fromkeys(("png", *formats)))
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    report = Report(index=out / "index.html")
+    started = time.perf_counter()
+    structure = model.deploy()
+    path_structures = model.path(np.linspace(0.0, model.alpha_design, int(steps) + 1))
+    report.figures = design_figures(model, structure, path_structures)
+    figures: dict = {}
+
+    def data():
+        data_dir = out / "data"
+        data_dir.mkdir(exist_ok=True)
+        report.files += [
+            write_structure_json(structure, data_dir / "structure.json"),
+            write_obj(structure, data_dir / "structure.obj"),
+            write_compas_json(structure, data_dir / "structure.compas.json"),
+            write_path_table(path_structures, data_dir / "path.csv"),
+        ]
+
+    def figure(name):
+        def run():
+            fig = _make_figure(name, model, structure)
+            paths = save_figure(fig, out / "figures" / name, formats=formats)
+            figures[name] = paths
+            report.files += paths
+
+        return run
+
+    def animation(fmt):
+        def run():
+            if fmt == "mp4" and not mp4_available():
+                report.skipped["deployment.mp4"] = (
+                    "no MP4 encoder: install the video extra (imageio-ffmpeg)"
+                )
+                return
+            report.files.append(write_animation(model, out / f"deployment.{fmt}", frames=frames))
+
+        return run
+
+    def viewer():
+        from compas_ccu.viz.viewer import write_viewer
+
+        report.files.append(write_viewer(model, out / "viewer.html", steps=steps))
+
+    tasks = [("data files", data)]
+    tasks += [(f"figure {name}", figure(name)) for name, _ in FIGURES]
+    tasks += [("animation gif", animation("gif")), ("animation mp4", animation("mp4"))]
+    tasks += [("viewer", viewer)]
+    from tqdm.auto import tqdm
+
+    bar = tqdm(tasks, desc="report", disable=not progress, file=sys.stderr, leave=False)
+    for label, task in bar:
+        bar.set_postfix_str(label)
+        try:
+            task()
+        except (CCUError, ValueError) as exc:
+            report.skipped[label] = str(exc)
+    bar.close()
+    elapsed = time.perf_counter() - started
+    page = _page(model, structure, report, figures, elapsed)
+    report.index.write_text(page, encoding="utf-8")
+    report.files.append(report.index)
+    return report
+
+
+def _make_figure(name, model, structure):
+    from compas_ccu.viz.patterns import plot_cut_patterns
+    from compas_ccu.viz.planarity import plot_planarity
+    from compas_ccu.viz.quadrants import plot_quadrants
+    from compas_ccu.viz.sequence import plot_deployment_sequence
+    from compas_ccu.viz.views import plot_views
+
+    if name.startswith("views-"):
+        return plot_views(structure, color_by=name.split("-", 1)[1])
+    if name == "cut-patterns":
+        return plot_cut_patterns(structure)
+    if name == "sequence":
+        return plot_deployment_sequence(model)
+    if name == "quadrants":
+        return plot_quadrants(model.design)
+    if name == "planarity":
+        return plot_planarity(model)
+    raise ValueError(f"unknown figure {name!r}")
+
+
+# -- the page --------------------------------------------------------------------------------
+
+_CSS = """
+body { font: 15px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; color: #222;
+       margin: 0 auto; max-width: 1180px; padding: 1.2em 1.5em 3em; }
+h1 { margin-bottom: 0.1em; } h2 { margin-top: 1.8em; border-bottom: 1px solid #ddd; }
+.sub { color: #666; margin-top: 0; }
+table { border-collapse: collapse; margin: 0.6em 0; }
+td, th { padding: 0.25em 0.9em 0.25em 0; text-align: left; vertical-align: top; }
+th { color: #555; font-weight: 600; } td.num { font-variant-numeric: tabular-nums; }
+iframe { width: 100%; height: 720px; border: 1px solid #ddd; border-radius: 6px; }
+figure { margin: 1.2em 0; } figure img { max-width: 100%; border: 1px solid #eee; }
+figcaption { color: #444; font-size: 0.93em; }
+.kind { display: inline-block; width: 0.9em; height: 0.9em; border-radius: 2px;
+        vertical-align: -0.1em; margin-right: 0.3em; }
+.skip { color: #a33; } code { font-size: 0.92em; }
+"""
+
+
+def _fmt(x, digits=4) -> str:
+    return f"{x:.{digits}g}"
+
+
+def _rel(path: Path, root: Path) -> str:
+    return path.relative_to(root).as_posix()
+
+
+def _page(model, structure, report: Report, figures: dict, elapsed: float) -> str:
+    from compas_ccu import __version__
+    from compas_ccu.viz.colors import KIND_COLORS
+
+    e = html.escape
+    f = report.figures
+    root = report.index.parent
+    kinds = ", ".join(
+        f'<span class="kind" style="background:{KIND_COLORS.get(k, "#888")}"></span>{v} {e(k)}'
+        for k, v in sorted(f["creases_by_kind"].items())
+    )
+    bbox = " × ".join(f"{v:.3f}" for v in f["bounding_box"])
+    rows = [
+        ("Span (leading crease chord)", f"{f['span']:.4f} m"),
+        ("Rise", f"{f['rise']:.4f} m"),
+        ("Bounding box (x × y × z)", f"{bbox} m"),
+        ("Plates", str(f["plates"])),
+        ("Creases", f"{f['creases']} ({kinds})" if f["creases"] else "0"),
+        ("Segments per crease", str(f["segments"])),
+        ("Design α (reference vertex)", f"{f['alpha_design']:g}°"),
+        ("α along the creases", f"{f['alpha_min']:.3f}° … {f['alpha_max']:.3f}°"),
+        ("Deployment limit", f"{f['alpha_limit']:.4f}°"),
+        ("First self-overlap of a crease", f"{f['overlap_alpha']:.4f}°"),
+        ("Flat-folded stack footprint", " × ".join(f"{v:.3f}" for v in f["flat_stack"]) + " m"),
+    ]
+    inv = [
+        ("Isometry (quad sides and diagonals)", f["isometry_relative"]),
+        ("Quad planarity", f["quad_planarity_relative"]),
+        ("Hinge coincidence", f["hinge_gap_relative"]),
+        ("Mirror symmetry", f["mirror_error_relative"]),
+        ("Crease planarity, largest along the path", f["crease_planarity_path_max"] / f["size"]),
+    ]
+    key_rows = "\n".join(f"<tr><th>{e(a)}</th><td class=num>{b}</td></tr>" for a, b in rows)
+    inv_rows = "\n".join(f"<tr><th>{e(a)}</th><td class=num>{b:.1e}</td></tr>" for a, b in inv)
+    crease_rows = "\n".join(
+        "<tr><td>c{id}</td><td>P{a} – P{b}</td><td>"
+        '<span class="kind" style="background:{col}"></span>{kind}</td>'
+        "<td class=num>{amin:.3f}° … {amax:.3f}°</td><td class=num>{sb:.3f}°</td>"
+        "<td class=num>{pl:.1e} m</td></tr>".format(
+            id=c["id"],
+            a=c["plates"][0],
+            b=c["plates"][1],
+            col=KIND_COLORS.get(c["kind"], "#888"),
+            kind=e(c["kind"]),
+            amin=min(c["alpha"]),
+            amax=max(c["alpha"]),
+            sb=float(np.mean(c["sum_beta"])) if c["sum_beta"] else float("nan"),
+            pl=c["planarity"],
+        )
+        for c in structure.creases
+    )
+    figs = []
+    for name, caption in FIGURES:
+        if name not in figures:
+            continue
+        paths = figures[name]
+        png = next(p for p in paths if p.suffix == ".png")
+        links = " · ".join(f'<a href="{_rel(p, root)}">{p.suffix[1:].upper()}</a>' for p in paths)
+        figs.append(
+            f'<figure id="{name}"><a href="{_rel(png, root)}"><img src="{_rel(png, root)}" '
+            f'alt="{e(caption)}" loading="lazy"></a><figcaption>{e(caption)} ({links})'
+            "</figcaption></figure>"
+        )
+    anim = ""
+    gif = root / "deployment.gif"
+    if gif.exists():
+        mp4 = root / "deployment.mp4"
+        extra = ' · <a href="deployment.mp4">MP4</a>' if mp4.exists() else ""
+        anim = (
+            '<h2 id="animation">Deployment animation</h2><figure><img src="deployment.gif" '
+            'alt="deployment animation"><figcaption>From the flat-folded stack to the design '
+            f'state (<a href="deployment.gif">GIF</a>{extra})</figcaption></figure>'
+        )
+    viewer = (
+        '<iframe src="viewer.html" title="interactive viewer"></iframe>'
+        '<p><a href="viewer.html">Open the viewer on its own page</a> (works offline).</p>'
+        if (root / "viewer.html").exists()
+        else '<p class="skip">The viewer could not be written (see below).</p>'
+    )
+    skipped = "".join(
+        f"<li class=skip>{e(k)}: {e(v)}</li>" for k, v in sorted(report.skipped.items())
+    )
+    files = sorted(set(report.files) | {report.index})
+    file_rows = "\n".join(
+        f'<tr><td><a href="{_rel(p, root)}">{e(_rel(p, root))}</a></td>'
+        f"<td class=num>{_size(p)}</td></tr>"
+        for p in files
+        if p != report.index
+    )
+    description = f'<p class="sub">{e(f["description"])}</p>' if f["description"] else ""
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>{e(f["name"])}: compas_ccu report</title><style>{_CSS}</style></head>
+<body>
+<h1>{e(f["name"])}</h1>{description}
+<p class="sub">compas_ccu {e(__version__)} · curved-crease unfolding report · written in
+{elapsed:.1f} s</p>
+<h2 id="viewer">Interactive viewer</h2>{viewer}
+<h2 id="key-figures">Key figures</h2><table>{key_rows}</table>
+<h3>Invariant errors (relative to the structure size {f["size"]:.3f} m; SPEC §5 bar 1e-9)</h3>
+<table>{inv_rows}</table>
+<h3>Creases at the design state</h3>
+<table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
+<th>planarity</th></tr>{crease_rows}</table>
+{anim}
+<h2 id="figures">Figures</h2>{"".join(figs)}
+{"<h2>Not produced</h2><ul>" + skipped + "</ul>" if skipped else ""}
+<h2 id="files">Files</h2><table>{file_rows}</table>
+</body></html>
+"""
+
+
+def _size(path: Path) -> str:
+    n = path.stat().st_size
+    for unit in ("B", "kB", "MB", "GB"):
+        if n < 1000 or unit == "GB":
+            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
+        n /= 1000.0
+    return f"{n} B"

@@ -1,0 +1,101 @@
+"""The picture commands: ccu figures | animate | view | sheet, their outputs and their errors."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+pytest.importorskip("matplotlib")
+
+from PIL import Image  # noqa: E402
+
+from compas_ccu.cli import main  # noqa: E402
+from conftest import EXAMPLES  # noqa: E402
+from imagecheck import assert_picture, load_rgb  # noqa: E402
+
+CONE = str(EXAMPLES / "cone.toml")
+VAULT = str(EXAMPLES / "vault.toml")
+
+
+def test_figures_writes_every_figure_in_every_format(tmp_path, capsys):
+    assert main(["figures", CONE, "--out", str(tmp_path), "--format", "png,svg"]) == 0
+    names = sorted(p.name for p in tmp_path.iterdir())
+    stems = ["views-kind", "views-curvature", "views-alpha", "cut-patterns", "sequence"]
+    stems += ["quadrants", "planarity"]
+    assert names == sorted(f"{s}.{f}" for s in stems for f in ("png", "svg"))
+    for stem in stems:
+        assert_picture(load_rgb(tmp_path / f"{stem}.png"), min_ink=0.02, min_colours=20)
+    assert capsys.readouterr().out.count("wrote ") == len(names)
+
+
+def test_figures_colour_by_values_from_a_file(tmp_path, cone_model):
+    s = cone_model.deploy()
+    values = np.asarray(s.deployed)[..., 2]
+    np.save(tmp_path / "v.npy", values)
+    (tmp_path / "v.json").write_text(json.dumps(values.tolist()))
+    for name in ("v.npy", "v.json"):
+        out = tmp_path / name.replace(".", "-")
+        args = ["figures", CONE, "--out", str(out), "--only", "views", "--format", "png"]
+        assert main(args + ["--values", str(tmp_path / name), "--label", "z (m)"]) == 0
+        assert [p.name for p in out.iterdir()] == ["views-values.png"]
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["--format", "jpeg"], "--format must be a comma list of png, svg, pdf, got 'jpeg'"),
+        (["--only", "views,stress"], "--only must be a comma list of views"),
+        (["--color-by", "stress"], "--color-by must be kind, curvature or alpha, got 'stress'"),
+        (["--values", "missing.npy"], "cannot read --values 'missing.npy'"),
+        (["--alpha", "95"], "beyond the deployment limit"),
+    ],
+)
+def test_figures_errors_name_the_cause(tmp_path, capsys, extra, message):
+    assert main(["figures", CONE, "--out", str(tmp_path)] + extra) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ccu: error: ") and message in err
+
+
+def test_figures_refuse_values_of_the_wrong_shape(tmp_path, capsys):
+    np.save(tmp_path / "bad.npy", np.zeros((2, 5)))
+    args = ["figures", CONE, "--out", str(tmp_path), "--only", "views"]
+    assert main(args + ["--values", str(tmp_path / "bad.npy")]) == 2
+    assert "per-vertex values must have shape (2, 98)" in capsys.readouterr().err
+
+
+def test_animate_writes_the_gif_with_the_frame_count(tmp_path, capsys):
+    args = ["animate", CONE, "--out", str(tmp_path), "--frames", "5", "--format", "gif"]
+    assert main(args + ["--quiet"]) == 0
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err == ""  # no progress bar with --quiet
+    assert Image.open(tmp_path / "deployment.gif").n_frames == 5
+
+
+def test_animate_shows_progress_unless_quiet(tmp_path, capsys):
+    assert main(["animate", CONE, "--out", str(tmp_path), "--frames", "3", "--format", "gif"]) == 0
+    captured = capsys.readouterr()
+    assert "animation frames" in captured.err
+    assert "wrote" in captured.out
+
+
+def test_view_writes_one_offline_page(tmp_path, capsys):
+    assert main(["view", CONE, "--out", str(tmp_path), "--steps", "3"]) == 0
+    page = (tmp_path / "viewer.html").read_text(encoding="utf-8")
+    assert "works offline" in capsys.readouterr().out
+    assert '<script src="http' not in page and '<link href="http' not in page
+
+
+def test_sheet_of_several_designs(tmp_path):
+    args = ["sheet", CONE, VAULT, str(EXAMPLES / "quadrants.toml"), "--out", str(tmp_path)]
+    assert main(args + ["--format", "png", "--quiet"]) == 0
+    assert_picture(load_rgb(tmp_path / "contact-sheet.png"), min_ink=0.05)
+
+
+def test_picture_commands_have_help(capsys):
+    for command in ("figures", "animate", "view", "sheet", "report"):
+        with pytest.raises(SystemExit) as exc:
+            main([command, "--help"])
+        assert exc.value.code == 0
+        assert "--out" in capsys.readouterr().out
