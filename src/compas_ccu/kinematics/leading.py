@@ -92,9 +92,10 @@ class LeadingStrip:
     >>> near = np.c_[np.cos(t), np.sin(t)]
     >>> strip = LeadingStrip(strip_intrinsics(near, 0.8 * near), reference=4)
     >>> placed = strip.place_alpha([np.radians(30.0)])
-    >>> r3d = np.linalg.norm(placed.near[0, 0, :2] - placed.near[0, 4, :2]) / (
-    ...     2 * np.sin(np.pi / 16))
-    >>> round(r3d / np.cos(np.radians(30.0)), 12)  # the cone: r_3D = R cos(alpha)
+    >>> a, b, c = placed.near[0, 3:6]  # circumradius of three crease vertices
+    >>> r3d = (np.linalg.norm(b - a) * np.linalg.norm(c - b) * np.linalg.norm(c - a)
+    ...        / (2 * np.linalg.norm(np.cross(b - a, c - a))))
+    >>> round(float(r3d / np.cos(np.radians(30.0))), 12)  # the cone: r_3D = R cos(alpha)
     1.0
     """
 

@@ -1,0 +1,38 @@
+"""The tour notebook runs top to bottom and shows its pictures."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+nbformat = pytest.importorskip("nbformat")
+nbclient = pytest.importorskip("nbclient")
+pytest.importorskip("matplotlib")
+
+NOTEBOOK = Path(__file__).resolve().parents[1] / "notebooks" / "tour.ipynb"
+
+
+def test_tour_notebook_runs_top_to_bottom(tmp_path, monkeypatch):
+    monkeypatch.setenv("CCU_NOTEBOOK_OUT", str(tmp_path))
+    nb = nbformat.read(NOTEBOOK, as_version=4)
+    assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code"), (
+        "commit the notebook without outputs"
+    )
+    client = nbclient.NotebookClient(
+        nb,
+        timeout=300,
+        kernel_name="python3",
+        resources={"metadata": {"path": str(NOTEBOOK.parent)}},
+    )
+    client.execute()
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    images = [o for o in outputs if "image/png" in o.get("data", {})]
+    assert len(images) == 4  # two views, the sequence, the cut patterns
+    text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+    assert "10 plates, 64 segments per crease" in text
+    assert "crease kinds: anticlastic, synclastic" in text
+    for name in ("structure.json", "structure.obj", "viewer.html", "deployment.gif"):
+        assert (tmp_path / name).is_file(), name
+    assert (tmp_path / "report" / "index.html").is_file()
