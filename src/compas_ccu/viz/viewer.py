@@ -1,0 +1,744 @@
+"""The offline viewer: one self-contained HTML page to explore a deployment in 3D.
+
+:func:`viewer_figure` builds a plotly figure of a model along its deployment path, from the
+flat-folded stack (α = 0) to a target angle: plates, creases coloured by kind, rulings and
+(hidden at first) the cut patterns laid out on the ground next to the structure. A slider (with
+Play / Pause) moves through the states; toggle buttons show and hide plates,
+creases, rulings and cut patterns. :func:`write_viewer` writes it as a single HTML file that works
+offline (plotly.js is bundled, nothing is loaded from the network).
+
+Everything is drawn from :func:`compas_ccu.viz.scene.scene_from_structure` in the colours of
+:mod:`compas_ccu.viz.colors`, like every other picture of the package. Plotly is imported only
+when a figure is built.
+"""
+
+from __future__ import annotations
+
+import math
+from html import escape as html_escape
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from compas_ccu.viz.colors import (
+    EDGE_COLOR,
+    KIND_COLORS,
+    KIND_LABELS,
+    RULING_COLOR,
+    plate_tone,
+)
+from compas_ccu.viz.scene import scene_from_structure
+
+if TYPE_CHECKING:  # plotly is imported when a figure is built, not with this module
+    import plotly.graph_objects as go
+
+__all__ = ["viewer_figure", "write_viewer", "VIEWER_DIV_ID"]
+
+VIEWER_DIV_ID = "ccu-viewer"
+"""``id`` of the plot ``<div>`` in the page written by :func:`write_viewer`."""
+
+_KIND_ORDER = ("synclastic", "anticlastic", "ccf", "mixed")
+_MAX_RULINGS = 32  # rulings drawn per plate (every k-th ruling, both ends always)
+_PAD = 0.04  # axis padding, fraction of the largest extent
+_PAPER = "#ffffff"
+_PANE = "#f3f1ec"
+_GRID = "#dedad2"
+_FONT = "#2b2b2b"
+_PATTERN_TAG = "cut pattern"
+
+_ON, _OFF = "☑", "☐"
+_TOGGLES = (
+    ("plates", "Plates"),
+    ("creases", "Creases"),
+    ("rulings", "Rulings"),
+    ("cut", "Cut patterns"),
+)
+# legend groups: the first three change with the state, the cut patterns are static
+_GROUPS = ("plates", "creases", "rulings", "cut")
+
+
+# -- geometry helpers (vectorised) -----------------------------------------------------------
+def _f32(a) -> np.ndarray:
+    """Coordinates for display: float32 (≲ 1e-6 m for structures up to ~10 m), NaN gaps."""
+    return np.ascontiguousarray(a, dtype=np.float32)
+
+
+def _polylines(lines) -> np.ndarray:
+    """(m, 3) points of several polylines, each followed by a NaN row (a gap in the line).
+
+    Parameters
+    ----------
+    lines : sequence of (k_i, 3) float, or (q, k, 3) float
+
+    Returns
+    -------
+    (sum(k_i + 1), 3) float
+    """
+    if isinstance(lines, np.ndarray) and lines.ndim == 3:
+        q, k, _ = lines.shape
+        out = np.full((q, k + 1, 3), np.nan)
+        out[:, :k] = lines
+        return out.reshape(-1, 3)
+    if len(lines) == 0:
+        return np.zeros((0, 3))
+    gap = np.full((1, 3), np.nan)
+    return np.concatenate([np.concatenate([np.asarray(pts, float), gap]) for pts in lines])
+
+
+def _outline_index(n: int) -> np.ndarray:
+    """(2n + 3,) vertex order of a closed plate outline: near 0..n, far 2n+1..n+1, back to 0."""
+    return np.r_[np.arange(n + 1), np.arange(2 * n + 1, n, -1), 0]
+
+
+def _ruling_index(n: int) -> np.ndarray:
+    """Rulings drawn: at most ``_MAX_RULINGS`` per plate, evenly spaced, both ends included."""
+    count = min(n + 1, _MAX_RULINGS)
+    return np.unique(np.round(np.linspace(0, n, count)).astype(int))
+
+
+def _triangles(faces: np.ndarray, v: int) -> np.ndarray:
+    """(2 p n, 3) triangle indices into the (p v,) stacked vertices, two per quad.
+
+    Parameters
+    ----------
+    faces : (p, n, 4) int
+        Quad vertex indices per plate.
+    v : int
+        Vertices per plate.
+    """
+    p = faces.shape[0]
+    glob = faces + (np.arange(p) * v)[:, None, None]
+    tri = np.stack([glob[..., [0, 1, 2]], glob[..., [0, 2, 3]]], axis=2)  # (p, n, 2, 3)
+    return tri.reshape(-1, 3)
+
+
+def _envelopes(outline: np.ndarray, xs: np.ndarray):
+    """Lowest and highest ``y`` of a closed 2D polygon along vertical lines ``x = xs``.
+
+    Parameters
+    ----------
+    outline : (m, 2) float
+        Closed polygon (first point repeated last).
+    xs : (g,) float
+
+    Returns
+    -------
+    lower, upper : (g,) float
+        NaN where the line misses the polygon.
+    """
+    a, b = outline[:-1], outline[1:]
+    x0, x1 = a[:, 0:1], b[:, 0:1]
+    lo, hi = np.minimum(x0, x1), np.maximum(x0, x1)
+    hit = (xs >= lo) & (xs <= hi) & (hi > lo)  # (m - 1, g)
+    t = np.where(hit, (xs - x0) / np.where(hi > lo, x1 - x0, 1.0), 0.0)
+    y = a[:, 1:2] + t * (b[:, 1:2] - a[:, 1:2])
+    with np.errstate(invalid="ignore"):
+        lower = np.where(hit, y, np.inf).min(axis=0)
+        upper = np.where(hit, y, -np.inf).max(axis=0)
+    miss = ~hit.any(axis=0)
+    lower[miss] = np.nan
+    upper[miss] = np.nan
+    return lower, upper
+
+
+def _pattern_offsets(flat: np.ndarray, n: int, gap: float) -> np.ndarray:
+    """(p,) downward shifts (−y) that lay the cut patterns one below the other without overlap.
+
+    Each plate drops (in −y) until it is ``gap`` below everything placed before it, measured
+    along vertical lines, so nesting shapes (arcs in arcs) pack closely and others stack.
+
+    Parameters
+    ----------
+    flat : (p, v, 3) float
+        Cut patterns (z = 0), all in the same plane coordinates.
+    n : int
+        Segments per plate.
+    gap : float
+        Clearance between patterns, metres.
+    """
+    outlines = flat[:, _outline_index(n), :2]
+    xs = np.linspace(outlines[..., 0].min(), outlines[..., 0].max(), 512)
+    floor = np.full(xs.shape, np.inf)  # lowest placed point along each vertical line
+    offsets = np.zeros(len(flat))
+    for i, outline in enumerate(outlines):
+        lower, upper = _envelopes(outline, xs)
+        both = np.isfinite(upper) & np.isfinite(floor)
+        if i > 0:
+            if both.any():
+                offsets[i] = float(np.min(floor[both] - upper[both])) - gap
+            else:
+                offsets[i] = float(np.nanmin(floor)) - float(np.nanmax(upper)) - gap
+        inside = np.isfinite(lower)
+        floor[inside] = np.minimum(floor[inside], lower[inside] + offsets[i])
+    return offsets
+
+
+def _range(lo: np.ndarray, hi: np.ndarray):
+    """Padded axis ranges and the matching manual aspect ratio of a box (lo, hi : (3,))."""
+    ext = np.maximum(hi - lo, 1e-9)
+    pad = _PAD * float(ext.max())
+    lo, hi = lo - pad, hi + pad
+    ext = hi - lo
+    ratio = ext / ext.max()
+    ranges = [[float(a), float(b)] for a, b in zip(lo, hi)]
+    return ranges, {"x": float(ratio[0]), "y": float(ratio[1]), "z": float(ratio[2])}
+
+
+def _scene_layout(ranges, ratio) -> dict:
+    """Relayout keys that set the 3D box (fixed ranges, manual aspect)."""
+    out = {"scene.aspectmode": "manual", "scene.aspectratio": ratio}
+    for name, r in zip("xyz", ranges):
+        out[f"scene.{name}axis.range"] = r
+    return out
+
+
+# -- the figure ------------------------------------------------------------------------------
+def _check_arguments(model, steps, alpha) -> float:
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
+        raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
+    if alpha is None:
+        return float(model.alpha_design)
+    try:
+        value = float(alpha)
+    except (TypeError, ValueError):
+        raise ValueError(f"alpha must be a number of degrees > 0, got {alpha!r}") from None
+    if not math.isfinite(value) or value <= 0.0:
+        raise ValueError(f"alpha must be a finite angle > 0 degrees, got {alpha!r}")
+    return value
+
+
+def _label(alpha: float) -> str:
+    return f"{alpha:.4g}°"
+
+
+def _edge_index(structure, n: int) -> np.ndarray:
+    """(m,) gather index of the plate edges that no crease line draws, ``-1`` for a gap.
+
+    Free boundaries (a near or far boundary that is not a crease) and the two end rulings of
+    every plate, as polylines into the ``(p v, 3)`` stacked vertices.
+    """
+    p = len(structure.plate_ids)
+    v = 2 * n + 2
+    index = {pid: i for i, pid in enumerate(structure.plate_ids)}
+    near, far = np.arange(n + 1), np.arange(n + 1, 2 * n + 2)
+    creased = set()
+    for c in structure.creases:
+        for plate, verts in zip(c["plates"], c["vertices"]):
+            creased.add((index[plate], "near" if int(verts[0]) == 0 else "far"))
+    parts = []
+    for i in range(p):
+        lines = [np.array([0, n + 1]), np.array([n, 2 * n + 1])]
+        lines += [b for name, b in (("near", near), ("far", far)) if (i, name) not in creased]
+        parts += [np.r_[i * v + line, -1] for line in lines]
+    return np.concatenate(parts)
+
+
+def _gather(points: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """(m, 3) rows ``points[index]``, NaN where ``index < 0``."""
+    out = points[np.maximum(index, 0)].astype(float)
+    out[index < 0] = np.nan
+    return out
+
+
+def _state_data(scene, edges: np.ndarray, rulings_at: np.ndarray, kinds: list) -> dict:
+    """Coordinates of the state-dependent traces of one grounded scene.
+
+    Parameters
+    ----------
+    scene : compas_ccu.viz.scene.Scene
+    edges : (m,) int
+        :func:`_edge_index` of the structure.
+    rulings_at : (r,) int
+        Rulings drawn per plate.
+    kinds : list of str
+        Crease kinds, one trace each.
+
+    Returns
+    -------
+    dict
+        ``plates`` (p v, 3), ``edges`` (m, 3), ``rulings`` (3 p r, 3) and one ``(.., 3)`` array
+        per crease kind (NaN rows separate polylines).
+    """
+    p, v, _ = scene.vertices.shape
+    stacked = scene.vertices.reshape(p * v, 3)
+    out = {
+        "plates": stacked,
+        "edges": _gather(stacked, edges),
+        "rulings": _polylines(scene.rulings[:, rulings_at].reshape(-1, 2, 3)),
+    }
+    for kind in kinds:
+        out[kind] = _polylines([c["points"] for c in scene.creases if c["kind"] == kind])
+    return out
+
+
+def _xyz(points: np.ndarray) -> dict:
+    pts = _f32(points)
+    return {"x": pts[:, 0], "y": pts[:, 1], "z": pts[:, 2]}
+
+
+def _title(model, kinds: list, counts: dict, alphas: np.ndarray) -> dict:
+    name = getattr(model.design, "name", None) or "design"
+    ncreases = sum(counts.values())
+    by_kind = ", ".join(f"{counts[k]} {k}" for k in kinds)
+    plates = len(model.plate_ids)
+    sub = (
+        f"{plates} plates · {ncreases} creases ({by_kind}) · design α = "
+        f"{model.alpha_design:.4g}° · deployment limit α = {model.alpha_limit:.4g}° · "
+        f"path α = 0° → {alphas[-1]:.4g}° in {len(alphas) - 1} steps"
+    )
+    return {
+        "text": f"<b>{name}</b> — curved-crease unfolding",
+        "subtitle": {"text": sub, "font": {"size": 13, "color": "#555555"}},
+        "x": 0.01,
+        "xanchor": "left",
+        "y": 0.985,
+        "yanchor": "top",
+        "font": {"size": 20, "color": _FONT},
+    }
+
+
+def viewer_figure(
+    model, *, steps: int = 24, alpha: float | None = None, title: str | None = None
+) -> go.Figure:
+    """Interactive 3D figure of a model along its deployment path, with slider and toggles.
+
+    The states are ``numpy.linspace(0, alpha, steps + 1)``: from the flat-folded stack to the
+    target; the figure opens on the last one. Every state is grounded (lowest point on
+    ``z = 0``) and the axis ranges are fixed over all states, so the view does not jump. The cut
+    patterns (hidden at first) lie on the ground in front of the structure (−y), each plate
+    shifted so that none overlaps another; showing them widens the box to include them.
+
+    Traces, in order: plates (Mesh3d, two triangles per quad, alternating plate tones), plate
+    edges (free boundaries and plate ends, thin dark lines), one crease trace per kind present
+    (wide, coloured and labelled by kind), rulings (at most 32 per plate), then the cut patterns
+    (fill, outlines, creases by kind, rulings, plate ids). Every trace carries ``legendgroup``
+    ``"plates"``, ``"creases"``, ``"rulings"`` or ``"cut"``; the animation frames update the
+    coordinates of the structure's traces only. *Play* runs the whole path from α = 0.
+
+    Parameters
+    ----------
+    model : compas_ccu.model.CCUModel
+    steps : int
+        Number of steps of the path (``steps + 1`` states, ``steps >= 1``).
+    alpha : float, optional
+        Target reference reflection angle, degrees (``> 0``); default the design angle.
+    title : str, optional
+        Replaces the headline (the design name); the key figures stay below it.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        With ``steps + 1`` frames named ``"0" .. str(steps)``, one slider, Play / Pause buttons
+        and one toggle menu per group.
+
+    Raises
+    ------
+    ValueError
+        ``steps`` is not an integer >= 1 or ``alpha`` is not a finite angle > 0 (the message
+        names the value).
+    compas_ccu.errors.DeploymentLimitError, compas_ccu.errors.SelfIntersectionError
+        ``alpha`` is beyond the deployment limit, or a crease overlaps itself on the way.
+
+    Examples
+    --------
+    >>> from compas_ccu.design import load_design
+    >>> model = load_design("examples/cone.toml").build()
+    >>> fig = viewer_figure(model, steps=4)
+    >>> len(fig.frames), fig.layout.sliders[0].active, fig.layout.sliders[0].steps[-1].label
+    (5, 4, '40°')
+    """
+    import plotly.graph_objects as go
+
+    target = _check_arguments(model, steps, alpha)
+    alphas = np.linspace(0.0, target, int(steps) + 1)
+    structures = model.path(alphas)
+    scenes = [scene_from_structure(s, ground=True) for s in structures]
+    flat = scene_from_structure(structures[-1], state="flat")
+    last = scenes[-1]
+    p, v, _ = last.vertices.shape
+    n = last.segments
+    counts = {}
+    for c in last.creases:
+        counts[c["kind"]] = counts.get(c["kind"], 0) + 1
+    kinds = [k for k in _KIND_ORDER if k in counts] + sorted(
+        k for k in counts if k not in _KIND_ORDER
+    )
+    rulings_at = _ruling_index(n)
+    edges = _edge_index(structures[-1], n)
+    data = [_state_data(s, edges, rulings_at, kinds) for s in scenes]
+
+    # fixed box over all states; a wider one that includes the cut patterns
+    allv = np.stack([s.vertices for s in scenes]).reshape(-1, 3)
+    lo, hi = allv.min(axis=0), allv.max(axis=0)
+    size = float(np.linalg.norm(hi - lo))
+    fv = flat.vertices
+    offsets = _pattern_offsets(fv, n, gap=0.04 * size)
+    pattern = fv.copy()
+    pattern[..., 1] += offsets[:, None]
+    centre = 0.5 * (fv[..., 0].min() + fv[..., 0].max())
+    shift = np.array(
+        [0.5 * (lo[0] + hi[0]) - centre, lo[1] - 0.08 * size - pattern[..., 1].max(), 0.0]
+    )
+    pattern = pattern + shift
+    pattern[..., 2] = 0.0
+    struct_ranges, struct_ratio = _range(lo, hi)
+    plo = np.minimum(lo, pattern.reshape(-1, 3).min(axis=0))
+    phi = np.maximum(hi, pattern.reshape(-1, 3).max(axis=0))
+    all_ranges, all_ratio = _range(plo, phi)
+
+    tones = [plate_tone(i) for i in range(p)]
+    tri = _triangles(last.faces, v)
+    facecolor = np.repeat(tones, 2 * n)
+    plate_text = np.repeat([f"plate {pid}" for pid in last.plate_ids], v)
+    # mostly ambient, with a light from the front right: the arches shade from left to right
+    lighting = {
+        "ambient": 0.5,
+        "diffuse": 0.5,
+        "specular": 0.08,
+        "roughness": 0.85,
+        "fresnel": 0.05,
+        "facenormalsepsilon": 0.0,
+    }
+    light = {"x": 1e4, "y": -5e3, "z": 5e3}
+
+    def state_traces(d: dict) -> list:
+        traces = [
+            go.Mesh3d(
+                **_xyz(d["plates"]),
+                name="plates",
+                legendgroup="plates",
+                showlegend=True,
+                flatshading=True,
+                lighting=lighting,
+                lightposition=light,
+                text=plate_text,
+                hovertemplate="%{text}<extra></extra>",
+            ),
+            go.Scatter3d(
+                **_xyz(d["edges"]),
+                mode="lines",
+                name="plate edges",
+                legendgroup="plates",
+                showlegend=False,
+                line={"color": EDGE_COLOR, "width": 2},
+                hoverinfo="skip",
+            ),
+        ]
+        for kind in kinds:
+            traces.append(
+                go.Scatter3d(
+                    **_xyz(d[kind]),
+                    mode="lines",
+                    name=KIND_LABELS.get(kind, kind),
+                    legendgroup="creases",
+                    line={"color": KIND_COLORS.get(kind, EDGE_COLOR), "width": 7},
+                    hoverinfo="skip",
+                )
+            )
+        traces.append(
+            go.Scatter3d(
+                **_xyz(d["rulings"]),
+                mode="lines",
+                name="rulings",
+                legendgroup="rulings",
+                line={"color": RULING_COLOR, "width": 1.5},
+                hoverinfo="skip",
+            )
+        )
+        return traces
+
+    first = state_traces(data[-1])
+    first[0].update(i=tri[:, 0].astype(np.int32), j=tri[:, 1].astype(np.int32))
+    first[0].update(k=tri[:, 2].astype(np.int32), facecolor=facecolor)
+    moving = list(range(len(first)))
+
+    # cut patterns (static, hidden at first)
+    cut = [
+        go.Mesh3d(
+            **_xyz(pattern.reshape(-1, 3) - np.array([0.0, 0.0, 1e-3 * size])),
+            i=tri[:, 0].astype(np.int32),
+            j=tri[:, 1].astype(np.int32),
+            k=tri[:, 2].astype(np.int32),
+            facecolor=facecolor,
+            flatshading=True,
+            lighting={"ambient": 0.95, "diffuse": 0.05, "specular": 0.0},
+            name="cut patterns",
+            legendgroup="cut",
+            showlegend=True,
+            text=np.char.add(plate_text, f" ({_PATTERN_TAG})"),
+            hovertemplate="%{text}<extra></extra>",
+        ),
+        go.Scatter3d(
+            **_xyz(_polylines(pattern[:, _outline_index(n)])),
+            mode="lines",
+            name="cut outlines",
+            legendgroup="cut",
+            showlegend=False,
+            line={"color": EDGE_COLOR, "width": 2},
+            hoverinfo="skip",
+        ),
+    ]
+    index = {pid: i for i, pid in enumerate(structures[-1].plate_ids)}
+    for kind in kinds:
+        lines = []
+        for c in structures[-1].creases:
+            if c["kind"] == kind:
+                for plate, verts in zip(c["plates"], c["vertices"]):
+                    lines.append(pattern[index[plate], np.asarray(verts, dtype=int)])
+        cut.append(
+            go.Scatter3d(
+                **_xyz(_polylines(lines)),
+                mode="lines",
+                name=f"cut: {kind}",
+                legendgroup="cut",
+                showlegend=False,
+                line={"color": KIND_COLORS.get(kind, EDGE_COLOR), "width": 5},
+                hoverinfo="skip",
+            )
+        )
+    prul = np.stack([pattern[:, rulings_at], pattern[:, n + 1 + rulings_at]], axis=2)
+    mid = 0.5 * (pattern[:, n // 2] + pattern[:, n + 1 + n // 2])
+    cut += [
+        go.Scatter3d(
+            **_xyz(_polylines(prul.reshape(-1, 2, 3))),
+            mode="lines",
+            name="cut rulings",
+            legendgroup="cut",
+            showlegend=False,
+            line={"color": RULING_COLOR, "width": 1.5},
+            hoverinfo="skip",
+        ),
+        go.Scatter3d(
+            **_xyz(mid),
+            mode="text",
+            text=[str(pid) for pid in last.plate_ids],
+            textfont={"size": 12, "color": _FONT},
+            name="plate ids",
+            legendgroup="cut",
+            showlegend=False,
+            hoverinfo="skip",
+        ),
+    ]
+    for trace in cut:
+        trace.visible = False
+
+    traces = first + cut
+    groups = [t.legendgroup for t in traces]
+    index_of = {g: [i for i, x in enumerate(groups) if x == g] for g in _GROUPS}
+
+    # frames carry coordinates only: styling, text and triangles stay those of the traces
+    keys = ["plates", "edges", *kinds, "rulings"]
+    kinds_of = [go.Mesh3d] + [go.Scatter3d] * (len(keys) - 1)
+    frames = [
+        go.Frame(
+            name=str(k),
+            data=[cls(**_xyz(d[key])) for cls, key in zip(kinds_of, keys)],
+            traces=moving,
+        )
+        for k, d in enumerate(data)
+    ]
+    labels = [_label(a) for a in alphas]
+    animate = {"mode": "immediate", "transition": {"duration": 0}}
+    slider = {
+        "active": len(alphas) - 1,
+        "x": 0.0,
+        "len": 1.0,
+        "xanchor": "left",
+        "y": 0.0,
+        "yanchor": "top",
+        "pad": {"t": 8, "b": 8, "l": 0, "r": 10},
+        "currentvalue": {
+            "prefix": "reference reflection angle α = ",
+            "font": {"size": 14, "color": _FONT},
+            "xanchor": "left",
+        },
+        "font": {"size": 11, "color": _FONT},
+        "bgcolor": "#efe9dc",
+        "activebgcolor": "#d5bd93",
+        "bordercolor": "#9a8c74",
+        "tickcolor": "#9a8c74",
+        "transition": {"duration": 0},
+        "steps": [
+            {
+                "label": label,
+                "method": "animate",
+                "args": [[str(k)], {**animate, "frame": {"duration": 0, "redraw": True}}],
+            }
+            for k, label in enumerate(labels)
+        ],
+    }
+    button_style = {
+        "type": "buttons",
+        "showactive": True,
+        "bgcolor": "#f7f4ee",
+        "bordercolor": "#9a8c74",
+        "borderwidth": 1,
+        "font": {"size": 13, "color": _FONT},
+        "pad": {"r": 12, "t": 0, "l": 0, "b": 0},
+        "xanchor": "right",
+        "yanchor": "top",
+        "x": 0.0,
+    }
+    play = {
+        **button_style,
+        "direction": "left",
+        "showactive": False,
+        "y": -0.005,
+        "pad": {"r": 12, "t": 28},
+        "buttons": [
+            {
+                "label": "▶ Play",
+                "method": "animate",
+                "args": [
+                    None,
+                    {
+                        **animate,
+                        "fromcurrent": False,
+                        "frame": {"duration": 140, "redraw": True},
+                    },
+                ],
+            },
+            {
+                "label": "❚❚ Pause",
+                "method": "animate",
+                "args": [[None], {**animate, "frame": {"duration": 0, "redraw": False}}],
+            },
+        ],
+    }
+    toggles = []
+    for row, (group, label) in enumerate(_TOGGLES):
+        ids = index_of[group]
+        # a one-button menu per group: the button is "active" while the group is shown, and a
+        # click on the active button runs args2 (hide); its label shows the state (☑ / ☐)
+        key = f"updatemenus[{1 + row}].buttons[0].label"
+        # hidden groups stay in the legend (greyed, a click there shows them again), except the
+        # cut patterns: they need the wider box that only this button sets
+        off = False if group == "cut" else "legendonly"
+        show = [{"visible": True}, {key: f"{_ON} {label}"}, ids]
+        hide = [{"visible": off}, {key: f"{_OFF} {label}"}, ids]
+        if group == "cut":
+            show[1].update(_scene_layout(all_ranges, all_ratio))
+            hide[1].update(_scene_layout(struct_ranges, struct_ratio))
+        shown = group != "cut"
+        toggles.append(
+            {
+                **button_style,
+                "name": f"toggle {group}",
+                "active": 0 if shown else -1,
+                "y": 1.0 - 0.085 * row,
+                "buttons": [
+                    {
+                        "label": f"{_ON if shown else _OFF} {label}",
+                        "method": "update",
+                        "args": show,
+                        "args2": hide,
+                    }
+                ],
+            }
+        )
+
+    axis = {
+        "showbackground": True,
+        "backgroundcolor": _PANE,
+        "gridcolor": _GRID,
+        "zerolinecolor": "#c9c3b6",
+        "color": "#666666",
+        "tickfont": {"size": 10},
+    }
+    layout = {
+        "template": "none",
+        "title": _title(model, kinds, counts, alphas),
+        "paper_bgcolor": _PAPER,
+        "font": {"family": "Helvetica, Arial, sans-serif", "color": _FONT},
+        "margin": {"l": 140, "r": 10, "t": 88, "b": 110},
+        "showlegend": True,
+        "legend": {
+            "x": 1.0,
+            "xanchor": "right",
+            "y": 1.0,
+            "yanchor": "top",
+            "bgcolor": "rgba(255,255,255,0.85)",
+            "bordercolor": "#d9d3c6",
+            "borderwidth": 1,
+            "font": {"size": 12},
+            "groupclick": "togglegroup",
+            "itemsizing": "constant",
+        },
+        "scene": {
+            "xaxis": {**axis, "title": {"text": "x (m)"}},
+            "yaxis": {**axis, "title": {"text": "y (m)"}},
+            "zaxis": {**axis, "title": {"text": "z (m)"}},
+            "camera": {
+                "eye": {"x": 0.7, "y": -1.05, "z": 0.5},
+                "center": {"x": 0.0, "y": 0.0, "z": -0.08},
+                "up": {"x": 0.0, "y": 0.0, "z": 1.0},
+                "projection": {"type": "perspective"},
+            },
+            "dragmode": "turntable",
+        },
+        "sliders": [slider],
+        "updatemenus": [play, *toggles],
+        "uirevision": "ccu-viewer",
+        "hoverlabel": {"bgcolor": "#ffffff", "font": {"size": 12}},
+    }
+    fig = go.Figure(data=traces, layout=layout, frames=frames)
+    fig.update_layout(_scene_layout(struct_ranges, struct_ratio))
+    if title is not None:
+        fig.layout.title.text = title
+    return fig
+
+
+def write_viewer(
+    model, path, *, steps: int = 24, alpha: float | None = None, title: str | None = None
+) -> Path:
+    """Write the viewer of :func:`viewer_figure` as one self-contained, offline HTML page.
+
+    plotly.js is bundled in the page (no CDN, no MathJax) and the page loads nothing from the
+    network. Coordinates are stored as float32 binary arrays (≲ 1e-6 m at metre scale), so the
+    page is plotly.js (4.8 MB) plus ~63 kB per state for the 10-plate, 64-segment vault: 5.9 MB
+    at ``steps=12`` and 6.7 MB at the default ``steps=24`` (the 2-plate cone: 5.2 MB at 24).
+    The plot ``<div>`` has the id :data:`VIEWER_DIV_ID` (``"ccu-viewer"``).
+
+    Parameters
+    ----------
+    model : compas_ccu.model.CCUModel
+    path : str or pathlib.Path
+        The ``.html`` file to write (its folder is created).
+    steps, alpha, title
+        As in :func:`viewer_figure`.
+
+    Returns
+    -------
+    pathlib.Path
+        The written file.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from compas_ccu.design import load_design
+    >>> model = load_design("examples/vault.toml").build()
+    >>> out = write_viewer(model, tempfile.mkdtemp() + "/vault.html", steps=6)
+    >>> out.stat().st_size > 4_000_000, "cdn.plot.ly/plotly" in out.read_text(encoding="utf-8")
+    (True, False)
+    """
+    fig = viewer_figure(model, steps=steps, alpha=alpha, title=title)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    html = fig.to_html(
+        include_plotlyjs=True,
+        include_mathjax=False,
+        full_html=True,
+        auto_play=False,
+        div_id=VIEWER_DIV_ID,
+        default_width="100%",
+        default_height="max(680px, 100vh)",  # the whole window, with room for the menus
+        config={"displaylogo": False, "responsive": True},
+    )
+    # a tab title, and no page margin: the plot fills the window without scroll bars
+    name = title if title is not None else getattr(model.design, "name", None) or "design"
+    name = html_escape(f"{name} — CCU viewer")
+    head = f"<title>{name}</title>\n<style>body {{margin: 0;}}</style>\n</head>"
+    html = html.replace("</head>", head, 1)
+    path.write_text(html, encoding="utf-8")
+    return path

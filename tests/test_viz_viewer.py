@@ -1,0 +1,373 @@
+"""The offline viewer page (compas_ccu.viz.viewer), checked in a real headless Chromium.
+
+One page (the vault, 12 steps) is written and opened once for the module; the tests drive it
+with the mouse like a user (slider, buttons) and look at screenshots of the 3D scene. They need
+Debian's chromium (``make browser``; or set ``CCU_CHROMIUM`` to an executable). Without one the
+browser tests fail, unless ``CCU_SKIP_BROWSER=1`` says to skip them.
+
+Pixel statistics are taken on the 3D scene only (the WebGL scene area, ~1095 x 602 px, with the
+legend drawn over it masked out). Measured on the vault at 1280 x 800 (SwiftShader WebGL), and
+the thresholds used below:
+
+- design state: 10 % of the pixels "coloured" (chroma max(rgb) - min(rgb) > 20, i.e. not the
+  white / grey page, panes, grid and labels; threshold 3 %; an empty scene gives 0 %), ~2400
+  distinct colours (threshold 200), ~5900 / ~570 pixels within 60 of the synclastic /
+  anticlastic crease colour (threshold 40 each);
+- slider to α = 0: mean absolute difference 5.9 grey levels against the design picture
+  (threshold 3; neighbouring states differ by 2.1), plates coplanar to 0.0 (float32; threshold
+  1e-5, the design state 0.2); back to the design: 0.0 (threshold 0.5);
+- creases hidden: 0 kind-coloured pixels (threshold < 10), shown again: difference 0.0;
+- cut patterns shown: difference 11.9 (threshold 3), anticlastic pixels 570 -> 2580 (threshold:
+  more than doubled); hidden again: 0.0 (threshold 0.5).
+
+The module takes ~12 s (one browser, one page load of the 5.9 MB file).
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import re
+import shutil
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from compas_ccu.viz.colors import KIND_COLORS
+from compas_ccu.viz.viewer import VIEWER_DIV_ID, viewer_figure, write_viewer
+
+STEPS = 12
+VIEWPORT = {"width": 1280, "height": 800}
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+    "--disable-quic",
+]
+SHOTS = os.environ.get("CCU_VIEWER_SHOTS")  # folder to keep the screenshots in, if set
+
+# thresholds (see the module docstring for the measured values)
+COLOURED_CHROMA = 20  # max(r, g, b) - min(r, g, b) above this: not page / pane / grid / text
+MIN_COLOURED = 0.03
+MIN_COLOURS = 200
+KIND_TOLERANCE = 60.0  # Euclidean RGB distance to a crease kind colour
+MIN_KIND_PIXELS = 40
+MAX_KIND_PIXELS_HIDDEN = 10
+MIN_CHANGE = 3.0  # mean absolute difference (0-255) of a picture that changed
+MAX_RETURN = 0.5  # ... and of a picture that came back
+
+GD = f"document.getElementById('{VIEWER_DIV_ID}')"
+READY = f"""() => {{
+    const gd = {GD};
+    return !!(gd && gd._fullLayout && gd._fullLayout.scene && gd._fullLayout.scene._scene
+        && gd._transitionData && gd._transitionData._frames.length === {STEPS + 1}
+        && document.querySelector('#{VIEWER_DIV_ID} .slider-grip-rect')
+        && document.querySelector('#{VIEWER_DIV_ID} #scene canvas'));
+}}"""
+PLATES_Z = f"JSON.stringify({GD}.data[0].z)"  # the plotted plate z (a typed-array spec)
+GROUP_VISIBLE = f"""(group) => {GD}.data
+    .filter(t => t.legendgroup === group).map(t => t.visible === undefined || t.visible)"""
+
+
+# -- fixtures ---------------------------------------------------------------------------------
+NO_CHROMIUM = (
+    "no chromium found for the viewer browser tests: run `make browser` (installs Debian's "
+    "chromium), or set CCU_CHROMIUM to a Chromium executable, or set CCU_SKIP_BROWSER=1 to skip "
+    "these tests"
+)
+
+
+class _NoBrowser:
+    """Stands in for the open page when there is no chromium: every test using it FAILS."""
+
+    def __getattr__(self, name):
+        pytest.fail(NO_CHROMIUM)
+
+
+def _chromium():
+    """The Chromium executable (``CCU_CHROMIUM`` or ``chromium`` on the PATH), or None."""
+    if os.environ.get("CCU_SKIP_BROWSER") == "1":
+        pytest.skip("CCU_SKIP_BROWSER=1: browser tests skipped")
+    return os.environ.get("CCU_CHROMIUM") or shutil.which("chromium")
+
+
+@pytest.fixture(scope="module")
+def viewer_html(tmp_path_factory, vault_model):
+    return write_viewer(vault_model, tmp_path_factory.mktemp("viewer") / "vault.html", steps=STEPS)
+
+
+@pytest.fixture(scope="module")
+def viewer(viewer_html):
+    """The vault viewer open in one headless Chromium page, with its console / request log."""
+    exe = _chromium()
+    if not exe:
+        yield _NoBrowser()
+        return
+    from playwright.sync_api import sync_playwright
+
+    log = SimpleNamespace(console=[], errors=[], requests=[])
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS, headless=True)
+        try:
+            page = browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
+            page.on("console", lambda m: log.console.append((m.type, m.text)))
+            page.on("pageerror", lambda e: log.errors.append(str(e)))
+            page.on("request", lambda r: log.requests.append(r.url))
+            # recorded above; never let the page reach the network
+            page.route(re.compile(r"^(https?|wss?|ftp):"), lambda route: route.abort())
+            page.goto(viewer_html.as_uri())
+            page.wait_for_function(READY, timeout=30_000)
+            _settle(page)
+            yield SimpleNamespace(page=page, log=log, path=viewer_html)
+        finally:
+            browser.close()
+
+
+# -- helpers ----------------------------------------------------------------------------------
+def _settle(page) -> None:
+    """Let plotly finish and WebGL draw: two animation frames and a short pause."""
+    page.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    page.wait_for_timeout(150)
+
+
+def _shot(page, name: str) -> np.ndarray:
+    """(h, w, 3) uint8 screenshot of the 3D scene, the legend (drawn over it) set to white."""
+    from PIL import Image
+
+    box = page.locator(f"#{VIEWER_DIV_ID} #scene").bounding_box()
+    png = page.screenshot(clip=box)
+    if SHOTS:
+        os.makedirs(SHOTS, exist_ok=True)
+        with open(os.path.join(SHOTS, f"viewer-{name}.png"), "wb") as f:
+            f.write(png)
+    img = np.array(Image.open(io.BytesIO(png)).convert("RGB"))
+    legend = page.locator(f"#{VIEWER_DIV_ID} g.legend")
+    if legend.count():
+        lb = legend.bounding_box()
+        x0, y0 = int(lb["x"] - box["x"]) - 2, int(lb["y"] - box["y"]) - 2
+        x1, y1 = (
+            int(lb["x"] + lb["width"] - box["x"]) + 2,
+            int(lb["y"] + lb["height"] - box["y"]) + 2,
+        )
+        img[max(y0, 0) : max(y1, 0), max(x0, 0) : max(x1, 0)] = 255
+    return img
+
+
+def _coloured(img: np.ndarray) -> float:
+    """Fraction of pixels with chroma above COLOURED_CHROMA (plates, creases, rulings)."""
+    chroma = img.max(axis=2).astype(int) - img.min(axis=2).astype(int)
+    return float(np.mean(chroma > COLOURED_CHROMA))
+
+
+def _kind_pixels(img: np.ndarray, kind: str) -> int:
+    rgb = np.array([int(KIND_COLORS[kind][i : i + 2], 16) for i in (1, 3, 5)], dtype=float)
+    return int(np.sum(np.linalg.norm(img.astype(float) - rgb, axis=2) < KIND_TOLERANCE))
+
+
+def _difference(a: np.ndarray, b: np.ndarray) -> float:
+    assert a.shape == b.shape
+    return float(np.mean(np.abs(a.astype(float) - b.astype(float))))
+
+
+def _array(value) -> np.ndarray:
+    """A plotly data array as read from ``gd.data``: a list or a ``{dtype, bdata}`` spec."""
+    if isinstance(value, dict):
+        return np.frombuffer(base64.b64decode(value["bdata"]), dtype=value["dtype"]).astype(float)
+    return np.asarray(value, dtype=float)
+
+
+def _plates(page) -> np.ndarray:
+    """(m, 3) plate vertices currently plotted (trace 0, the Mesh3d)."""
+    xyz = page.evaluate(f"() => ['x', 'y', 'z'].map(k => {GD}.data[0][k])")
+    return np.stack([_array(a) for a in xyz], axis=1)
+
+
+def _flatness(points: np.ndarray) -> float:
+    """Largest distance of the points from their best-fit plane, relative to their extent."""
+    centred = points - points.mean(axis=0)
+    normal = np.linalg.svd(centred, full_matrices=False)[2][-1]
+    return float(np.abs(centred @ normal).max() / np.linalg.norm(np.ptp(points, axis=0)))
+
+
+def _slider_active(page) -> int:
+    return page.evaluate(f"() => {GD}._fullLayout.sliders[0].active")
+
+
+def _click_button(page, label: str) -> None:
+    page.locator(f"#{VIEWER_DIV_ID} g.updatemenu-button", has_text=label).click()
+
+
+# -- the written file (no browser) ------------------------------------------------------------
+def test_html_is_self_contained(viewer_html):
+    html = viewer_html.read_text(encoding="utf-8")
+    assert f'<div id="{VIEWER_DIV_ID}"' in html
+    # the page outside the inline scripts: no external script, stylesheet, frame or image
+    outside = re.sub(r"(<script\b[^>]*>).*?</script>", r"\1</script>", html, flags=re.S)
+    tags = re.findall(r"<(script|link|iframe|img)\b([^>]*)>", outside, flags=re.I)
+    assert [t for t in tags if t[0].lower() != "script"] == []
+    assert all("src" not in attrs.lower() for _, attrs in tags)
+    assert not re.search(r"(src|href)\s*=\s*[\"']?(https?:)?//", outside, flags=re.I)
+    assert "cdn.plot.ly/plotly" not in html and "mathjax" not in outside.lower()
+    # the figure script (the last one) names no URL at all; ':' is not in base64 data
+    figure = html[html.rindex("<script") :]
+    assert "Plotly.newPlot" in figure and "://" not in figure
+    # one frame per state, named 0 .. STEPS
+    start = figure.index("[", figure.index(f"Plotly.addFrames('{VIEWER_DIV_ID}',"))
+    frames, _ = json.JSONDecoder().raw_decode(figure, start)
+    assert [f["name"] for f in frames] == [str(k) for k in range(STEPS + 1)]
+    assert 4e6 < viewer_html.stat().st_size < 8e6
+
+
+def test_figure_states_and_arguments(vault_model):
+    from compas_ccu.errors import DeploymentLimitError
+
+    fig = viewer_figure(vault_model, steps=3, alpha=20.0, title="my vault")
+    assert len(fig.frames) == 4
+    slider = fig.layout.sliders[0]
+    assert slider.active == 3 and [s.label for s in slider.steps][::3] == ["0°", "20°"]
+    # the page opens on the last state: the initial traces are those of the last frame
+    last = fig.frames[-1]
+    for k, trace in zip(last.traces, last.data):
+        for axis in "xyz":
+            np.testing.assert_array_equal(fig.data[k][axis], trace[axis])
+    assert "my vault" in fig.layout.title.text
+    assert "88.95°" in fig.layout.title.subtitle.text  # the deployment limit
+    cut = [t for t in fig.data if t.legendgroup == "cut"]
+    assert cut and all(t.visible is False for t in cut)
+    # the cut patterns lie on the ground, clear of the structure (all states)
+    zs = np.concatenate([np.asarray(t.z, float) for t in cut if t.type == "scatter3d"])
+    assert np.nanmax(np.abs(zs)) == 0.0
+    structure_y = np.concatenate([np.asarray(f.data[0].y, float) for f in fig.frames])
+    cut_y = np.asarray(cut[0].y, float)
+    assert cut_y.max() < structure_y.min()
+
+    with pytest.raises(ValueError, match=r"steps.*\b0\b"):
+        viewer_figure(vault_model, steps=0)
+    with pytest.raises(ValueError, match="-5"):
+        viewer_figure(vault_model, alpha=-5)
+    with pytest.raises(ValueError, match="nan"):
+        viewer_figure(vault_model, alpha=float("nan"))
+    with pytest.raises(DeploymentLimitError):
+        viewer_figure(vault_model, alpha=95.0, steps=1)
+
+
+# -- in the browser ---------------------------------------------------------------------------
+def test_page_loads_offline_without_errors(viewer):
+    errors = [text for kind, text in viewer.log.console if kind == "error"]
+    assert errors == [] and viewer.log.errors == []
+    assert viewer.log.requests, "no request recorded at all: the listener is not working"
+    assert viewer.log.requests[0] == viewer.path.as_uri()
+    external = [u for u in viewer.log.requests if not u.startswith(("file:", "data:", "blob:"))]
+    assert external == []
+
+
+def test_scene_is_drawn_in_kind_colours(viewer):
+    img = _shot(viewer.page, "design")
+    assert img.shape[0] > 300 and img.shape[1] > 500
+    assert _coloured(img) > MIN_COLOURED
+    assert len(np.unique(img.reshape(-1, 3), axis=0)) > MIN_COLOURS
+    for kind in ("synclastic", "anticlastic"):
+        assert _kind_pixels(img, kind) > MIN_KIND_PIXELS, kind
+
+
+def test_slider_moves_through_the_states(viewer):
+    page = viewer.page
+    assert _slider_active(page) == STEPS
+    before_img, before_xyz, z_before = (
+        _shot(page, "design"),
+        _plates(page),
+        page.evaluate(f"() => {PLATES_Z}"),
+    )
+    assert _flatness(before_xyz) > 1e-2  # deployed: far from one plane
+
+    # click the left end of the rail: the first state, the flat-folded stack
+    rail = page.locator(f"#{VIEWER_DIV_ID} .slider-rail-rect").bounding_box()
+    page.mouse.click(rail["x"] + 2, rail["y"] + rail["height"] / 2)
+    page.wait_for_function(f"() => {GD}._fullLayout.sliders[0].active === 0")
+    page.wait_for_function(f"(before) => {PLATES_Z} !== before", arg=z_before)
+    _settle(page)
+    current = page.locator(f"#{VIEWER_DIV_ID} g.slider-group > text.slider-label").text_content()
+    assert current.endswith("α = 0°"), current
+    folded_xyz = _plates(page)
+    assert _flatness(folded_xyz) < 1e-5  # α = 0: all plates in one plane (float32 data)
+    folded_img = _shot(page, "folded")
+    assert _difference(folded_img, before_img) > MIN_CHANGE
+
+    # drag the grip back to the right end: the design state again
+    grip = page.locator(f"#{VIEWER_DIV_ID} .slider-grip-rect").bounding_box()
+    page.mouse.move(grip["x"] + grip["width"] / 2, grip["y"] + grip["height"] / 2)
+    page.mouse.down()
+    page.mouse.move(rail["x"] + rail["width"] + 20, grip["y"] + grip["height"] / 2, steps=12)
+    page.mouse.up()
+    page.wait_for_function(f"() => {GD}._fullLayout.sliders[0].active === {STEPS}")
+    page.wait_for_function(f"(before) => {PLATES_Z} === before", arg=z_before)
+    _settle(page)
+    np.testing.assert_array_equal(_plates(page), before_xyz)
+    assert _difference(_shot(page, "returned"), before_img) < MAX_RETURN
+
+
+def test_creases_toggle(viewer):
+    page = viewer.page
+    shown = _shot(page, "design")
+    assert page.evaluate(GROUP_VISIBLE, "creases") == [True, True]
+
+    _click_button(page, "Creases")
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('creases').every(v => v !== true)")
+    _settle(page)
+    hidden = _shot(page, "no-creases")
+    assert page.evaluate(GROUP_VISIBLE, "creases") == ["legendonly", "legendonly"]
+    for kind in ("synclastic", "anticlastic"):
+        assert _kind_pixels(hidden, kind) < MAX_KIND_PIXELS_HIDDEN, kind
+    assert "☐ Creases" in page.locator(f"#{VIEWER_DIV_ID} g.updatemenu-button").all_text_contents()
+
+    _click_button(page, "Creases")
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('creases').every(v => v === true)")
+    _settle(page)
+    again = _shot(page, "creases-again")
+    for kind in ("synclastic", "anticlastic"):
+        assert _kind_pixels(again, kind) > MIN_KIND_PIXELS, kind
+    assert _difference(again, shown) < MAX_RETURN
+
+
+def test_cut_patterns_toggle(viewer):
+    page = viewer.page
+    start = _shot(page, "design")
+    assert set(page.evaluate(GROUP_VISIBLE, "cut")) == {False}
+    y_range = page.evaluate(f"() => {GD}._fullLayout.scene.yaxis.range.slice()")
+
+    _click_button(page, "Cut patterns")
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
+    _settle(page)
+    shown = _shot(page, "cut-patterns")
+    assert _difference(shown, start) > MIN_CHANGE
+    # every crease appears on both of its plates' patterns: many more anticlastic pixels
+    assert _kind_pixels(shown, "anticlastic") > 2 * _kind_pixels(start, "anticlastic")
+    assert _kind_pixels(shown, "synclastic") > MIN_KIND_PIXELS
+    # the box grew to hold the patterns, which lie on the ground in front (-y)
+    cut_y = _array(page.evaluate(f"() => {GD}.data.find(t => t.legendgroup === 'cut').y"))
+    wide = page.evaluate(f"() => {GD}._fullLayout.scene.yaxis.range.slice()")
+    assert wide[0] < y_range[0] and wide[0] <= cut_y.min() and cut_y.max() < y_range[0]
+
+    _click_button(page, "Cut patterns")
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === false)")
+    _settle(page)
+    assert page.evaluate(f"() => {GD}._fullLayout.scene.yaxis.range.slice()") == y_range
+    assert _difference(_shot(page, "cut-hidden"), start) < MAX_RETURN
+
+
+def test_play_deploys_from_the_folded_stack(viewer):
+    page = viewer.page
+    assert _slider_active(page) == STEPS
+    _click_button(page, "Play")
+    # the animation starts at the flat-folded stack and stops at the design state
+    page.wait_for_function(f"() => {GD}._fullLayout.sliders[0].active < {STEPS // 2}")
+    page.wait_for_function(f"() => {GD}._fullLayout.sliders[0].active === {STEPS}")
+    page.wait_for_function(f"() => !{GD}._transitionData._animationRaf")
+    _settle(page)
+    assert _flatness(_plates(page)) > 1e-2
