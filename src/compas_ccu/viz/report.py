@@ -310,7 +310,7 @@ def _page(model, structure, report: Report, figures: dict, elapsed: float) -> st
         links = " · ".join(f'<a href="{_rel(p, root)}">{p.suffix[1:].upper()}</a>' for p in paths)
         figs.append(
             f'<figure id="{name}"><a href="{_rel(png, root)}"><img src="{_rel(png, root)}" '
-            f'alt="{e(caption)}" loading="lazy"></a><figcaption>{e(caption)} ({links})'
+            f'alt="{e(caption)}"></a><figcaption>{e(caption)} ({links})'
             "</figcaption></figure>"
         )
     anim = ""
