@@ -58,22 +58,12 @@ def render_frames(
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from compas_ccu.viz.render import draw_scene, projected_limits
-    from compas_ccu.viz.scene import scene_from_structure
+    from compas_ccu.viz.render import draw_scene, path_frames
     from compas_ccu.viz.views import kind_legend_handles
 
-    if int(frames) != frames or frames < 2:
-        raise ValueError(f"frames must be an integer >= 2, got {frames!r}")
-    target = model.alpha_design if alpha is None else float(alpha)
-    if not target > 0.0:
-        raise ValueError(f"alpha must be > 0 degrees, got {target!r}")
-    alphas = np.linspace(0.0, target, int(frames))
-    structures = model.path(alphas)
-    scenes = [scene_from_structure(s, ground=True) for s in structures]
-    pts = np.concatenate([s.vertices.reshape(-1, 3) for s in scenes])
-    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
-    scale = float(np.linalg.norm(np.ptp(pts, axis=0)))
-    limits = projected_limits(scenes, view, centre=centre, size=scale)
+    path = path_frames(model, frames, alpha, view, what="frames")
+    alphas, structures, scenes = path.alphas, path.structures, path.scenes
+    centre, scale, limits = path.centre, path.size, path.limits
     fig = Figure(figsize=size, dpi=dpi)
     canvas = FigureCanvasAgg(fig)
     ax = fig.add_axes((0.0, 0.0, 1.0, 0.9))

@@ -24,6 +24,8 @@ __all__ = [
     "value_range",
     "add_colorbar",
     "projected_limits",
+    "path_frames",
+    "PathFrames",
 ]
 
 COLOR_MODES = ("kind", "curvature", "alpha")
@@ -283,6 +285,40 @@ def add_colorbar(fig, mappable, ax, label: str):
     bar.update_ticks()
     bar.set_label(label)
     return bar
+
+
+@dataclass
+class PathFrames:
+    """The grounded states of a deployment path, framed by one camera at one scale."""
+
+    alphas: np.ndarray
+    structures: list
+    scenes: list
+    centre: np.ndarray
+    size: float
+    limits: tuple
+
+
+def path_frames(model, count, alpha=None, view="perspective", *, what="count") -> PathFrames:
+    """``count`` states from α = 0 to ``alpha`` (default: the design α), framed together.
+
+    Raises ValueError naming ``what`` for a count below 2 and for ``alpha <= 0``.
+    """
+    from compas_ccu.viz.scene import scene_from_structure
+
+    if int(count) != count or count < 2:
+        raise ValueError(f"{what} must be an integer >= 2, got {count!r}")
+    target = model.alpha_design if alpha is None else float(alpha)
+    if not target > 0.0:
+        raise ValueError(f"alpha must be > 0 degrees, got {target!r}")
+    alphas = np.linspace(0.0, target, int(count))
+    structures = model.path(alphas)
+    scenes = [scene_from_structure(s, ground=True) for s in structures]
+    pts = np.concatenate([s.vertices.reshape(-1, 3) for s in scenes])
+    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+    size = float(np.linalg.norm(np.ptp(pts, axis=0)))
+    limits = projected_limits(scenes, view, centre=centre, size=size)
+    return PathFrames(alphas, structures, scenes, centre, size, limits)
 
 
 def projected_limits(scenes, view="perspective", *, centre=None, size=None, pad=0.04) -> tuple:

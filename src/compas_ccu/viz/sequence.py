@@ -2,10 +2,7 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from compas_ccu.viz.render import draw_scene, projected_limits
-from compas_ccu.viz.scene import scene_from_structure
+from compas_ccu.viz.render import draw_scene, path_frames
 
 __all__ = ["plot_deployment_sequence"]
 
@@ -44,18 +41,10 @@ def plot_deployment_sequence(
     """
     from matplotlib.figure import Figure
 
-    if int(count) != count or count < 2:
-        raise ValueError(f"count must be an integer >= 2, got {count!r}")
-    target = model.alpha_design if alpha is None else float(alpha)
-    if not target > 0.0:
-        raise ValueError(f"alpha must be > 0 degrees, got {target!r}")
-    alphas = np.linspace(0.0, target, int(count))
-    structures = model.path(alphas)
-    scenes = [scene_from_structure(s, ground=True) for s in structures]
-    pts = np.concatenate([s.vertices.reshape(-1, 3) for s in scenes])
-    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
-    size = float(np.linalg.norm(np.ptp(pts, axis=0)))
-    limits = projected_limits(scenes, view, centre=centre, size=size)
+    path = path_frames(model, count, alpha, view)
+    alphas, structures, scenes = path.alphas, path.structures, path.scenes
+    centre, size, limits = path.centre, path.size, path.limits
+    target = float(alphas[-1])
     aspect = (limits[3] - limits[2]) / (limits[1] - limits[0])
     fig = Figure(figsize=(2.6 * count, 2.6 * aspect + 0.9), layout="constrained")
     for i, (a, scene, s) in enumerate(zip(alphas, scenes, structures)):
