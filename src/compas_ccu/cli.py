@@ -83,9 +83,7 @@ def _cmd_info(args) -> int:
     model = _load(args.design)
     s = model.deploy()
     m = s.metrics
-    kinds: dict = {}
-    for c in s.creases:
-        kinds[c["kind"]] = kinds.get(c["kind"], 0) + 1
+    kinds = s.crease_kind_counts()
     width, height = flat_footprint(s)
     lines = [
         f"design            {model.design.name}",

@@ -174,6 +174,13 @@ class Structure(Data):
         )
         return max(self.metrics[k] for k in keys)
 
+    def crease_kind_counts(self) -> dict:
+        """Number of creases of each kind, in the order the kinds first appear."""
+        counts: dict = {}
+        for c in self.creases:
+            counts[c["kind"]] = counts.get(c["kind"], 0) + 1
+        return counts
+
     def to_meshes(self, *, state: str = "deployed") -> list:
         """One :class:`compas.datastructures.Mesh` per plate (``state``: deployed or flat)."""
         from compas.datastructures import Mesh

@@ -54,9 +54,7 @@ def design_figures(model, structure, path_structures) -> dict:
     from compas_ccu.io import flat_footprint
 
     m = structure.metrics
-    kinds: dict = {}
-    for c in structure.creases:
-        kinds[c["kind"]] = kinds.get(c["kind"], 0) + 1
+    kinds = structure.crease_kind_counts()
     alphas = [np.asarray(c["alpha"], dtype=float) for c in structure.creases]
     alphas.append(np.asarray(m["alpha_leading"], dtype=float))
     allv = np.concatenate(alphas)

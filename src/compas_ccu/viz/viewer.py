@@ -272,6 +272,21 @@ def _state_data(scene, edges: np.ndarray, rulings_at: np.ndarray, kinds: list) -
     return out
 
 
+def _line_trace(points, name: str, group: str, color: str, width: float, *, legend=True):
+    """A plotly line trace (NaN rows break the line) in a legend group, without hover."""
+    import plotly.graph_objects as go
+
+    return go.Scatter3d(
+        **_xyz(points),
+        mode="lines",
+        name=name,
+        legendgroup=group,
+        showlegend=legend,
+        line={"color": color, "width": width},
+        hoverinfo="skip",
+    )
+
+
 def _xyz(points: np.ndarray) -> dict:
     pts = _f32(points)
     return {"x": pts[:, 0], "y": pts[:, 1], "z": pts[:, 2]}
@@ -358,9 +373,7 @@ def viewer_figure(
     last = scenes[-1]
     p, v, _ = last.vertices.shape
     n = last.segments
-    counts = {}
-    for c in last.creases:
-        counts[c["kind"]] = counts.get(c["kind"], 0) + 1
+    counts = structures[-1].crease_kind_counts()
     kinds = [k for k in _KIND_ORDER if k in counts] + sorted(
         k for k in counts if k not in _KIND_ORDER
     )
@@ -415,37 +428,19 @@ def viewer_figure(
                 text=plate_text,
                 hovertemplate="%{text}<extra></extra>",
             ),
-            go.Scatter3d(
-                **_xyz(d["edges"]),
-                mode="lines",
-                name="plate edges",
-                legendgroup="plates",
-                showlegend=False,
-                line={"color": EDGE_COLOR, "width": 2},
-                hoverinfo="skip",
-            ),
+            _line_trace(d["edges"], "plate edges", "plates", EDGE_COLOR, 2, legend=False),
         ]
         for kind in kinds:
             traces.append(
-                go.Scatter3d(
-                    **_xyz(d[kind]),
-                    mode="lines",
-                    name=KIND_LABELS.get(kind, kind),
-                    legendgroup="creases",
-                    line={"color": KIND_COLORS.get(kind, EDGE_COLOR), "width": 7},
-                    hoverinfo="skip",
+                _line_trace(
+                    d[kind],
+                    KIND_LABELS.get(kind, kind),
+                    "creases",
+                    KIND_COLORS.get(kind, EDGE_COLOR),
+                    7,
                 )
             )
-        traces.append(
-            go.Scatter3d(
-                **_xyz(d["rulings"]),
-                mode="lines",
-                name="rulings",
-                legendgroup="rulings",
-                line={"color": RULING_COLOR, "width": 1.5},
-                hoverinfo="skip",
-            )
-        )
+        traces.append(_line_trace(d["rulings"], "rulings", "rulings", RULING_COLOR, 1.5))
         return traces
 
     first = state_traces(data[-1])
@@ -469,14 +464,13 @@ def viewer_figure(
             text=np.char.add(plate_text, f" ({_PATTERN_TAG})"),
             hovertemplate="%{text}<extra></extra>",
         ),
-        go.Scatter3d(
-            **_xyz(_polylines(pattern[:, _outline_index(n)])),
-            mode="lines",
-            name="cut outlines",
-            legendgroup="cut",
-            showlegend=False,
-            line={"color": EDGE_COLOR, "width": 2},
-            hoverinfo="skip",
+        _line_trace(
+            _polylines(pattern[:, _outline_index(n)]),
+            "cut outlines",
+            "cut",
+            EDGE_COLOR,
+            2,
+            legend=False,
         ),
     ]
     index = {pid: i for i, pid in enumerate(structures[-1].plate_ids)}
@@ -487,27 +481,25 @@ def viewer_figure(
                 for plate, verts in zip(c["plates"], c["vertices"]):
                     lines.append(pattern[index[plate], np.asarray(verts, dtype=int)])
         cut.append(
-            go.Scatter3d(
-                **_xyz(_polylines(lines)),
-                mode="lines",
-                name=f"cut: {kind}",
-                legendgroup="cut",
-                showlegend=False,
-                line={"color": KIND_COLORS.get(kind, EDGE_COLOR), "width": 5},
-                hoverinfo="skip",
+            _line_trace(
+                _polylines(lines),
+                f"cut: {kind}",
+                "cut",
+                KIND_COLORS.get(kind, EDGE_COLOR),
+                5,
+                legend=False,
             )
         )
     prul = np.stack([pattern[:, rulings_at], pattern[:, n + 1 + rulings_at]], axis=2)
     mid = 0.5 * (pattern[:, n // 2] + pattern[:, n + 1 + n // 2])
     cut += [
-        go.Scatter3d(
-            **_xyz(_polylines(prul.reshape(-1, 2, 3))),
-            mode="lines",
-            name="cut rulings",
-            legendgroup="cut",
-            showlegend=False,
-            line={"color": RULING_COLOR, "width": 1.5},
-            hoverinfo="skip",
+        _line_trace(
+            _polylines(prul.reshape(-1, 2, 3)),
+            "cut rulings",
+            "cut",
+            RULING_COLOR,
+            1.5,
+            legend=False,
         ),
         go.Scatter3d(
             **_xyz(mid),

@@ -88,10 +88,7 @@ def plot_views(
             handles=kind_legend_handles(kinds), loc="lower left", fontsize=8, frameon=False
         )
     if title is None:
-        counts = {}
-        for k in kinds:
-            counts[k] = counts.get(k, 0) + 1
-        parts = ", ".join(f"{v} {k}" for k, v in counts.items())
+        parts = ", ".join(f"{v} {k}" for k, v in structure.crease_kind_counts().items())
         title = f"{structure.name}: α = {structure.alpha:g}°, {len(structure.plate_ids)} plates" + (
             f", creases: {parts}" if parts else ""
         )
