@@ -221,6 +221,36 @@ class CCUModel:
             out.append(Structure.from_model(self, states, k, float(alpha), metrics, kinds, flat))
         return out
 
+    @property
+    def planes(self):
+        """The crease planes of a multi-crease layout at the design state, or None.
+
+        :class:`compas_ccu.design.layouts.PlaneLayout` in the local frame of the leading plane.
+        """
+        return self.built.planes
+
+    def plane_curves(self, states) -> np.ndarray:
+        """(k, m + 1, n + 1, 3) world coordinates of the curves on crease planes ``0 .. m``.
+
+        Curve ``i`` is the boundary of plate ``i`` (or of plate ``m - 1`` for ``i = m``) that
+        lies on plane ``i``: the creases in plane order with the two free boundaries at the
+        ends. Only for multi-crease layouts.
+
+        Parameters
+        ----------
+        states : compas_ccu.kinematics.MechanismStates
+        """
+        planes = self.built.planes
+        if planes is None:
+            raise ValueError("plane curves exist only for multi-crease layouts")
+        k0 = planes.leading
+        ids = np.asarray(self.built.plate_ids)
+        lower = np.where((ids >= k0)[None, :, None, None], states.near, states.far)
+        upper = np.where((ids >= k0)[None, :, None, None], states.far, states.near)
+        order = np.argsort(ids)
+        curves = np.concatenate([lower[:, order], upper[:, order[-1:]]], axis=1)
+        return self._to_world(curves)
+
     def crease_planarity(self, alphas) -> np.ndarray:
         """(k, c) largest distance (m) of each crease's vertices from its fitted plane.
 

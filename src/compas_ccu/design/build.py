@@ -17,6 +17,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from compas_ccu.design.layouts import (
+    PlaneLayout,
+    check_plane_gaps,
+    inclined_increments,
+    plane_layout,
+    planes_from_heights,
+)
+from compas_ccu.design.targets import TargetFit, solve_plane, targets_from_values
 from compas_ccu.errors import DesignError, GeometryError, ProfileError
 from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
@@ -48,6 +56,12 @@ class BuiltDesign:
         +1 if the leading plate lies left of the profile, -1 if right.
     profile_points : (n + 1, 2) float
         The sampled profile in plane coordinates.
+    state : str
+        ``"deployed"`` or ``"flat"``.
+    planes : PlaneLayout or None
+        Crease planes of a multi-crease layout (local frame, design state).
+    target_fit : TargetFit or None
+        The planes solved for ``[target]`` curves and the remaining fit error.
     """
 
     mechanism: Mechanism
@@ -59,6 +73,8 @@ class BuiltDesign:
     flip: float
     profile_points: np.ndarray
     state: str
+    planes: PlaneLayout | None = None
+    target_fit: TargetFit | None = None
 
 
 def _side_flip(points: np.ndarray, side: str, reference: int) -> float:
@@ -78,6 +94,35 @@ def _side_flip(points: np.ndarray, side: str, reference: int) -> float:
         )
     centre_left = t > 0.0
     return 1.0 if centre_left == (side == "inside") else -1.0
+
+
+def _explicit_side(values: dict, points: np.ndarray, state: str, layout: dict) -> float:
+    """+1 / -1: the side of the crease on which explicitly given ruling ends lie."""
+    spec = values["rulings"]
+    _need(spec, "points", "rulings", "explicit")
+    if state != "flat" or layout["type"] != "single":
+        raise DesignError(
+            "explicit rulings describe a cut pattern: they need crease.state = 'flat' and "
+            f"layout type 'single', got state {state!r} and layout {layout['type']!r}",
+            key="rulings.points",
+        )
+    ends = np.asarray(spec["points"], dtype=float)
+    if len(ends) != len(points):
+        raise DesignError(
+            f"needs one point per crease vertex ({len(points)}), got {len(ends)}",
+            key="rulings.points",
+        )
+    f = crease_frames(points)
+    side = np.einsum("ij,ij->i", ends - points, f.normals)
+    if np.all(side > 0.0):
+        return 1.0
+    if np.all(side < 0.0):
+        return -1.0
+    i = int(np.flatnonzero(np.sign(side) != np.sign(side[0]))[0])
+    raise DesignError(
+        f"the ruling ends must all lie on one side of the crease; point {i} lies on the other side",
+        key="rulings.points",
+    )
 
 
 def _gamma_field(value, s_fraction: np.ndarray) -> np.ndarray:
@@ -128,6 +173,9 @@ def _rulings_2d(values: dict, local: np.ndarray, flip: float) -> np.ndarray:
         d = np.asarray(spec["direction"]) * [1.0, flip]
         d = d / np.linalg.norm(d)
         r = np.tile(d if f.normals[0] @ d > 0 else -d, (len(local), 1))
+    elif kind == "explicit":
+        to_end = np.asarray(spec["points"]) * [1.0, flip] - local
+        r = to_end / np.linalg.norm(to_end, axis=1)[:, None]
     elif kind == "conical":
         _need(spec, "apex", "rulings", kind)
         to_apex = np.asarray(spec["apex"]) * [1.0, flip] - local
@@ -164,20 +212,27 @@ def _need(section: dict, name: str, section_name: str, kind: str) -> None:
         raise DesignError(f"required for type '{kind}'", key=f"{section_name}.{name}")
 
 
-def _trim(near: np.ndarray, direction: np.ndarray, z: float, plate: int, plane: int):
-    t = (z - near[:, 2]) / direction[:, 2]
+def _trim(near, direction, normal, offset, plane: int, plate: int):
+    """Ruling points where the lines ``near + t direction`` meet crease plane ``plane``."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (offset - near @ normal) / (direction @ normal)
     bad = np.flatnonzero(~np.isfinite(t) | (t <= 0.0))
     if bad.size:
         raise DesignError(
             f"the rulings of plate {plate} do not reach crease plane {plane} at crease vertex "
             f"{int(bad[0])} (they run parallel to it or away from it)",
-            key="layout.spacing",
+            key="layout",
         )
     return near + t[:, None] * direction
 
 
 def _reflect_z(v: np.ndarray) -> np.ndarray:
     return v * np.array([1.0, 1.0, -1.0])
+
+
+def _reflect(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Directions ``v`` (m, 3) mirrored in a plane with unit normal ``normal``."""
+    return v - 2.0 * (v @ normal)[:, None] * normal
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -200,22 +255,41 @@ def build(values: dict) -> BuiltDesign:
     except ProfileError as exc:
         raise DesignError(str(exc), key="[crease]") from exc
     n = crease["segments"]
-    points = np.asarray(profile.sample(n), dtype=float)
+    if crease["profile"] == "polyline" and len(crease["points"]) == n + 1:
+        points = np.asarray(crease["points"], dtype=float)  # the vertices as given
+    else:
+        points = np.asarray(profile.sample(n), dtype=float)
     reference = int(round(crease["reference"] * n))
-    flip = _side_flip(points, values["rulings"]["side"], reference)
+    state = crease["state"]
+    if values["rulings"]["type"] == "explicit":
+        flip = _explicit_side(values, points, state, layout)
+    else:
+        flip = _side_flip(points, values["rulings"]["side"], reference)
     local = points * np.array([1.0, flip])
     alpha = math.radians(values["deployment"]["alpha"])
     state = crease["state"]
     near0 = np.c_[local, np.zeros(len(local))]
 
+    planes, fit = None, None
+    if values.get("target") and any(v is not None for v in values["target"].values()):
+        if layout["type"] not in ("parallel", "inclined"):
+            raise DesignError(
+                f"target curves need layout type 'parallel' or 'inclined', got {layout['type']!r}",
+                key="[target]",
+            )
     if layout["type"] == "single":
-        if layout["width"] is None:
+        if values["rulings"]["type"] == "explicit":
+            ends = np.asarray(values["rulings"]["points"]) * np.array([1.0, flip])
+            width = np.linalg.norm(ends - local, axis=1)[:, None]
+            r = _rulings_2d(values, local, flip)
+        elif layout["width"] is None:
             raise DesignError("required for layout type 'single'", key="layout.width")
-        if state == "deployed":
+        elif state == "deployed":
+            width = layout["width"]
             r = _rulings_3d(values, local, alpha, reference, flip)
         else:
+            width = layout["width"]
             r = _rulings_2d(values, local, flip)
-        width = layout["width"]
         ccf_width = layout["ccf_width"] or width
         nears = [near0, near0]
         fars = [near0 + width * r, _reflect_z(near0 + width * r)]
@@ -235,62 +309,24 @@ def build(values: dict) -> BuiltDesign:
     else:
         if state != "deployed":
             raise DesignError(
-                "layout 'parallel' needs crease.state = 'deployed': the crease planes are "
-                "placed at the design state",
+                f"layout '{layout['type']}' needs crease.state = 'deployed': the crease planes "
+                "are placed at the design state",
                 key="crease.state",
             )
-        for key in ("plates", "spacing"):
-            if layout[key] is None:
-                raise DesignError("required for layout type 'parallel'", key=f"layout.{key}")
-        m = layout["plates"]
-        spacing = layout["spacing"]
-        spacing = [spacing] * m if isinstance(spacing, float) else spacing
-        if len(spacing) != m:
-            raise DesignError(
-                f"needs one distance per plate ({m}), got {len(spacing)}", key="layout.spacing"
-            )
-        k0 = m // 2 if layout["leading"] is None else layout["leading"]
-        if k0 >= m:
-            raise DesignError(
-                f"must be a plane with a plate on its positive side, 0 ... {m - 1}, got {k0}",
-                key="layout.leading",
-            )
-        z = np.r_[0.0, np.cumsum(spacing)]
-        z = z - z[k0]
         r = _rulings_3d(values, local, alpha, reference, flip)
-        nears, fars, links, creases, plate_ids = [], [], [], [], []
-        # the leading plate and the plates after it
-        near, direction = near0, r
-        parent, crease_index = None, None
-        for k in range(k0, m):
-            far = _trim(near, direction, z[k + 1], k, k + 1)
-            nears.append(near)
-            fars.append(far)
-            plate_ids.append(k)
-            links.append((parent, "far", "ccu", crease_index))
-            if k + 1 < m:
-                creases.append(
-                    CreaseLink(len(nears) - 1, "far", len(nears), "ccu", False, (0.0, 0.0, 1.0))
-                )
-                crease_index = len(creases) - 1
-                parent = len(nears) - 1
-                direction = _reflect_z(_unit(near - far))
-                near = far
-        # the plates before the leading plane, mirrored across it
-        parent, boundary = 0, "near"
-        near, direction = near0, _reflect_z(r)
-        for k in range(k0 - 1, -1, -1):
-            creases.append(
-                CreaseLink(parent, boundary, len(nears), "ccu", k == k0 - 1, (0.0, 0.0, 1.0))
+        targets = targets_from_values(values.get("target"))
+        if targets:
+            chain, planes, fit = _fit_targets(layout, targets, local, reference, near0, r)
+        else:
+            planes = plane_layout(layout, local, reference)
+            chain = _plate_chain(
+                near0,
+                r,
+                planes.plates,
+                planes.leading,
+                lambda q, near, direction: (planes.normals[q], planes.offsets[q]),
             )
-            far = _trim(near, direction, z[k], k, k)
-            nears.append(near)
-            fars.append(far)
-            plate_ids.append(k)
-            links.append((parent, boundary, "ccu", len(creases) - 1))
-            parent, boundary = len(nears) - 1, "far"
-            direction = _reflect_z(_unit(near - far))
-            near = far
+        nears, fars, links, creases, plate_ids = chain
 
     design_near = np.asarray(nears)
     design_far = np.asarray(fars)
@@ -310,5 +346,98 @@ def build(values: dict) -> BuiltDesign:
     if state == "deployed" and alpha > mechanism.alpha_limit:  # pragma: no cover - guard
         raise GeometryError("design alpha beyond the deployment limit of its own pattern")
     return BuiltDesign(
-        mechanism, plate_ids, design_near, design_far, alpha, reference, flip, points, state
+        mechanism,
+        plate_ids,
+        design_near,
+        design_far,
+        alpha,
+        reference,
+        flip,
+        points,
+        state,
+        planes,
+        fit,
     )
+
+
+def _plate_chain(near0, r, m: int, k0: int, plane_at):
+    """Trim-and-reflect construction of ``m`` plates from the leading plate (SPEC §2).
+
+    ``plane_at(q, near, direction)`` returns the unit normal and offset of crease plane ``q``
+    when the ruling lines ``near + t direction`` of the plate that reaches it are known
+    (planes ``k0 + 1 .. m``, then ``k0 - 1 .. 0``).
+
+    Returns nears, fars, links, creases, plate_ids (mechanism order).
+    """
+    nears, fars, links, creases, plate_ids = [], [], [], [], []
+    # the leading plate and the plates after it
+    near, direction = near0, r
+    parent, crease_index = None, None
+    for k in range(k0, m):
+        normal, offset = plane_at(k + 1, near, direction)
+        far = _trim(near, direction, normal, offset, k + 1, k)
+        nears.append(near)
+        fars.append(far)
+        plate_ids.append(k)
+        links.append((parent, "far", "ccu", crease_index))
+        if k + 1 < m:
+            creases.append(
+                CreaseLink(len(nears) - 1, "far", len(nears), "ccu", False, tuple(normal))
+            )
+            crease_index = len(creases) - 1
+            parent = len(nears) - 1
+            direction = _reflect(_unit(near - far), normal)
+            near = far
+    # the plates before the leading plane, mirrored across it
+    parent, boundary = 0, "near"
+    near, direction = near0, _reflect_z(r)
+    upper = np.array([0.0, 0.0, 1.0])
+    for k in range(k0 - 1, -1, -1):
+        creases.append(CreaseLink(parent, boundary, len(nears), "ccu", k == k0 - 1, tuple(upper)))
+        normal, offset = plane_at(k, near, direction)
+        far = _trim(near, direction, normal, offset, k, k)
+        nears.append(near)
+        fars.append(far)
+        plate_ids.append(k)
+        links.append((parent, boundary, "ccu", len(creases) - 1))
+        parent, boundary = len(nears) - 1, "far"
+        direction = _reflect(_unit(near - far), normal)
+        near, upper = far, normal
+    return nears, fars, links, creases, plate_ids
+
+
+def _fit_targets(layout, targets, local, reference, near0, r):
+    """Build the plate chain with the planes of the leading crease's parity solved for targets."""
+    m = layout["plates"]
+    if m is None:
+        raise DesignError(f"required for layout type '{layout['type']}'", key="layout.plates")
+    k0 = m // 2 if layout["leading"] is None else layout["leading"]
+    if k0 >= m:
+        raise DesignError(
+            f"must be a plane with a plate on its positive side, 0 ... {m - 1}, got {k0}",
+            key="layout.leading",
+        )
+    increments = inclined_increments(layout, local, reference)
+    heights = np.full((m + 1, 3), np.nan)
+    heights[k0] = 0.0
+    controls = (0, reference, len(local) - 1)
+    fit = TargetFit()
+
+    def plane_at(q, near, direction):
+        base = heights[q - 1] + increments[q - 1] if q > k0 else heights[q + 1] - increments[q]
+        if (q - k0) % 2 == 0:
+            heights[q], residual = solve_plane(near, direction, controls, targets, base)
+            fit.planes.append(q)
+            fit.residuals[q] = residual
+        else:
+            heights[q] = base
+        normal = np.array([-heights[q, 1], -heights[q, 2], 1.0])
+        scale = float(np.linalg.norm(normal))
+        return normal / scale, heights[q, 0] / scale
+
+    chain = _plate_chain(near0, r, m, k0, plane_at)
+    check_plane_gaps(heights, local)
+    fit.planes.sort()
+    increments = np.diff(heights, axis=0)
+    fit.distances = increments[:, :1] + increments[:, 1:] @ local[list(controls)].T
+    return chain, planes_from_heights(heights, k0), fit

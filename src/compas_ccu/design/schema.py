@@ -21,8 +21,8 @@ __all__ = ["Key", "SCHEMA", "validate", "schema_markdown"]
 class Key:
     """One design-file key."""
 
-    kind: str  # "float", "int", "str", "bool", "point2", "point3", "points2", "float_or_list",
-    # "gamma"
+    kind: str  # "float", "int", "str", "bool", "point2", "point3", "points2", "polyline2",
+    # "float_or_list", "gamma"
     doc: str
     default: Any = None
     required: bool = False
@@ -93,7 +93,8 @@ SCHEMA: dict = {
         ),
         "segments": Key(
             "int",
-            "Number of equal-length crease segments (quads per plate).",
+            "Number of equal-length crease segments (quads per plate). A polyline profile "
+            "with exactly this many edges keeps its vertices as they are.",
             default=48,
             check=lambda v: 2 <= v <= 2_000_000,
             check_doc="2 ... 2e6",
@@ -120,9 +121,11 @@ SCHEMA: dict = {
         "are the projections of the 3D rulings, whose inclination follows from the design alpha.",
         "type": Key(
             "str",
-            "Ruling field.",
+            "Ruling field. 'explicit': the far end of every ruling is given (points), for "
+            "state = 'flat' cut patterns such as those written by "
+            "compas_ccu.design.inverse.flat_design.",
             required=True,
-            choices=("orthogonal", "cylindrical", "conical", "angle"),
+            choices=("orthogonal", "cylindrical", "conical", "angle", "explicit"),
         ),
         "side": Key(
             "str",
@@ -134,6 +137,14 @@ SCHEMA: dict = {
             choices=("inside", "outside", "left", "right"),
         ),
         "direction": Key("point2", "Ruling direction [dx, dy].", when="cylindrical"),
+        "points": Key(
+            "points2",
+            "Far end [x, y] of the ruling at every crease vertex, in the cut pattern (one "
+            "point per vertex); the plate lies on their side of the crease and 'side' is "
+            "ignored. Only with crease.state = 'flat' and layout type 'single' (the plate "
+            "width is given by the points).",
+            when="explicit",
+        ),
         "apex": Key("point2", "Apex [x, y] that all ruling lines pass through.", when="conical"),
         "gamma": Key(
             "gamma",
@@ -168,9 +179,13 @@ SCHEMA: dict = {
             "str",
             "'single': one crease with the leading plate and its mirror partner "
             "(a CCU pair); 'parallel': a corrugated multi-crease structure whose crease "
-            "planes are parallel (paper Fig. 1).",
+            "planes are parallel (paper Fig. 1, 10); 'inclined': crease planes given by their "
+            "distances above the crease's start, reference and end vertex, i.e. inclined about "
+            "the actuation rotation axis (Fig. 11) and perpendicular to it (Fig. 12a); "
+            "'radial': crease planes through one axis parallel to the profile y axis, for "
+            "corrugated domes and funnel columns (Fig. 12b, c). See docs/shape-control.md.",
             default="single",
-            choices=("single", "parallel"),
+            choices=("single", "parallel", "inclined", "radial"),
         ),
         "width": Key(
             "float",
@@ -198,15 +213,49 @@ SCHEMA: dict = {
             "Number of plates between consecutive crease planes.",
             check=lambda v: 1 <= v <= 10_000,
             check_doc="1 ... 10000",
-            when="parallel",
+            when="parallel, inclined, radial",
         ),
         "spacing": Key(
             "float_or_list",
             "Distance between consecutive crease planes at the "
-            "design state, m: one number or one per plate.",
+            "design state, m: one number or one per plate (plate k lies between planes k and "
+            "k + 1). For 'inclined': the distance above the crease's reference vertex (the "
+            "apex of a symmetric arch), measured normal to the leading plane.",
             check=_positive,
             check_doc="> 0",
-            when="parallel",
+            when="parallel, inclined",
+        ),
+        "spacing_start": Key(
+            "float_or_list",
+            "Distance between consecutive crease planes above the crease's start vertex "
+            "(a support), m; default: spacing. Differing from spacing inclines the plane "
+            "about the actuation rotation axis.",
+            check=lambda v: v >= 0.0,
+            check_doc=">= 0",
+            when="inclined",
+        ),
+        "spacing_end": Key(
+            "float_or_list",
+            "Distance between consecutive crease planes above the crease's end vertex "
+            "(the other support), m; default: spacing_start. Differing from spacing_start "
+            "inclines the plane perpendicular to the actuation rotation axis.",
+            check=lambda v: v >= 0.0,
+            check_doc=">= 0",
+            when="inclined",
+        ),
+        "angle": Key(
+            "float_or_list",
+            "Angle between consecutive crease planes about the radial axis, degrees: one "
+            "number or one per plate (total below 360).",
+            check=lambda v: 0.0 < v < 180.0,
+            check_doc="0 < angle < 180",
+            when="radial",
+        ),
+        "axis": Key(
+            "float",
+            "Profile x coordinate of the radial axis (parallel to the profile y axis), m. It "
+            "must lie beside the crease, e.g. at the centre of a dome or a funnel column.",
+            when="radial",
         ),
         "leading": Key(
             "int",
@@ -214,7 +263,32 @@ SCHEMA: dict = {
             "default: the middle plane.",
             check=lambda v: v >= 0,
             check_doc=">= 0",
-            when="parallel",
+            when="parallel, inclined, radial",
+        ),
+    },
+    "target": {
+        "_doc": "Inverse design of the plane layout (paper §5.5, docs/shape-control.md): target "
+        "polylines along the apex and the supports, in the leading plane's frame: d is the "
+        "distance from the leading plane along its normal (xaxis x yaxis), x and y are profile "
+        "coordinates. The planes of the leading crease's parity (every second plane from the "
+        "leading one) are solved so that their creases meet the targets exactly where the "
+        "rulings reach them; the other planes keep the layout's distances. Needs layout type "
+        "'parallel' or 'inclined'; the remaining fit error is reported (metrics "
+        "target_fit_max).",
+        "apex": Key(
+            "polyline2",
+            "[[d, y], ...]: height y of the reference (apex) vertex of the solved creases as a "
+            "function of d (d increasing).",
+        ),
+        "support": Key(
+            "polyline2",
+            "[[d, x], ...]: profile x of the crease's start vertex (one support line in plan) "
+            "as a function of d.",
+        ),
+        "support_end": Key(
+            "polyline2",
+            "[[d, x], ...]: profile x of the crease's end vertex; default: the mirror image "
+            "(-x) of support.",
         ),
     },
     "plane": {
@@ -263,14 +337,15 @@ def _coerce(section: str, name: str, key: Key, value):
         if not (isinstance(value, list) and len(value) == dim and all(map(_is_number, value))):
             fail(f"must be a list of {dim} numbers")
         value = [float(v) for v in value]
-    elif key.kind == "points2":
+    elif key.kind in ("points2", "polyline2"):
         ok = isinstance(value, list) and all(
             isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in value
         )
         if not ok:
             fail("must be a list of [x, y] number pairs")
-        if len(value) < 3:
-            fail("needs at least 3 points")
+        least = 3 if key.kind == "points2" else 2
+        if len(value) < least:
+            fail(f"needs at least {least} points")
         value = [[float(x), float(y)] for x, y in value]
     elif key.kind == "float_or_list":
         if _is_number(value):
