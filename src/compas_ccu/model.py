@@ -82,6 +82,52 @@ class CCUModel:
         self._kinds = None
         self._overlap_alpha = None
         self._faces = None
+        self._check_design()
+
+    def _check_design(self) -> None:
+        """Refuse, before any deployment, designs whose pattern or design state is impossible.
+
+        * rulings that cross inside a plate (a quad of the cut pattern folds over: the crease
+          is curved too tightly for the plate's width there);
+        * a flat-state design whose design angle lies beyond the deployment limit;
+        * a crease that overlaps itself at the design state.
+        """
+        from compas_ccu.errors import DeploymentLimitError, GeometryError
+
+        flat = self.flat()
+        n = self.segments
+        j = np.arange(n)
+        a, b, d = flat[:, j, :2], flat[:, j + 1, :2], flat[:, n + 1 + j, :2]
+        c = flat[:, n + 2 + j, :2]
+        # rulings a-d and b-c of a quad must not meet: a + s (d - a) = b + t (c - b)
+        u, v, w = d - a, c - b, b - a
+
+        def cross(p, q):
+            return p[..., 0] * q[..., 1] - p[..., 1] * q[..., 0]
+
+        den = cross(u, v)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s_, t_ = cross(w, v) / den, cross(w, u) / den
+        bad = np.argwhere((den != 0.0) & (s_ > 0.0) & (s_ <= 1.0) & (t_ > 0.0) & (t_ <= 1.0))
+        if bad.size:
+            p, q = (int(v) for v in bad[0])
+            raise GeometryError(
+                f"the rulings of plate {self.plate_ids[p]} cross between crease vertices {q} and "
+                f"{q + 1}: its cut pattern folds over itself (the crease is curved too tightly "
+                "there for the plate's width or the plane spacing); reduce the width / "
+                "spacing, smooth the profile, or put the plate on the other side"
+            )
+        limit = self.alpha_limit
+        if self.alpha_design > limit:
+            raise DeploymentLimitError(
+                f"the design alpha {self.alpha_design:.6g} deg cannot be reached: this cut "
+                f"pattern unfolds at most to {limit:.6g} deg, where crease segment "
+                f"{self.limit_vertex} of the leading crease stands perpendicular to its plane",
+                alpha=self.alpha_design,
+                alpha_limit=limit,
+                vertex=self.limit_vertex,
+            )
+        self.deploy(check=True)  # raises SelfIntersectionError with the crease and the angle
 
     # -- frames ------------------------------------------------------------------------------
     def _to_world(self, local: np.ndarray) -> np.ndarray:
@@ -250,6 +296,47 @@ class CCUModel:
         order = np.argsort(ids)
         curves = np.concatenate([lower[:, order], upper[:, order[-1:]]], axis=1)
         return self._to_world(curves)
+
+    def relax(self, alpha: float | None = None, *, planarity_weight: float = 1.0, **options):
+        """Deploy to ``alpha`` and relax the plates by least squares (the fallback of SPEC §2).
+
+        Where a crease leaves its plane, the mirror construction has no exact solution and the
+        kinematic state is not an isometry. The relaxation
+        (:func:`compas_ccu.kinematics.relaxation.relax`) holds the leading plate, keeps every
+        hinge closed and minimises the quads' relative side and diagonal length errors plus
+        their non-planarity, starting from the kinematic state. Where the kinematic state is
+        exact it is returned unchanged.
+
+        Returns
+        -------
+        structure : compas_ccu.structure.Structure
+            The relaxed state; ``metrics["relaxation"]`` holds the residuals (strain, quad
+            planarity, displacement from the kinematic state, convergence) and the invariants
+            are measured on the relaxed geometry.
+        relaxation : compas_ccu.kinematics.relaxation.Relaxation
+        """
+        from compas_ccu.kinematics.relaxation import links_from_mechanism, relax
+        from compas_ccu.structure import Structure
+
+        alpha = self.alpha_design if alpha is None else float(alpha)
+        states = self.mechanism.deploy(np.radians([alpha]))
+        result = relax(
+            states.near[0],
+            states.far[0],
+            self._reference_lengths,
+            links_from_mechanism(self.mechanism),
+            planarity_weight=planarity_weight,
+            **options,
+        )
+        relaxed = self.mechanism.refit(states, result.near[None], result.far[None])
+        structure = Structure.from_model(
+            self, relaxed, 0, alpha, self.invariants(relaxed), self.crease_kinds(), self.flat()
+        )
+        summary = result.summary()
+        for key in ("max_strain_per_plate", "quad_planarity_per_plate", "displacement_per_plate"):
+            summary[key] = [summary[key][i] for i in self.order]  # by plate id
+        structure.metrics["relaxation"] = summary
+        return structure, result
 
     def crease_planarity(self, alphas) -> np.ndarray:
         """(k, c) largest distance (m) of each crease's vertices from its fitted plane.

@@ -248,7 +248,18 @@ def build(values: dict) -> BuiltDesign:
     spec = {
         k: v
         for k, v in crease.items()
-        if v is not None and k in ("profile", "span", "rise", "radius", "angle", "points")
+        if v is not None
+        and k
+        in (
+            "profile",
+            "span",
+            "rise",
+            "radius",
+            "angle",
+            "points",
+            "point_loads",
+            "distributed_loads",
+        )
     }
     try:
         profile = profile_from_dict(spec)

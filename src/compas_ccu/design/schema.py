@@ -30,6 +30,7 @@ class Key:
     check: Callable | None = field(default=None, compare=False)
     check_doc: str = ""
     when: str = ""  # documentation: when the key applies
+    columns: int = 0  # kind "rows": numbers per row
 
 
 def _positive(v):
@@ -58,21 +59,36 @@ SCHEMA: dict = {
             "str",
             "Profile type.",
             required=True,
-            choices=("arc", "catenary", "elastica", "spline", "polyline"),
+            choices=("arc", "catenary", "elastica", "funicular", "spline", "polyline"),
         ),
         "span": Key(
             "float",
             "Distance between the end points, m.",
             check=_positive,
             check_doc="> 0",
-            when="arc, catenary, elastica",
+            when="arc, catenary, elastica, funicular",
         ),
         "rise": Key(
             "float",
             "Height of the apex above the chord, m.",
             check=_positive,
             check_doc="> 0",
-            when="arc, catenary, elastica",
+            when="arc, catenary, elastica, funicular",
+        ),
+        "point_loads": Key(
+            "rows",
+            "Point loads [[x, P], ...] on the span (x in profile coordinates, -span/2 < x < "
+            "span/2; P > 0 downwards, any unit): the thrust line is a polygon with a kink, "
+            "i.e. a crease vertex, under every load.",
+            columns=2,
+            when="funicular",
+        ),
+        "distributed_loads": Key(
+            "rows",
+            "Linearly varying loads [[x0, x1, q0, q1], ...] from intensity q0 at x0 to q1 at "
+            "x1. Without any load the funicular is the parabola of a uniform load.",
+            columns=4,
+            when="funicular",
         ),
         "radius": Key(
             "float",
@@ -347,6 +363,13 @@ def _coerce(section: str, name: str, key: Key, value):
         if len(value) < least:
             fail(f"needs at least {least} points")
         value = [[float(x), float(y)] for x, y in value]
+    elif key.kind == "rows":
+        ok = isinstance(value, list) and all(
+            isinstance(p, list) and len(p) == key.columns and all(map(_is_number, p)) for p in value
+        )
+        if not ok or not value:
+            fail(f"must be a non-empty list of rows of {key.columns} numbers")
+        value = [[float(v) for v in p] for p in value]
     elif key.kind == "float_or_list":
         if _is_number(value):
             value = float(value)

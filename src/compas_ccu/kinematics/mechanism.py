@@ -191,6 +191,26 @@ class Mechanism:
                 )
         return MechanismStates(near, far, origins, normals, planarity, lead.tilts)
 
+    def refit(self, states: MechanismStates, near: np.ndarray, far: np.ndarray) -> MechanismStates:
+        """States with plates replaced by ``near, far`` (k, p, n + 1, 3) and planes refitted.
+
+        Used for geometry that did not come from :meth:`place`, e.g. a relaxation.
+        """
+        k, c = near.shape[0], len(self.creases)
+        origins = np.zeros((k, c, 3))
+        normals = np.zeros((k, c, 3))
+        planarity = np.zeros((k, c))
+        for ci, crease in enumerate(self.creases):
+            hinge = (near if crease.boundary_a == "near" else far)[:, crease.plate_a]
+            if crease.fixed:
+                normals[:, ci, 2] = 1.0
+                planarity[:, ci] = np.abs(hinge[:, :, 2]).max(axis=1)
+            else:
+                origins[:, ci], normals[:, ci], planarity[:, ci] = fit_planes(
+                    hinge, np.asarray(crease.design_normal)
+                )
+        return MechanismStates(near, far, origins, normals, planarity, states.tilts)
+
     def deploy(self, alpha) -> MechanismStates:
         """Place every plate at reference reflection angles ``alpha`` (radians, scalar or (k,)).
 

@@ -50,12 +50,15 @@ def vertex_reflection_angles(points: np.ndarray, rulings: np.ndarray) -> np.ndar
     return np.arctan2(r[:, 2], along_n)
 
 
-def rulings_from_tilts(points: np.ndarray, tilts: np.ndarray) -> np.ndarray:
+def rulings_from_tilts(points: np.ndarray, tilts: np.ndarray, gamma=None) -> np.ndarray:
     """Rulings of the strip whose quad ``j`` is tilted by ``tilts[j]`` about crease edge ``j``.
 
-    Interior rulings are the intersection lines of consecutive quad planes. The end rulings
-    continue the pattern symmetrically: the end quad makes the same angle with its crease edge at
-    both ends (exact for a circular crease with constant tilt).
+    Interior rulings are the intersection lines of consecutive quad planes. The end rulings lie
+    in the end quads. Without ``gamma`` they continue the pattern symmetrically: the end quad
+    makes the same angle with its crease edge at both ends (exact for a circular crease with
+    constant tilt). With a ruling-angle field ``gamma`` the end ruling keeps the field's angle:
+    its angle to the end edge is ``gamma_end + gamma_next - angle(r_next, edge)``, which is the
+    symmetric rule when gamma = 90 deg.
 
     Parameters
     ----------
@@ -63,6 +66,8 @@ def rulings_from_tilts(points: np.ndarray, tilts: np.ndarray) -> np.ndarray:
         Crease polyline in O.
     tilts : (n,) float
         Quad tilt angles psi_j in (0, pi/2), radians.
+    gamma : (n + 1,) float, optional
+        Ruling angles, radians; only the two values at each end are used.
 
     Returns
     -------
@@ -84,8 +89,17 @@ def rulings_from_tilts(points: np.ndarray, tilts: np.ndarray) -> np.ndarray:
     inner = np.where(coplanar[:, None], w[1:], inner / np.where(coplanar, 1.0, size)[:, None])
     inner *= np.sign(np.einsum("ij,ij->i", inner, w[1:]))[:, None]
     r[1:-1] = inner
-    r[0] = r[1] - 2.0 * (r[1] @ u[0]) * u[0]
-    r[-1] = r[-2] - 2.0 * (r[-2] @ u[-1]) * u[-1]
+    if gamma is None:
+        r[0] = r[1] - 2.0 * (r[1] @ u[0]) * u[0]
+        r[-1] = r[-2] - 2.0 * (r[-2] @ u[-1]) * u[-1]
+        return r
+    g = np.asarray(gamma, dtype=float)
+    for end, nxt, e, g_end, g_next in ((0, 1, u[0], g[0], g[1]), (-1, -2, u[-1], g[-1], g[-2])):
+        # angles to the forward edge direction, in the end quad's plane
+        across = r[nxt] - (r[nxt] @ e) * e
+        across /= np.linalg.norm(across)
+        phi = g_end + g_next - math.acos(float(np.clip(r[nxt] @ e, -1.0, 1.0)))
+        r[end] = math.cos(phi) * e + math.sin(phi) * across
     return r
 
 
@@ -278,7 +292,7 @@ def ruling_angle_rulings(
         return 2.0 * np.arctan(np.exp(c + log_tan))
 
     def ref_alpha(c: float) -> float:
-        r = rulings_from_tilts(points, tilts_for(c))
+        r = rulings_from_tilts(points, tilts_for(c), gamma)
         return float(vertex_reflection_angles(points, r)[reference])
 
     hi = -top + math.log(math.tan(0.5 * math.radians(89.999)))
@@ -293,4 +307,4 @@ def ruling_angle_rulings(
         )
     c = brentq(lambda c: ref_alpha(c) - alpha, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
     tilts = tilts_for(c)
-    return rulings_from_tilts(points, tilts), tilts
+    return rulings_from_tilts(points, tilts, gamma), tilts

@@ -1,0 +1,144 @@
+"""Crease planarity along the whole deployment path (paper §5.1, Fig. 6d; SPEC §2).
+
+At the design state every crease is planar by construction. During deployment a subsequent
+crease stays planar exactly for parallel planes (any ruling field) and for planes inclined about
+the actuation rotation axis with cylindrical rulings; otherwise it leaves its plane, the mirror
+construction has no exact solution and the kinematic model reflects across the best-fit plane.
+:func:`planarity_along_path` measures the deviation of every crease at every state and, on
+request, relaxes the worst state by least squares to show what the rigid-ruling model costs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["PlanarityReport", "planarity_along_path", "EXACT_RELATIVE"]
+
+#: SPEC §5 bar: a crease is exactly planar when it deviates by at most this fraction of the size.
+EXACT_RELATIVE = 1e-9
+
+
+@dataclass
+class PlanarityReport:
+    """Crease planarity of a design along its deployment path.
+
+    Attributes
+    ----------
+    alphas : (k,) float
+        Reference reflection angles, degrees.
+    deviation : (k, c) float
+        Largest distance of each crease's vertices from its best-fit plane, m.
+    creases : list of dict
+        Per crease: ``id``, ``plates``, ``kind``, ``max`` (m), ``max_relative``,
+        ``alpha_at_max`` (degrees), ``exact`` (max_relative <= 1e-9).
+    size : float
+        Structure size (bounding-box diagonal at the design state), m.
+    relaxation : dict or None
+        Residuals of the least-squares relaxation at the worst state, if requested.
+    """
+
+    alphas: np.ndarray
+    deviation: np.ndarray
+    creases: list
+    size: float
+    relaxation: dict | None = None
+
+    @property
+    def max(self) -> float:
+        return float(self.deviation.max()) if self.deviation.size else 0.0
+
+    @property
+    def exact(self) -> bool:
+        return self.max <= EXACT_RELATIVE * self.size
+
+    def summary(self) -> dict:
+        """Plain JSON-able values."""
+        worst = int(np.argmax(self.deviation.max(axis=1))) if self.deviation.size else 0
+        return {
+            "planarity_max": self.max,
+            "planarity_max_relative": self.max / self.size,
+            "planarity_alpha_at_max": float(self.alphas[worst]),
+            "planarity_exact": self.exact,
+            "alphas": [float(a) for a in self.alphas],
+            "creases": self.creases,
+            "relaxation": self.relaxation,
+        }
+
+    def rows(self) -> list:
+        """Table rows ``(alpha, crease, deviation)`` for every state and crease."""
+        return [
+            (float(a), ci, float(d))
+            for a, row in zip(self.alphas, self.deviation)
+            for ci, d in enumerate(row)
+        ]
+
+
+def planarity_along_path(model, alphas=None, *, steps: int = 32, relax: bool = False):
+    """Measure every crease's distance from its plane along the deployment path.
+
+    Parameters
+    ----------
+    model : compas_ccu.model.CCUModel
+    alphas : (k,) float, optional
+        Reference angles, degrees; default: ``steps`` angles from just above 0 to the design
+        angle.
+    steps : int
+    relax : bool
+        Also relax the state with the largest deviation (:meth:`CCUModel.relax`) and report
+        its residuals.
+
+    Returns
+    -------
+    PlanarityReport
+
+    Examples
+    --------
+    >>> from compas_ccu.design import load_design
+    >>> model = load_design("examples/vault.toml").build()
+    >>> report = planarity_along_path(model, steps=8)
+    >>> report.exact, len(report.creases)
+    (True, 9)
+    """
+    if alphas is None:
+        top = model.alpha_design
+        alphas = np.linspace(top / steps, top, steps)
+    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+    deviation = model.crease_planarity(alphas)
+    kinds = model.crease_kinds()
+    size = model.size
+    creases = []
+    for ci, crease in enumerate(model.mechanism.creases):
+        column = deviation[:, ci]
+        worst = int(np.argmax(column))
+        creases.append(
+            {
+                "id": ci,
+                "plates": [
+                    model._mech_to_out[crease.plate_a],
+                    model._mech_to_out[crease.plate_b],
+                ],
+                "kind": kinds[ci][0],
+                "max": float(column[worst]),
+                "max_relative": float(column[worst]) / size,
+                "alpha_at_max": float(alphas[worst]),
+                "exact": bool(column[worst] <= EXACT_RELATIVE * size),
+            }
+        )
+    report = PlanarityReport(alphas, deviation, creases, size)
+    if relax and deviation.size:
+        worst = int(np.argmax(deviation.max(axis=1)))
+        structure, result = model.relax(float(alphas[worst]))
+        report.relaxation = {
+            "alpha": float(alphas[worst]),
+            "kinematic_isometry": float(
+                model.invariants(model.mechanism.deploy(np.radians(alphas[worst : worst + 1])))[
+                    "isometry"
+                ][0]
+            ),
+            "relaxed_isometry": structure.metrics["isometry"],
+            "relaxed_crease_planarity": structure.metrics["crease_planarity_max"],
+            **result.summary(),
+        }
+    return report
