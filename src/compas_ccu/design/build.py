@@ -34,6 +34,18 @@ from compas_ccu.strips.intrinsics import strip_intrinsics
 
 __all__ = ["BuiltDesign", "build"]
 
+#: [crease] keys passed to the profile factory.
+PROFILE_KEYS = (
+    "profile",
+    "span",
+    "rise",
+    "radius",
+    "angle",
+    "points",
+    "point_loads",
+    "distributed_loads",
+)
+
 
 @dataclass
 class BuiltDesign:
