@@ -62,9 +62,7 @@ def test_build_time_errors_name_the_key():
         Design({**BASE, "layout": {}}).build()
     with pytest.raises(DesignError, match=r"rulings\.direction: required for type"):
         make_design(rulings={"type": "cylindrical"}).build()
-    with pytest.raises(
-        DesignError, match=r"layout\.spacing: needs one value per plate \(3\)"
-    ):
+    with pytest.raises(DesignError, match=r"layout\.spacing: needs one value per plate \(3\)"):
         make_design(layout={"type": "parallel", "plates": 3, "spacing": [0.1, 0.1]}).build()
     with pytest.raises(DesignError, match=r"crease\.state: layout 'parallel' needs"):
         make_design(
