@@ -13,6 +13,7 @@ from compas_ccu.curves import (
     ArcProfile,
     CatenaryProfile,
     ElasticaProfile,
+    FunicularProfile,
     PolylineProfile,
     SplineProfile,
     discrete_curvature,
@@ -37,6 +38,11 @@ ALLOWED_ARC = (
         ({"profile": "spline", "points": POINTS, "bc_type": "not-a-knot"}, SplineProfile),
         ({"profile": "polyline", "points": POINTS, "segments": None}, PolylineProfile),
         ({"profile": "polyline", "points": np.array(POINTS)}, PolylineProfile),
+        ({"profile": "funicular", "span": 4, "rise": 1}, FunicularProfile),
+        (
+            {"profile": "funicular", "span": 4.0, "rise": 1.0, "point_loads": [[0.5, 2]]},
+            FunicularProfile,
+        ),
     ],
 )
 def test_builds_each_profile_and_round_trips(spec, cls):
@@ -71,11 +77,13 @@ def test_parameters_are_json_able():
         ([("profile", "arc")], r"profile spec must be a dict, got list"),
         (
             {"span": 4.0, "rise": 1.0},
-            r"missing key 'profile'; allowed profiles: arc, catenary, elastica, spline, polyline",
+            r"missing key 'profile'; allowed profiles: arc, catenary, elastica, spline, "
+            r"polyline, funicular",
         ),
         (
             {"profile": "parabola"},
-            r"profile must be one of arc, catenary, elastica, spline, polyline, got 'parabola'",
+            r"profile must be one of arc, catenary, elastica, spline, polyline, funicular, "
+            r"got 'parabola'",
         ),
         ({"profile": 3}, r"profile must be one of .*, got 3"),
         (

@@ -1,4 +1,7 @@
-"""Property tests shared by the analytic arches (arc, catenary, elastica)."""
+"""Property tests shared by the analytic arches (arc, catenary, elastica, funicular).
+
+The funicular arch is built with its default uniform load (the parabola).
+"""
 
 from __future__ import annotations
 
@@ -6,9 +9,14 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from compas_ccu.curves import ArcProfile, CatenaryProfile, ElasticaProfile
+from compas_ccu.curves import ArcProfile, CatenaryProfile, ElasticaProfile, FunicularProfile
 
-ARCHES = {"arc": ArcProfile, "catenary": CatenaryProfile, "elastica": ElasticaProfile}
+ARCHES = {
+    "arc": ArcProfile,
+    "catenary": CatenaryProfile,
+    "elastica": ElasticaProfile,
+    "funicular": FunicularProfile,
+}
 
 
 def chord_from_unit_tangent(profile, s_start, s_end, order=20, pieces=32) -> np.ndarray:

@@ -1,4 +1,5 @@
-"""Command line interface: ``ccu deploy | path | info | figures | animate | view | sheet | report``.
+"""Command line interface: ``ccu deploy | path | info | planarity | catalog | figures | animate |
+view | sheet | report``.
 
 Every command takes a design TOML file (see ``docs/design-files.md``). Errors in the input are
 printed as one line naming the cause and the value, with exit status 2.
@@ -103,7 +104,119 @@ def _cmd_info(args) -> int:
         f"invariants        max relative error {s.max_invariant_error:.1e}, crease planarity "
         f"{m['crease_planarity_max']:.1e} m",
     ]
+    lines += _shape_lines(model)
     print("\n".join(lines))
+    return 0
+
+
+def _shape_lines(model) -> list:
+    """``ccu info`` lines on the plane layout, global shape, path planarity and target fit."""
+    import numpy as np
+
+    from compas_ccu.analysis.planarity import planarity_along_path
+
+    lines = [f"layout            {model.design.values['layout']['type']}"]
+    planes = model.planes
+    if planes is not None:
+        inc = planes.inclinations()
+        lines.append(
+            f"plane inclination about the actuation axis {np.abs(inc[:, 0]).max():.3f} deg, "
+            f"perpendicular {np.abs(inc[:, 1]).max():.3f} deg (largest between neighbours)"
+        )
+        if planes.plates >= 4:
+            from compas_ccu.analysis import global_curvature
+
+            states = model.mechanism.deploy(np.radians([model.alpha_design]))
+            g = global_curvature(model.plane_curves(states)[0])
+            lines.append(
+                f"global shape      {g.kind} (principal curvatures "
+                f"{g.principal[0]:.4g}, {g.principal[1]:.4g} 1/m at the centre)"
+            )
+    report = planarity_along_path(model, steps=24)
+    worst = report.summary()
+    state = "exact" if report.exact else f"at alpha = {worst['planarity_alpha_at_max']:.4g} deg"
+    lines.append(
+        f"path planarity    {report.max:.2e} m largest crease deviation over 24 states "
+        f"({state}; 'ccu planarity' for the table)"
+    )
+    fit = model.built.target_fit
+    if fit is not None:
+        lines.append(
+            f"target fit        planes {fit.planes} solved, largest miss {fit.max_residual:.2e} m"
+        )
+    return lines
+
+
+def _cmd_planarity(args) -> int:
+    import csv
+    import json
+
+    from compas_ccu.analysis.planarity import planarity_along_path
+
+    if args.steps < 1:
+        raise ValueError(f"--steps must be >= 1, got {args.steps}")
+    model = _load(args.design)
+    report = planarity_along_path(model, steps=args.steps, relax=args.relax)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "planarity.csv", "w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(["alpha_deg", "crease", "deviation_m"])
+        writer.writerows(report.rows())
+    with open(out / "planarity.json", "w") as fh:
+        json.dump(report.summary(), fh, indent=1)
+    files = [out / "planarity.csv", out / "planarity.json"]
+    if args.figure:
+        _need_viz("planarity --figure")
+        from compas_ccu.viz.export import save_figure
+        from compas_ccu.viz.planarity import plot_planarity
+
+        files += save_figure(plot_planarity(model, steps=args.steps), out / "planarity")
+    _say(args, "crease  kind          max deviation (m)  relative   at alpha (deg)  exact")
+    for c in report.creases:
+        _say(
+            args,
+            f"{c['id']:>6}  {c['kind']:<12}  {c['max']:>17.3e}  {c['max_relative']:.2e}  "
+            f"{c['alpha_at_max']:>14.4g}  {'yes' if c['exact'] else 'no'}",
+        )
+    if report.relaxation is not None:
+        r = report.relaxation
+        _say(
+            args,
+            f"relaxed at alpha = {r['alpha']:.4g} deg: isometry error {r['kinematic_isometry']:.2e}"
+            f" m -> {r['relaxed_isometry']:.2e} m, largest strain {r['initial_max_strain']:.2e} "
+            f"-> {r['max_strain']:.2e}, quad planarity {r['quad_planarity']:.2e} m, moved "
+            f"{r['displacement']:.2e} m ({'converged' if r['converged'] else 'NOT converged'})",
+        )
+    for f in files:
+        _say(args, f"wrote {f}")
+    return 0
+
+
+def _cmd_catalog(args) -> int:
+    import importlib.util
+
+    from compas_ccu.catalog import write_catalog
+
+    figures = not args.no_figures and importlib.util.find_spec("matplotlib") is not None
+    if args.steps < 1:
+        raise ValueError(f"--steps must be >= 1, got {args.steps}")
+    result = write_catalog(
+        args.out,
+        names=args.only,
+        steps=args.steps,
+        relax=not args.no_relax,
+        figures=figures,
+        progress=None if args.quiet else (lambda name: print(f"measuring {name}", flush=True)),
+    )
+    for row in result["rows"]:
+        expected = row["expected"] or "-"
+        _say(
+            args,
+            f"{row['name']:<26} expected {expected:<12} measured {row['global_curvature']:<12} "
+            f"planarity {row['planarity_max']:.1e} m",
+        )
+    _say(args, f"wrote {len(result['files'])} files into {Path(args.out)} (table: catalog.md)")
     return 0
 
 
@@ -379,6 +492,38 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--format", default="png,svg", help="png, svg, pdf (default png,svg)")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(func=_cmd_sheet)
+
+    p = sub.add_parser(
+        "planarity",
+        help="crease planarity along the deployment path",
+        description="Measure how far every crease leaves its plane from alpha = 0 to the design "
+        "alpha; write planarity.csv (every state and crease) and planarity.json (per-crease "
+        "maximum). With --relax, also relax the worst state by least squares and report "
+        "the residuals (SPEC §2 fallback).",
+    )
+    p.add_argument("design", help="design TOML file")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--steps", type=int, default=32, help="states along the path (default 32)")
+    p.add_argument("--relax", action="store_true", help="relax the worst state")
+    p.add_argument("--figure", action="store_true", help="also write the planarity figure")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=_cmd_planarity)
+
+    p = sub.add_parser(
+        "catalog",
+        help="regenerate and measure the rule catalog (paper Fig. 9-12)",
+        description="Build every catalog design (crease profiles, plane distance, inclination "
+        "about and perpendicular to the actuation axis, target curves), measure it and write "
+        "DIR/<name>/design.toml + structure.json, catalog.csv / .md / .json and one contact "
+        "sheet per figure (viz extra).",
+    )
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--only", nargs="+", default=None, metavar="NAME", help="only these designs")
+    p.add_argument("--steps", type=int, default=24, help="path states for planarity (24)")
+    p.add_argument("--no-relax", action="store_true", help="skip the least-squares relaxation")
+    p.add_argument("--no-figures", action="store_true", help="skip the contact sheets")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=_cmd_catalog)
 
     p = sub.add_parser(
         "report",

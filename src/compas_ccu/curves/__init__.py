@@ -8,6 +8,9 @@ Classes
 -------
 ArcProfile, CatenaryProfile, ElasticaProfile
     Analytic arches through ``(-span/2, 0)``, ``(0, rise)``, ``(span/2, 0)``.
+FunicularProfile
+    Thrust line of vertical point and distributed loads, same end points, apex height
+    ``rise`` (kinks at point loads).
 SplineProfile
     Cubic spline through control points (may have inflection points).
 PolylineProfile
@@ -29,6 +32,7 @@ from compas_ccu.curves.catenary import CatenaryProfile
 from compas_ccu.curves.discrete import discrete_curvature
 from compas_ccu.curves.elastica import ElasticaProfile
 from compas_ccu.curves.factory import PROFILE_TYPES, profile_from_dict
+from compas_ccu.curves.funicular import FunicularProfile
 from compas_ccu.curves.polyline import PolylineProfile
 from compas_ccu.curves.spline import SplineProfile
 
@@ -37,6 +41,7 @@ __all__ = [
     "ArcProfile",
     "CatenaryProfile",
     "ElasticaProfile",
+    "FunicularProfile",
     "PolylineProfile",
     "Profile",
     "SplineProfile",

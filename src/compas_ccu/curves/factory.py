@@ -10,6 +10,7 @@ from compas_ccu.curves.arc import ArcProfile
 from compas_ccu.curves.base import Profile, require_real
 from compas_ccu.curves.catenary import CatenaryProfile
 from compas_ccu.curves.elastica import ElasticaProfile
+from compas_ccu.curves.funicular import FunicularProfile
 from compas_ccu.curves.polyline import PolylineProfile
 from compas_ccu.curves.spline import SplineProfile
 from compas_ccu.errors import ProfileError
@@ -19,7 +20,14 @@ __all__ = ["PROFILE_TYPES", "profile_from_dict"]
 #: Profile classes by their ``name``.
 PROFILE_TYPES = {
     cls.name: cls
-    for cls in (ArcProfile, CatenaryProfile, ElasticaProfile, SplineProfile, PolylineProfile)
+    for cls in (
+        ArcProfile,
+        CatenaryProfile,
+        ElasticaProfile,
+        SplineProfile,
+        PolylineProfile,
+        FunicularProfile,
+    )
 }
 
 #: Keys read by the caller, not by the factory.
@@ -32,8 +40,9 @@ _REQUIRED_KEYS = {
     "elastica": (("span", "rise"),),
     "spline": (("points",),),
     "polyline": (("points",),),
+    "funicular": (("span", "rise"),),
 }
-_OPTIONAL_KEYS = {"spline": ("bc_type",)}
+_OPTIONAL_KEYS = {"spline": ("bc_type",), "funicular": ("point_loads", "distributed_loads")}
 
 
 def profile_from_dict(spec: Mapping) -> Profile:
@@ -46,6 +55,8 @@ def profile_from_dict(spec: Mapping) -> Profile:
     - ``"spline"``: ``points`` (list of ``[x, y]``), optional ``bc_type``
       (``"natural"`` or ``"not-a-knot"``)
     - ``"polyline"``: ``points`` (list of ``[x, y]``)
+    - ``"funicular"``: ``span``, ``rise``, optional ``point_loads`` (list of ``[x, P]``) and
+      ``distributed_loads`` (list of ``[x0, x1, q0, q1]``); neither: a uniform load
 
     The keys ``"profile"`` and ``"segments"`` may be present; ``"segments"`` is ignored here
     (the caller uses it to sample the profile). ``Profile.parameters()`` plus ``"profile"``

@@ -337,7 +337,7 @@ def build(values: dict) -> BuiltDesign:
                 key="crease.state",
             )
         r = _rulings_3d(values, local, alpha, reference, flip)
-        targets = targets_from_values(values.get("target"))
+        targets = targets_from_values(values.get("target"), flip=flip)
         if targets:
             chain, planes, fit = _fit_targets(layout, targets, local, reference, near0, r)
         else:

@@ -212,8 +212,11 @@ def round_trip(design) -> dict:
     }
 
 
-def write_design(design, path) -> None:
-    """Write a design's document as a TOML file (``tomli_w``)."""
+def write_design(design, path, *, header: str | None = None) -> None:
+    """Write a design's document as a TOML file (``tomli_w``), ``[design]`` first.
+
+    ``header`` (default: the design's description) is written as comment lines on top.
+    """
     import tomli_w
 
     def clean(value):
@@ -225,5 +228,10 @@ def write_design(design, path) -> None:
             raise DesignError(f"cannot write a non-finite number {value!r}")
         return value
 
-    with open(path, "wb") as fh:
-        tomli_w.dump(clean(design.document), fh)
+    doc = clean(design.document)
+    ordered = {k: doc[k] for k in ("design",) if k in doc}
+    ordered.update({k: v for k, v in doc.items() if k != "design"})
+    text = header if header is not None else design.values["design"]["description"]
+    comment = "".join(f"# {line}\n" for line in text.splitlines()) + ("\n" if text else "")
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(comment + tomli_w.dumps(ordered))

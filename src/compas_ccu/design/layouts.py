@@ -67,14 +67,17 @@ class PlaneLayout:
     def inclinations(self) -> np.ndarray:
         """(m, 2) angles (degrees) of plane ``k + 1`` against plane ``k``.
 
-        Column 0: about the actuation rotation axis (the profile ``x`` direction); column 1:
-        perpendicular to it (about the profile ``y`` direction). Signed, right-handed about
-        ``+x`` and ``+y``.
+        Column 0: inclination about the actuation rotation axis (the profile ``x`` direction),
+        the change of the plane's slope ``dz/dy`` as an angle, ``atan(delta(-n_y / n_z))``.
+        Column 1: rotation perpendicular to it (about the profile ``y`` direction), the change
+        of the angle ``atan2(-n_x, n_z)``, exact for radial layouts at any angle.
         """
-        a, b = self.normals[:-1], self.normals[1:]
-        about_x = np.arctan2(b[:, 1], b[:, 2]) - np.arctan2(a[:, 1], a[:, 2])
-        about_y = np.arctan2(b[:, 0], b[:, 2]) - np.arctan2(a[:, 0], a[:, 2])
-        return -np.degrees(np.c_[about_x, -about_y])
+        n = self.normals
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope_y = np.where(np.abs(n[:, 2]) > 1e-12, -n[:, 1] / n[:, 2], 0.0)
+        about_x = np.degrees(np.arctan(np.diff(slope_y)))
+        about_y = np.degrees(np.diff(np.arctan2(-n[:, 0], n[:, 2])))
+        return np.c_[about_x, about_y]
 
 
 def per_plate(value, m: int, key: str) -> np.ndarray:

@@ -85,8 +85,12 @@ class TargetFit:
         }
 
 
-def targets_from_values(section: dict | None) -> TargetCurves:
-    """TargetCurves from the validated ``[target]`` table; checks the curves run along d."""
+def targets_from_values(section: dict | None, *, flip: float = 1.0) -> TargetCurves:
+    """TargetCurves from the validated ``[target]`` table; checks the curves run along d.
+
+    ``flip = -1`` when the leading plate lies right of the profile: the construction's local
+    frame then has ``y = -profile y`` (see :mod:`compas_ccu.design.build`).
+    """
     if not section:
         return TargetCurves()
     out = {}
@@ -106,6 +110,8 @@ def targets_from_values(section: dict | None) -> TargetCurves:
         raise DesignError("needs target.support as well", key="target.support_end")
     if out["support"] is not None and out["support_end"] is None:
         out["support_end"] = out["support"] * np.array([1.0, -1.0])
+    if out["apex"] is not None:
+        out["apex"] = out["apex"] * np.array([1.0, flip])
     return TargetCurves(**out)
 
 
