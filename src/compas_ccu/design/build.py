@@ -257,22 +257,7 @@ def build(values: dict) -> BuiltDesign:
 
     crease = values["crease"]
     layout = values["layout"]
-    spec = {
-        k: v
-        for k, v in crease.items()
-        if v is not None
-        and k
-        in (
-            "profile",
-            "span",
-            "rise",
-            "radius",
-            "angle",
-            "points",
-            "point_loads",
-            "distributed_loads",
-        )
-    }
+    spec = {k: v for k, v in crease.items() if v is not None and k in PROFILE_KEYS}
     try:
         profile = profile_from_dict(spec)
     except ProfileError as exc:

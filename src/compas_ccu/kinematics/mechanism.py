@@ -155,20 +155,14 @@ class Mechanism:
         planarity = np.zeros((k, c))
         placed = np.zeros(c, dtype=bool)
         for i, plate in enumerate(self.plates[1:], start=1):
-            crease = self.creases[plate.crease]
             j = plate.parent
             if plate.boundary == "near":
                 hinge, away = near[:, j], _unit(far[:, j] - near[:, j])
             else:
                 hinge, away = far[:, j], _unit(near[:, j] - far[:, j])
-            if crease.fixed:
-                normal = np.zeros((k, 3))
-                normal[:, 2] = 1.0
-                origins[:, plate.crease] = 0.0
-                planarity[:, plate.crease] = np.abs(hinge[:, :, 2]).max(axis=1)
-            else:
-                origin, normal, dev = fit_planes(hinge, np.asarray(crease.design_normal))
-                origins[:, plate.crease], planarity[:, plate.crease] = origin, dev
+            # the parent is placed, so the crease (its boundary) is known
+            origin, normal, dev = self._crease_plane(plate.crease, near, far)
+            origins[:, plate.crease], planarity[:, plate.crease] = origin, dev
             normals[:, plate.crease] = normal
             mirrored = (
                 away
@@ -180,16 +174,19 @@ class Mechanism:
             far[:, i] = hinge + self._ruling_lengths[i][None, :, None] * mirrored
             placed[plate.crease] = True
         for ci in np.flatnonzero(~placed):  # creases that attach no plate (closing a loop)
-            crease = self.creases[ci]
-            hinge = (near if crease.boundary_a == "near" else far)[:, crease.plate_a]
-            if crease.fixed:
-                normals[:, ci, 2] = 1.0
-                planarity[:, ci] = np.abs(hinge[:, :, 2]).max(axis=1)
-            else:
-                origins[:, ci], normals[:, ci], planarity[:, ci] = fit_planes(
-                    hinge, np.asarray(crease.design_normal)
-                )
+            origins[:, ci], normals[:, ci], planarity[:, ci] = self._crease_plane(ci, near, far)
         return MechanismStates(near, far, origins, normals, planarity, lead.tilts)
+
+    def _crease_plane(self, ci: int, near: np.ndarray, far: np.ndarray):
+        """Plane of crease ``ci`` in ``k`` states: origins, normals (k, 3), planarity (k,)."""
+        crease = self.creases[ci]
+        hinge = (near if crease.boundary_a == "near" else far)[:, crease.plate_a]
+        if crease.fixed:
+            k = len(hinge)
+            normal = np.zeros((k, 3))
+            normal[:, 2] = 1.0
+            return np.zeros((k, 3)), normal, np.abs(hinge[:, :, 2]).max(axis=1)
+        return fit_planes(hinge, np.asarray(crease.design_normal))
 
     def refit(self, states: MechanismStates, near: np.ndarray, far: np.ndarray) -> MechanismStates:
         """States with plates replaced by ``near, far`` (k, p, n + 1, 3) and planes refitted.
@@ -200,15 +197,8 @@ class Mechanism:
         origins = np.zeros((k, c, 3))
         normals = np.zeros((k, c, 3))
         planarity = np.zeros((k, c))
-        for ci, crease in enumerate(self.creases):
-            hinge = (near if crease.boundary_a == "near" else far)[:, crease.plate_a]
-            if crease.fixed:
-                normals[:, ci, 2] = 1.0
-                planarity[:, ci] = np.abs(hinge[:, :, 2]).max(axis=1)
-            else:
-                origins[:, ci], normals[:, ci], planarity[:, ci] = fit_planes(
-                    hinge, np.asarray(crease.design_normal)
-                )
+        for ci in range(c):
+            origins[:, ci], normals[:, ci], planarity[:, ci] = self._crease_plane(ci, near, far)
         return MechanismStates(near, far, origins, normals, planarity, states.tilts)
 
     def deploy(self, alpha) -> MechanismStates:
