@@ -19,6 +19,7 @@ import numpy as np
 from compas_ccu.errors import SelfIntersectionError
 from compas_ccu.kinematics.checks import self_intersecting
 from compas_ccu.kinematics.relations import crease_relations
+from compas_ccu.strips.intrinsics import quad_lengths
 
 __all__ = ["CCUModel"]
 
@@ -139,10 +140,7 @@ class CCUModel:
     @staticmethod
     def _quad_lengths(near: np.ndarray, far: np.ndarray) -> np.ndarray:
         """(k, p, n, 6) side and diagonal lengths of every quad."""
-        a, b = near[..., :-1, :], near[..., 1:, :]
-        c, d = far[..., 1:, :], far[..., :-1, :]
-        pairs = [(a, b), (b, c), (c, d), (d, a), (a, c), (b, d)]
-        return np.stack([np.linalg.norm(y - x, axis=-1) for x, y in pairs], axis=-1)
+        return quad_lengths(near, far)
 
     # -- design facts --------------------------------------------------------------------------
     @property

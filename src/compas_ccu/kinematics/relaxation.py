@@ -16,7 +16,7 @@ Unknowns
 Residuals, for every quad ``a, b, c, d = near[j], near[j + 1], far[j + 1], far[j]`` of every
 non-fixed plate
     * the six relative length errors ``(L - L0) / L0`` of the sides ``ab, bc, cd, da`` and
-      diagonals ``ac, bd`` (the order of ``CCUModel._quad_lengths``);
+      diagonals ``ac, bd`` (the order of ``compas_ccu.strips.intrinsics.quad_lengths``);
     * one planarity residual ``w * h / l0``: ``h = (b - a) . (u x v) / |u x v|`` with
       ``u = c - a``, ``v = d - b`` is the signed distance between the two diagonal lines of the
       quad (zero exactly when the quad is planar; every vertex lies within ``|h|`` of the plane
@@ -62,11 +62,11 @@ import scipy.sparse as sp
 from scipy.optimize import least_squares
 
 from compas_ccu.errors import CCUError, GeometryError
+from compas_ccu.strips.intrinsics import QUAD_LENGTH_PAIRS, quad_corners, quad_lengths
 
 __all__ = ["Relaxation", "relax", "relax_states", "links_from_mechanism"]
 
-# vertex pairs (in quad order a, b, c, d) of the six lengths, as in CCUModel._quad_lengths
-_PAIRS = np.array([(0, 1), (1, 2), (2, 3), (3, 0), (0, 2), (1, 3)])
+_PAIRS = QUAD_LENGTH_PAIRS
 # number of unknowns up to which the trust-region subproblem is solved densely (exact SVD)
 _EXACT_LIMIT = 300
 # lsmr tolerances of the sparse subproblem: scipy's default 1e-6 leaves the trust-region
@@ -169,17 +169,6 @@ def links_from_mechanism(mechanism) -> list:
         for i, plate in enumerate(mechanism.plates)
         if plate.parent is not None
     ]
-
-
-def _quad_lengths(near: np.ndarray, far: np.ndarray) -> np.ndarray:
-    """(..., n, 6) side and diagonal lengths of every quad (order of ``_PAIRS``)."""
-    quads = _quad_corners(near, far)
-    return np.linalg.norm(quads[..., _PAIRS[:, 1], :] - quads[..., _PAIRS[:, 0], :], axis=-1)
-
-
-def _quad_corners(near: np.ndarray, far: np.ndarray) -> np.ndarray:
-    """(..., n, 4, 3) corners a, b, c, d of every quad."""
-    return np.stack([near[..., :-1, :], near[..., 1:, :], far[..., 1:, :], far[..., :-1, :]], -2)
 
 
 def _vertex_plane_distance(quads: np.ndarray) -> np.ndarray:
@@ -453,10 +442,10 @@ class _Problem:
             nfev, njev = int(sol.nfev), int(sol.njev or 0)
             status, message = int(sol.status), str(sol.message)
         out_near, out_far = self.plates(pos)
-        strain = _quad_lengths(out_near, out_far) / self.ref_all - 1.0
-        init_strain = _quad_lengths(init_near, init_far) / self.ref_all - 1.0
-        planarity = _vertex_plane_distance(_quad_corners(out_near, out_far)).max(axis=1)
-        init_planarity = _vertex_plane_distance(_quad_corners(init_near, init_far)).max()
+        strain = quad_lengths(out_near, out_far) / self.ref_all - 1.0
+        init_strain = quad_lengths(init_near, init_far) / self.ref_all - 1.0
+        planarity = _vertex_plane_distance(quad_corners(out_near, out_far)).max(axis=1)
+        init_planarity = _vertex_plane_distance(quad_corners(init_near, init_far)).max()
         moved = np.maximum(
             np.linalg.norm(out_near - near, axis=-1).max(axis=1),
             np.linalg.norm(out_far - far, axis=-1).max(axis=1),
@@ -527,7 +516,7 @@ def relax(
         plate is ``near[j], near[j + 1], far[j + 1], far[j]``.
     reference_lengths : (p, n, 6) float
         Design lengths of every quad: sides ab, bc, cd, da and diagonals ac, bd (the order of
-        ``CCUModel._quad_lengths``); all positive.
+        ``compas_ccu.strips.intrinsics.quad_lengths``); all positive.
     links : list of (int, int, str)
         ``(plate, parent, boundary)`` for every non-leading plate ``1 ... p - 1``: the plate's
         near boundary is the parent's ``"near"`` or ``"far"`` boundary (vertex ``j`` to vertex

@@ -56,6 +56,23 @@ class StripIntrinsics(NamedTuple):
         return self.sector_back + self.sector_forward
 
 
+#: Vertex pairs (quad corners a, b, c, d) of the six quad lengths: sides ab, bc, cd, da and
+#: diagonals ac, bd. Six distances fix four points up to a rigid motion, planarity included.
+QUAD_LENGTH_PAIRS = np.array([(0, 1), (1, 2), (2, 3), (3, 0), (0, 2), (1, 3)])
+
+
+def quad_corners(near: np.ndarray, far: np.ndarray) -> np.ndarray:
+    """(..., n, 4, 3) corners ``a, b, c, d`` of every quad; ``near, far`` are (..., n + 1, 3)."""
+    return np.stack([near[..., :-1, :], near[..., 1:, :], far[..., 1:, :], far[..., :-1, :]], -2)
+
+
+def quad_lengths(near: np.ndarray, far: np.ndarray) -> np.ndarray:
+    """(..., n, 6) side and diagonal lengths of every quad (order of ``QUAD_LENGTH_PAIRS``)."""
+    q = quad_corners(near, far)
+    pairs = QUAD_LENGTH_PAIRS
+    return np.linalg.norm(q[..., pairs[:, 1], :] - q[..., pairs[:, 0], :], axis=-1)
+
+
 def _angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Unsigned angle between rows of ``a`` and ``b`` (any dimension), robust near 0 and pi."""
     if a.shape[-1] == 2:
