@@ -6,15 +6,24 @@ BIN      := $(VENV)/bin
 OUT      ?= out
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup browser demo test lint bench clean
+.PHONY: setup blas browser demo test lint bench clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev]"
+	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea]"
 	@touch $(BIN)/ccu
 
-setup: $(BIN)/ccu
+setup: $(BIN)/ccu blas
+
+# Debian's BLAS / LAPACK for OpenSeesPy (the FE cross-check engine); Kratos needs nothing more.
+blas:
+	@if [ -n "$$(ls /usr/lib/*/libblas.so.3 /usr/lib/libblas.so.3 2>/dev/null)" ]; then :; \
+	elif command -v apt-get >/dev/null 2>&1; then \
+	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$SUDO apt-get install -y -qq libblas3 liblapack3 >/dev/null 2>&1 || \
+	  { $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq libblas3 liblapack3 >/dev/null; }; \
+	else echo "make blas: no libblas.so.3 and no apt-get; install BLAS for OpenSeesPy" >&2; exit 1; fi
 
 # Debian's chromium for the viewer page test (the tests drive it with playwright).
 browser:

@@ -1,5 +1,5 @@
-"""Command line interface: ``ccu deploy | path | info | planarity | catalog | figures | animate |
-view | sheet | report``.
+"""Command line interface: ``ccu deploy | path | info | planarity | catalog | validate | figures |
+animate | view | sheet | report``.
 
 Every command takes a design TOML file (see ``docs/design-files.md``). Errors in the input are
 printed as one line naming the cause and the value, with exit status 2.
@@ -105,8 +105,34 @@ def _cmd_info(args) -> int:
         f"{m['crease_planarity_max']:.1e} m",
     ]
     lines += _shape_lines(model)
+    lines += _validation_lines(args.design)
     print("\n".join(lines))
     return 0
+
+
+def _validation_lines(design: str) -> list:
+    """``ccu info`` lines on the last FE validation of this design file, if any."""
+    from compas_ccu.fea.record import last_validation
+
+    record = last_validation(design)
+    if record is None:
+        return ["FE validation     none yet ('ccu validate' to run one)"]
+    d = record["deviation"]
+    c = record.get("checks") or {}
+    line = (
+        f"FE validation     {record['engine']} {record['mode']}, alpha {record['alpha']:.4g} deg: "
+        f"deviation max {d['max_percent']:.3f} % / mean {d['mean_percent']:.3f} % of span, "
+        f"bending {record['stresses']['max_bending_MPa']:.1f} MPa"
+    )
+    lines = [line]
+    if c:
+        lines.append(
+            f"FE checks         deflection {c['deflection_max_m'] * 1e3:.2f} mm (limit "
+            f"{c['deflection_limit_m'] * 1e3:.2f} mm), utilisation {c['utilisation_max']:.2f}"
+            + ("" if c["deflection_ok"] and c["utilisation_ok"] else "  ** NOT OK **")
+        )
+    lines.append(f"                  ({record['when']}, {record['out']})")
+    return lines
 
 
 def _shape_lines(model) -> list:
@@ -217,6 +243,105 @@ def _cmd_catalog(args) -> int:
             f"planarity {row['planarity_max']:.1e} m",
         )
     _say(args, f"wrote {len(result['files'])} files into {Path(args.out)} (table: catalog.md)")
+    return 0
+
+
+def _cmd_validate(args) -> int:
+    import importlib.util
+    import json
+
+    from compas_ccu.fea.problem import ConvergenceError
+    from compas_ccu.fea.record import agreement, remember
+    from compas_ccu.fea.validation import validate
+
+    model = _load(args.design)
+    options = dict(
+        engine=args.engine,
+        mode=args.mode,
+        element_size=args.element_size,
+        steps=args.steps,
+        alpha=args.alpha,
+        material=args.material,
+        thickness=args.thickness,
+        orthotropic=args.orthotropic,
+        hinge_stiffness=args.hinge_stiffness,
+        control=args.control,
+        checks=not args.no_checks,
+        area_load=args.area_load,
+    )
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    _say(args, f"validating {model.design.name} with {args.engine} ({args.mode}) ...")
+    try:
+        v = validate(model, **options)
+    except ConvergenceError as exc:
+        failure = {
+            "format": "ccu.validation",
+            "version": 1,
+            "design": model.design.name,
+            "engine": args.engine,
+            "mode": args.mode,
+            "converged": False,
+            "failed_step": exc.step,
+            "residual": exc.residual,
+            "message": str(exc),
+        }
+        with open(out / "validation.json", "w") as fh:
+            json.dump(failure, fh, indent=1)
+        raise
+    figures = not args.no_figures and importlib.util.find_spec("matplotlib") is not None
+    files = v.write(out, figures=figures)
+    summary = v.summary()
+    if args.compare:
+        other = "opensees" if args.engine == "kratos" else "kratos"
+        _say(args, f"cross-checking with {other} ...")
+        w = validate(model, **{**options, "engine": other})
+        w.write(out / other, figures=False)
+        summary["agreement"] = agreement(v, w)
+        with open(out / "validation.json", "w") as fh:
+            json.dump(summary, fh, indent=1)
+    remember(args.design, summary, out)
+    d, st, sol = summary["deviation"], summary["stresses"], summary["solver"]
+    _say(
+        args,
+        f"deviation from the kinematic model at alpha = {summary['alpha']:.4g} deg: max "
+        f"{d['max_percent']:.3f} %, mean {d['mean_percent']:.4f} % of the span "
+        f"{summary['span']:.3f} m (max along the path {d['max_percent_along_path']:.3f} %)",
+    )
+    _say(
+        args,
+        f"stresses: bending {st['max_bending_MPa']:.2f} MPa, membrane "
+        f"{st['max_membrane_MPa']:.2f} MPa, moment {st['max_moment_Nm_per_m']:.1f} Nm/m",
+    )
+    c = summary["checks"]
+    if c:
+        _say(
+            args,
+            f"checks (self-weight + {c['load']['area_load_N_per_m2']:.0f} N/m2): deflection "
+            f"{c['deflection_max_m'] * 1e3:.2f} mm <= {c['deflection_limit_m'] * 1e3:.2f} mm "
+            f"{'ok' if c['deflection_ok'] else 'EXCEEDED'}, utilisation "
+            f"{c['utilisation_max']:.2f} {'ok' if c['utilisation_ok'] else 'EXCEEDED'}"
+            + (
+                f", buckling factor {c['buckling_factor']:.3g}"
+                if c.get("buckling_factor") is not None
+                else ""
+            ),
+        )
+    if "agreement" in summary:
+        a = summary["agreement"]
+        _say(
+            args,
+            f"engines agree: positions within {a['position_max_percent']:.2e} % of span, "
+            f"deviation {a['deviation_max_relative']:.1e}, moment {a['moment_max_relative']:.1e}"
+            " (relative)",
+        )
+    _say(
+        args,
+        f"{summary['mesh']['elements']} elements, {sol['steps']} steps, "
+        f"{sum(sol['iterations'])} iterations, {sol['cuts']} cuts, {sol['wall_time_s']:.1f} s",
+    )
+    for f in files:
+        _say(args, f"wrote {f}")
     return 0
 
 
@@ -524,6 +649,40 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-figures", action="store_true", help="skip the contact sheets")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(func=_cmd_catalog)
+
+    p = sub.add_parser(
+        "validate",
+        help="validate the deployment with a nonlinear FE engine",
+        description="Mesh the plates as quad shells (8 mm plywood by default), tie the hinges, "
+        "deploy geometrically nonlinearly and compare with the kinematic model; then check "
+        "the deployed state under self-weight + an area load. Writes validation.json, "
+        "fe_results.npz and fe_stress / fe_deviation / fe_curves pictures into --out.",
+    )
+    p.add_argument("design", help="design TOML file")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--engine", choices=("kratos", "opensees"), default="kratos")
+    p.add_argument("--mode", choices=("displacement", "actuation"), default="displacement")
+    p.add_argument("--element-size", type=float, default=0.1, help="m (default 0.1)")
+    p.add_argument("--steps", type=int, default=8, help="deployment steps (default 8)")
+    p.add_argument("--alpha", type=float, default=None, help="target alpha, degrees")
+    p.add_argument("--material", default="plywood", help="material name (default plywood)")
+    p.add_argument("--thickness", type=float, default=0.008, help="m (default 0.008)")
+    p.add_argument("--orthotropic", action="store_true", help="E1 along the crease, E2 across")
+    p.add_argument(
+        "--hinge-stiffness", type=float, default=0.0, help="rotational hinge spring, Nm/rad/m"
+    )
+    p.add_argument(
+        "--control",
+        choices=("supports", "edges"),
+        default="supports",
+        help="nodes that follow the kinematic path (displacement mode)",
+    )
+    p.add_argument("--area-load", type=float, default=1500.0, help="check load, N/m2 (1500)")
+    p.add_argument("--no-checks", action="store_true", help="skip the structural checks")
+    p.add_argument("--compare", action="store_true", help="cross-check with the other engine")
+    p.add_argument("--no-figures", action="store_true", help="skip the pictures")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=_cmd_validate)
 
     p = sub.add_parser(
         "report",

@@ -1,0 +1,216 @@
+"""Plate materials: a small documented library for the FE model and the bending check.
+
+Values are typical (rounded) mean stiffnesses and characteristic bending strengths from
+manufacturers' data sheets and EN 13986 / EN 1999 tables; they are a starting point, not a design
+value: replace them with your supplier's figures (a design file or the API takes any values).
+
+Direction 1 is the face-grain direction of plywood (the long side of the board), direction 2 the
+cross direction. Units are SI: Pa, kg/m³.
+
+>>> from compas_ccu.materials import material
+>>> m = material("birch-plywood")
+>>> round(m.E1 / 1e9, 1), m.is_isotropic
+(11.0, False)
+>>> round(material("plywood").curvature_limit(0.008), 3)   # f / (E t / 2), 1/m
+0.833
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, replace
+
+from compas_ccu.errors import CCUError
+
+__all__ = ["Material", "MATERIALS", "material", "MaterialError"]
+
+
+class MaterialError(CCUError):
+    """A material name or value is unknown or impossible."""
+
+
+@dataclass(frozen=True)
+class Material:
+    """A plate material: in-plane stiffness in two directions, density and bending strength.
+
+    Parameters
+    ----------
+    name : str
+    E1, E2 : float
+        Young's moduli along direction 1 (face grain) and 2, Pa.
+    G12 : float
+        In-plane shear modulus, Pa; also used for the transverse shear (G13 = G23 = G12).
+    nu12 : float
+        Poisson's ratio (strain in 2 from stress in 1).
+    density : float
+        kg/m³.
+    f1, f2 : float
+        Bending (or yield) strength along 1 and 2, Pa.
+    description : str
+    """
+
+    name: str
+    E1: float
+    E2: float
+    G12: float
+    nu12: float
+    density: float
+    f1: float
+    f2: float
+    description: str = ""
+
+    def __post_init__(self):
+        for key in ("E1", "E2", "G12", "density", "f1", "f2"):
+            value = getattr(self, key)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
+                raise MaterialError(f"material {self.name!r}: {key} must be > 0, got {value!r}")
+        # positive definite plane-stress compliance: nu12^2 < E1 / E2
+        if not (-1.0 < self.nu12 and self.nu12**2 < self.E1 / self.E2 and self.nu12 < 0.5 + 1e-12):
+            raise MaterialError(
+                f"material {self.name!r}: nu12 = {self.nu12!r} gives no positive definite "
+                "stiffness (need -1 < nu12 < 0.5 and nu12^2 < E1/E2)"
+            )
+
+    @classmethod
+    def isotropic(cls, name: str, E: float, nu: float, density: float, strength: float, **kw):
+        """An isotropic material (G = E / 2(1 + ν))."""
+        return cls(name, E, E, E / (2.0 * (1.0 + nu)), nu, density, strength, strength, **kw)
+
+    @property
+    def is_isotropic(self) -> bool:
+        return (
+            self.E1 == self.E2
+            and self.f1 == self.f2
+            and abs(self.G12 - self.E1 / (2.0 * (1.0 + self.nu12))) <= 1e-9 * self.E1
+        )
+
+    @property
+    def nu21(self) -> float:
+        return self.nu12 * self.E2 / self.E1
+
+    @property
+    def E(self) -> float:
+        """Isotropic-equivalent modulus: the mean of E1 and E2, Pa."""
+        return 0.5 * (self.E1 + self.E2)
+
+    @property
+    def strength(self) -> float:
+        """The smaller bending strength, Pa (conservative for an unknown direction)."""
+        return min(self.f1, self.f2)
+
+    def isotropic_equivalent(self) -> Material:
+        """The isotropic material with the mean modulus and the smaller strength."""
+        if self.is_isotropic:
+            return self
+        return Material.isotropic(
+            self.name + " (isotropic)",
+            self.E,
+            self.nu12,
+            self.density,
+            self.strength,
+            description=self.description,
+        )
+
+    def curvature_limit(self, thickness: float, direction: int | None = None) -> float:
+        """Largest curvature before the outer fibre reaches the strength: κ = f / (E t / 2), 1/m.
+
+        Lienhard (2014); ``direction`` 1 or 2 picks that direction's E and f, ``None`` the
+        conservative smaller value of the two.
+        """
+        if not (thickness > 0.0):
+            raise MaterialError(f"thickness must be > 0, got {thickness!r}")
+        if direction is None:
+            return min(self.curvature_limit(thickness, 1), self.curvature_limit(thickness, 2))
+        if direction not in (1, 2):
+            raise MaterialError(f"direction must be 1, 2 or None, got {direction!r}")
+        E, f = (self.E1, self.f1) if direction == 1 else (self.E2, self.f2)
+        return f / (E * thickness / 2.0)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    def with_values(self, **values) -> Material:
+        """A copy with some values replaced (unknown keys are refused)."""
+        unknown = sorted(set(values) - set(self.to_dict()))
+        if unknown:
+            raise MaterialError(
+                f"unknown material key(s) {unknown}; known: {sorted(self.to_dict())}"
+            )
+        return replace(self, **values)
+
+
+MATERIALS = {
+    m.name: m
+    for m in (
+        Material.isotropic(
+            "plywood",
+            9.0e9,
+            0.3,
+            600.0,
+            30.0e6,
+            description="generic 8 mm plywood as an isotropic plate, E = 9 GPa (paper's scale)",
+        ),
+        Material(
+            "birch-plywood",
+            11.0e9,
+            6.0e9,
+            0.6e9,
+            0.05,
+            680.0,
+            45.0e6,
+            35.0e6,
+            description="birch plywood, 7 plies at 9 mm: bending E and f_m,k along / across grain",
+        ),
+        Material(
+            "poplar-plywood",
+            6.5e9,
+            2.5e9,
+            0.4e9,
+            0.05,
+            450.0,
+            30.0e6,
+            18.0e6,
+            description="poplar plywood (light, flexible): bending E and f_m,k along / across grain",
+        ),
+        Material.isotropic(
+            "gfrp",
+            20.0e9,
+            0.25,
+            1900.0,
+            200.0e6,
+            description="glass-fibre reinforced polymer sheet, quasi-isotropic laminate",
+        ),
+        Material.isotropic(
+            "aluminium",
+            70.0e9,
+            0.33,
+            2700.0,
+            130.0e6,
+            description="aluminium sheet EN AW-5754 H22, f = 0.2 % proof strength",
+        ),
+    )
+}
+
+
+def material(spec) -> Material:
+    """A :class:`Material` from a library name, a Material, or a dict of values.
+
+    A dict may name a library ``base`` and override some values:
+    ``{"base": "birch-plywood", "E1": 12e9}``; without ``base`` it must give every value.
+    """
+    if isinstance(spec, Material):
+        return spec
+    if isinstance(spec, str):
+        if spec not in MATERIALS:
+            raise MaterialError(f"unknown material {spec!r}; known: {sorted(MATERIALS)}")
+        return MATERIALS[spec]
+    if isinstance(spec, dict):
+        values = dict(spec)
+        base = values.pop("base", None)
+        if base is not None:
+            return material(base).with_values(**values)
+        try:
+            return Material(**values)
+        except TypeError as exc:
+            raise MaterialError(f"material values {sorted(values)}: {exc}") from None
+    raise MaterialError(f"a material is a name, a dict or a Material, got {spec!r}")

@@ -1,0 +1,378 @@
+"""Pictures of the finite-element validation: the deformed shell and the deployment curves.
+
+:func:`plot_fe_shape` paints a deformed quad mesh coloured by a per-element field, either the
+signed bending stress (paper Fig. 7: tension blue, compression red, white at zero) or the
+deviation from the kinematic model; it uses the cameras, shading and painter's algorithm of
+:mod:`compas_ccu.viz.render`. :func:`plot_fe_curves` draws the deviation and the load–deployment
+curve against the reflection angle α.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from compas_ccu.viz import colors as C
+from compas_ccu.viz.render import _shade, add_colorbar, camera, value_range
+
+__all__ = ["plot_fe_shape", "plot_fe_curves", "FE_MODES"]
+
+FE_MODES = ("stress", "deviation")
+
+_LABELS = {
+    "stress": "bending stress, top surface [MPa]",
+    "deviation": "deviation from kinematic model [% of span]",
+}
+_NAN_RGB = np.array([0.78, 0.78, 0.78])
+
+
+def _check_mesh(positions, elements, values) -> tuple:
+    """Validated ``(positions (N, 3), elements (E, 4) int, element values (E,))``."""
+    positions = np.asarray(positions, dtype=float)
+    if positions.ndim != 2 or positions.shape[1] != 3:
+        raise ValueError(f"positions must have shape (N, 3), got {positions.shape}")
+    elements = np.asarray(elements)
+    if elements.ndim != 2 or elements.shape[1] != 4:
+        raise ValueError(f"elements must have shape (E, 4) (quads), got {elements.shape}")
+    if elements.size and not np.issubdtype(elements.dtype, np.integer):
+        if not np.issubdtype(elements.dtype, np.number) or np.any(elements != np.round(elements)):
+            raise ValueError(f"elements must hold integer node indices, got dtype {elements.dtype}")
+    elements = elements.astype(np.intp)
+    n, e = len(positions), len(elements)
+    if e == 0:
+        raise ValueError("elements must hold at least one quad, got shape (0, 4)")
+    if elements.min() < 0 or elements.max() >= n:
+        raise ValueError(
+            f"element node indices must lie in [0, {n}) for positions of shape {positions.shape}, "
+            f"got [{elements.min()}, {elements.max()}]"
+        )
+    values = np.asarray(values, dtype=float)
+    if values.shape == (e,):
+        return positions, elements, values
+    if values.shape == (n,):
+        return positions, elements, values[elements].mean(axis=1)
+    raise ValueError(
+        f"values must have shape ({e},) (per element) or ({n},) (per node) for elements of shape "
+        f"{elements.shape} and positions of shape {positions.shape}, got {values.shape}"
+    )
+
+
+def _as_segments(edges) -> np.ndarray:
+    edges = np.asarray(edges, dtype=float)
+    if edges.size == 0:
+        return np.zeros((0, 2, 3))
+    if edges.ndim != 3 or edges.shape[1:] != (2, 3):
+        raise ValueError(f"edges must have shape (K, 2, 3) (line segments), got {edges.shape}")
+    return edges
+
+
+def plot_fe_shape(
+    positions,
+    elements,
+    values,
+    *,
+    mode: str = "stress",
+    view="perspective",
+    title: str | None = None,
+    label: str | None = None,
+    vmin: float | None = None,
+    vmax: float | None = None,
+    ax=None,
+    edges=None,
+    cmap=None,
+    figsize=(8.0, 5.6),
+):
+    """A deformed finite-element mesh coloured by a stress or deviation field.
+
+    Parameters
+    ----------
+    positions : (N, 3) float
+        Deformed node coordinates, metres.
+    elements : (E, 4) int
+        Quad elements as node indices into ``positions``.
+    values : (E,) or (N,) float
+        One value per element, or per node (averaged over each element's four nodes). When
+        ``N == E`` the values are taken per element. NaN elements are painted grey.
+    mode : {"stress", "deviation"}
+        ``stress``: signed stresses in Pa, shown in MPa on a diverging map symmetric about zero,
+        tension (positive) blue, compression (negative) red, near zero white (paper Fig. 7).
+        ``deviation``: non-negative values (e.g. % of the span) on a sequential map from 0.
+    view : str or Camera
+        ``perspective``, ``plan``, ``elevation``, ``side`` or a
+        :class:`~compas_ccu.viz.render.Camera`.
+    title : str, optional
+        Axes title.
+    label : str, optional
+        Colour bar label (default by mode).
+    vmin, vmax : float, optional
+        Colour range in the displayed unit (MPa for ``stress``). Stress defaults to
+        ``±max |value|``; giving only one of the two mirrors it about zero. Deviation defaults
+        to ``[0, max]``.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes (a colour bar is added to its figure); default: a new figure.
+    edges : (K, 2, 3) float, optional
+        Line segments (e.g. the creases) drawn as dark lines, in the same depth order as the
+        faces so that faces in front hide them.
+    cmap : str or Colormap, optional
+        Default: the project's diverging (``stress``) or sequential (``deviation``) map.
+    figsize : (float, float)
+        Size of a new figure, inches.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    ValueError
+        For shapes other than the above (the message names the shape), an unknown mode or view,
+        or negative deviation values.
+
+    Notes
+    -----
+    Faces and edge segments are one ``PolyCollection`` (segments as degenerate quads), painted
+    back to front; its attribute ``element_index`` gives, for each of its polygons, the element
+    it draws (``-1`` for an edge segment).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> u, v = np.meshgrid(np.linspace(0, 1, 4), np.linspace(0, 1, 3), indexing="ij")
+    >>> positions = np.c_[u.ravel(), v.ravel(), 0.1 * np.sin(np.pi * u.ravel())]
+    >>> i = (np.arange(3)[:, None] * 3 + np.arange(2)).ravel()
+    >>> elements = np.c_[i, i + 3, i + 4, i + 1]
+    >>> fig = plot_fe_shape(positions, elements, np.linspace(-2e6, 1e6, 6))
+    >>> [float(x) for x in fig.axes[-1].get_ylim()]  # symmetric about zero, in MPa
+    [-2.0, 2.0]
+    """
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import Normalize, to_rgba
+
+    if mode not in FE_MODES:
+        raise ValueError(f"mode must be one of {FE_MODES}, got {mode!r}")
+    positions, elements, values = _check_mesh(positions, elements, values)
+    segments = _as_segments(edges) if edges is not None else np.zeros((0, 2, 3))
+    cam = camera(view)
+
+    finite = np.isfinite(values)
+    if mode == "stress":
+        shown = values / 1e6
+        peak = float(np.abs(shown[finite]).max()) if finite.any() else 0.0
+        if vmin is None and vmax is None:
+            vmin, vmax = -peak, peak
+        elif vmin is None:
+            vmin = -abs(vmax)
+        elif vmax is None:
+            vmax = abs(vmin)
+        cmap = cmap or C.DIVERGING_CMAP
+    else:
+        shown = values
+        if np.any(shown[finite] < 0.0):
+            raise ValueError(
+                f"deviation values must be >= 0, got a minimum of {float(shown[finite].min())!r}"
+            )
+        vmin = 0.0 if vmin is None else vmin
+        cmap = cmap or C.SEQUENTIAL_CMAP
+    mappable = ScalarMappable(norm=Normalize(*value_range(shown, vmin, vmax)), cmap=cmap)
+    rgb = np.tile(_NAN_RGB, (len(shown), 1))
+    rgb[finite] = mappable.to_rgba(shown[finite])[:, :3]
+
+    quads = positions[elements]  # (E, 4, 3)
+    normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
+    rgb = _shade(rgb, normals, cam.axes())
+
+    lo, hi = positions.min(axis=0), positions.max(axis=0)
+    centre = 0.5 * (lo + hi)
+    size = float(np.linalg.norm(hi - lo)) or 1.0
+    xy, depth = cam.project(quads, centre, size)  # (E, 4, 2), (E, 4)
+    e = len(elements)
+
+    # mesh lines: a darker tone of each face (closes the seams between faces, reads as a mesh
+    # on coarse meshes and fades on fine ones)
+    dark = 0.82 if e <= 3000 else 0.92
+    face_rgba = np.c_[rgb, np.ones(e)]
+    edge_rgba = np.c_[rgb * dark, np.ones(e)]
+    widths = np.full(e, 0.25 if e <= 3000 else 0.15)
+    polys, order_depth = xy, depth.mean(axis=1)
+    index = np.arange(e)
+    if len(segments):
+        # segments as degenerate quads a-b-b-a, nudged towards the eye by a third of a quad so
+        # they win against the faces they lie on
+        bias = 0.3 * float(np.median(np.linalg.norm(quads[:, 2] - quads[:, 0], axis=1)))
+        sxy, sd = cam.project(segments, centre, size)
+        k = len(segments)
+        polys = np.concatenate([polys, sxy[:, [0, 1, 1, 0]]])
+        order_depth = np.concatenate([order_depth, sd.mean(axis=1) + bias])
+        face_rgba = np.concatenate([face_rgba, np.zeros((k, 4))])
+        edge_rgba = np.concatenate([edge_rgba, np.tile(to_rgba(C.FREE_EDGE_COLOR), (k, 1))])
+        widths = np.concatenate([widths, np.full(k, 1.8)])
+        index = np.concatenate([index, np.full(k, -1)])
+
+    order = np.argsort(order_depth, kind="stable")
+    collection = PolyCollection(
+        polys[order],
+        facecolors=face_rgba[order],
+        edgecolors=edge_rgba[order],
+        linewidths=widths[order],
+        closed=True,
+        joinstyle="round",
+        capstyle="round",
+    )
+    collection.element_index = index[order]
+
+    if ax is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=figsize, layout="constrained")
+        ax = fig.add_subplot(1, 1, 1)
+    else:
+        fig = ax.figure
+    ax.add_collection(collection)
+    allxy = xy.reshape(-1, 2)
+    plo, phi = allxy.min(axis=0), allxy.max(axis=0)
+    pad = 0.04 * float(max(phi - plo)) or 1.0
+    ax.set_xlim(plo[0] - pad, phi[0] + pad)
+    ax.set_ylim(plo[1] - pad, phi[1] + pad)
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+    add_colorbar(fig, mappable, ax, label or _LABELS[mode])
+    if finite.any():
+        if mode == "stress":
+            note = (
+                f"max tension {max(float(shown[finite].max()), 0.0):.3g} MPa, "
+                f"max compression {max(-float(shown[finite].min()), 0.0):.3g} MPa"
+            )
+        else:
+            note = f"max {float(shown[finite].max()):.3g}, mean {float(shown[finite].mean()):.3g}"
+        ax.text(0.0, 0.0, note, transform=ax.transAxes, fontsize=8, color="#444444", va="bottom")
+    if title:
+        ax.set_title(title, fontsize=11)
+    return fig
+
+
+def _series(name: str, values, m: int) -> np.ndarray:
+    values = np.asarray(values, dtype=float)
+    if values.shape != (m,):
+        raise ValueError(f"{name} must have shape ({m},) like alphas, got {values.shape}")
+    return values
+
+
+def plot_fe_curves(
+    alphas,
+    *,
+    deviation_max,
+    deviation_mean,
+    force=None,
+    energy=None,
+    force_label: str = "generalised force dW/dα [J/rad]",
+    energy_label: str = "strain energy W [J]",
+    x_label: str = "reflection angle α [deg]",
+    title: str | None = None,
+    figsize=(10.0, 4.2),
+):
+    """Deviation from the kinematic model and the load–deployment curve against α.
+
+    Parameters
+    ----------
+    alphas : (M,) float
+        Reflection angles of the analysed states, degrees.
+    deviation_max, deviation_mean : (M,) float
+        Largest and mean deviation of the FE shape from the kinematic model, % of the span.
+    force : (M,) float, optional
+        Generalised force (e.g. dW/dα) of each state.
+    energy : (M,) float, optional
+        Strain energy of each state; on a twin axis when ``force`` is given.
+    force_label, energy_label, x_label : str
+        Axis labels.
+    title : str, optional
+        Figure title.
+    figsize : (float, float)
+        Inches.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Left panel: deviation; right panel: force (and energy), or the text "no load data".
+
+    Raises
+    ------
+    ValueError
+        When a series does not have the shape of ``alphas`` (the message names the shape).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.linspace(0.0, 30.0, 7)
+    >>> fig = plot_fe_curves(a, deviation_max=0.02 * a, deviation_mean=0.01 * a)
+    >>> [len(ax.lines) for ax in fig.axes]
+    [2, 0]
+    """
+    from matplotlib.figure import Figure
+
+    alphas = np.asarray(alphas, dtype=float)
+    if alphas.ndim != 1 or len(alphas) == 0:
+        raise ValueError(f"alphas must have shape (M,) with M >= 1, got {alphas.shape}")
+    m = len(alphas)
+    dmax = _series("deviation_max", deviation_max, m)
+    dmean = _series("deviation_mean", deviation_mean, m)
+    force = None if force is None else _series("force", force, m)
+    energy = None if energy is None else _series("energy", energy, m)
+    marker = "o" if m <= 40 else None
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    left, right = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+    left.plot(alphas, dmax, color="#b2182b", lw=1.6, marker=marker, ms=3.5, label="max")
+    left.plot(alphas, dmean, color="#2166ac", lw=1.4, ls="--", marker=marker, ms=3, label="mean")
+    left.set_xlabel(x_label)
+    left.set_ylabel("deviation from kinematic model [% of span]")
+    left.set_ylim(bottom=0.0)
+    left.grid(True, alpha=0.3)
+    left.legend(frameon=False, fontsize=9)
+    left.set_title("shape deviation", fontsize=10)
+
+    right.set_title("load–deployment", fontsize=10)
+    right.set_xlabel(x_label)
+    if force is None and energy is None:
+        right.text(
+            0.5,
+            0.5,
+            "no load data",
+            transform=right.transAxes,
+            ha="center",
+            va="center",
+            color="#777777",
+            fontsize=11,
+        )
+        right.set_xticks([])
+        right.set_yticks([])
+    else:
+        handles = []
+        if force is not None:
+            handles += right.plot(
+                alphas, force, color="#333333", lw=1.6, marker=marker, ms=3.5, label="force"
+            )
+            right.set_ylabel(force_label)
+            right.axhline(0.0, color="#999999", lw=0.8)
+            right.grid(True, alpha=0.3)
+            twin = right.twinx() if energy is not None else None
+        else:
+            twin = right
+            right.grid(True, alpha=0.3)
+        if energy is not None:
+            handles += twin.plot(
+                alphas,
+                energy,
+                color="#e08214",
+                lw=1.4,
+                ls="-.",
+                marker=marker,
+                ms=3,
+                label="energy",
+            )
+            twin.set_ylabel(energy_label, color="#e08214" if twin is not right else "black")
+        if len(handles) > 1:
+            right.legend(handles=handles, frameon=False, fontsize=9, loc="upper left")
+    if title:
+        fig.suptitle(title, fontsize=12)
+    return fig
