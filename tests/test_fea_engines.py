@@ -439,3 +439,61 @@ def test_hinge_springs_and_spring_ties(engine):
     gap = springs.displacements[-1][ties[:, 0]] - springs.displacements[-1][ties[:, 1]]
     assert 0.0 < np.abs(gap).max() < 1e-9
     np.testing.assert_allclose(springs.displacements, rigid.displacements, atol=1e-8)
+
+
+def test_hinge_carries_half_the_load_of_a_simply_supported_plate(engine):
+    """Plate B hangs between the hinge and a line support: each carries half its load."""
+    n = 4
+    nodes, elements, ties, lengths, offset = two_plates(n)
+    clamp, far = column(0, n), column(n, n, offset)
+    fixed = np.r_[clamp, far]
+    prescribed = np.zeros((2, len(fixed), 3))
+    prescribed[:, n + 1 :, :2] = np.nan  # the far edge is only held vertically
+    loads = np.zeros((len(nodes), 6))
+    inner = np.setdiff1d(np.arange(offset, len(nodes)), np.r_[ties[:, 1], far])
+    loads[inner, 2] = -100.0 / len(inner)
+    problem = FEProblem(
+        nodes,
+        elements,
+        PLYWOOD,
+        0.008,
+        2,
+        ties=ties,
+        tie_lengths=lengths,
+        fixed=fixed,
+        prescribed=prescribed,
+        fixed_rotations=clamp,
+        patterns=[LoadPattern("q", loads, np.array([0.5, 1.0]))],
+    )
+    result = engine.solve(problem, **OPTIONS)
+    assert result.converged
+    hinge = result.tie_forces[-1].sum(axis=0)
+    support = result.reactions[-1][n + 1 :].sum(axis=0)
+    assert hinge[2] == pytest.approx(50.0, rel=1e-3) and np.abs(hinge[:2]).max() < 1e-5
+    assert support[2] == pytest.approx(50.0, rel=1e-3)
+    # and the clamp of plate A takes what the hinge passes on
+    assert result.reactions[-1][: n + 1].sum(axis=0)[2] == pytest.approx(50.0, rel=1e-3)
+
+
+def test_a_moment_on_a_free_hinge_has_no_equilibrium_and_is_reported(engine):
+    """An impossible load: a moment about a free hinge line (a mechanism) never converges."""
+    n = 2
+    nodes, elements, ties, lengths, offset = two_plates(n)
+    clamp = column(0, n)
+    loads = np.zeros((len(nodes), 6))
+    loads[column(n, n, offset), 4] = -10.0  # about -y: the hinge axis
+    problem = FEProblem(
+        nodes,
+        elements,
+        PLYWOOD,
+        0.008,
+        1,
+        ties=ties,
+        tie_lengths=lengths,
+        fixed=clamp,
+        fixed_rotations=clamp,
+        patterns=[LoadPattern("M", loads, np.array([1.0]))],
+    )
+    result = engine.solve(problem, tolerance=1e-6, max_iterations=20, max_cuts=3)
+    assert not result.converged and result.failed_step == 1 and result.steps == 0
+    assert "step 1" in result.message
