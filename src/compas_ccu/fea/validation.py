@@ -80,6 +80,8 @@ class FESettings:
         Allowed deflection as a fraction of the span (1/500).
     prebend : float
         Actuation mode: pre-bending angle, degrees (default: a quarter of the target).
+    actuator_stiffness : float
+        Actuation mode: stiffness of the actuator at every crease end, N/m.
     tolerance, max_cuts, max_iterations
         Newton options of the engine.
     """
@@ -100,6 +102,7 @@ class FESettings:
     area_load: float = 1500.0
     deflection_limit: float = 1.0 / 500.0
     prebend: float | None = None
+    actuator_stiffness: float = 2.0e5
     tolerance: float = 1e-6
     max_cuts: int = 6
     max_iterations: int = 30
@@ -293,9 +296,10 @@ class Validation:
         r = self.result
         if r.tie_forces is None or not len(self.problem.ties):
             return []
-        fixed = self.problem.fixed
+        fixed = self.problem.fixed[self.problem.fixed < len(self.mesh.nodes)]
         _, lengths, crease, _ = _tie_set(self.mesh, fixed)
-        line = np.linalg.norm(r.tie_forces[step], axis=1) / np.maximum(lengths, 1e-12)
+        forces = r.tie_forces[step][: len(lengths)]  # hinge ties first (then any actuators)
+        line = np.linalg.norm(forces, axis=1) / np.maximum(lengths, 1e-12)
         out = []
         for c in np.unique(crease):
             sel = crease == c
@@ -304,7 +308,7 @@ class Validation:
                     "crease": int(c),
                     "max_N_per_m": float(line[sel].max()),
                     "mean_N_per_m": float(line[sel].mean()),
-                    "resultant_N": np.round(r.tie_forces[step][sel].sum(axis=0), 6).tolist(),
+                    "resultant_N": np.round(forces[sel].sum(axis=0), 6).tolist(),
                 }
             )
         return out

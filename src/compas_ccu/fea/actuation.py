@@ -1,0 +1,201 @@
+"""The paper's actuation: pre-bending, then forces at the crease ends, stepped iteratively (§3).
+
+1. **Pre-bending** (``prebend`` degrees, default a quarter of the target): the end rulings follow
+   the kinematic path from the flat stack, so the plates leave the flat, bifurcating state bent
+   the right way (the paper's SOFiSTiK model needed it "to avoid buckling").
+2. **Actuation by forces**: the end rulings are released; the reactions that held the pre-bent
+   state stay on as (dead) loads, and the structure is driven by *actuators* at the crease ends
+   (the feet of every crease): a spring of stiffness ``actuator_stiffness`` from each foot to an
+   anchor that moves towards the foot's kinematic target. The actuator forces are results: split
+   into the component along the leading crease chord (the crease-aligned inward push) and the
+   rest (the outward pull, perpendicular to the crease planes).
+3. **Iteratively**: the springs stretch, so the anchors' final positions are corrected (up to
+   four runs) until the feet reach their targets to 0.1 % of the span.
+
+Pure dead-load control (forces with a statically determinate restraint) was tried first: the
+released pair has no stable equilibrium under dead loads at its feet (Newton fails at 1/64 of the
+first force step even at a fifth of the force), which is why an actuator with a finite stiffness
+— a winch, a jack, a person — is the model here.
+
+The FE shape at each step is compared with the kinematic shape at the angle it actually reached
+(from the span of the leading crease), after a best-fit rigid alignment.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from compas_ccu.fea.mesh import ShellMesh
+from compas_ccu.fea.problem import FEProblem, LoadPattern
+from compas_ccu.strips.curvature import plate_curvature
+
+__all__ = ["actuate", "bending_energy", "rigid_align"]
+
+
+def bending_energy(vertices: np.ndarray, rigidity: float) -> np.ndarray:
+    """(k,) bending energy ``D/2 Σ κ² A`` of the plates of k kinematic states, J.
+
+    Parameters
+    ----------
+    vertices : (k, p, 2n + 2, 3) float
+    rigidity : float
+        Plate bending stiffness ``D = E t³ / 12 (1 - ν²)``, N m.
+    """
+    v = np.asarray(vertices, dtype=float)
+    n = v.shape[-2] // 2 - 1
+    kappa = plate_curvature(v)
+    j = np.arange(n)
+    a, b, c, d = v[..., j, :], v[..., j + 1, :], v[..., n + 2 + j, :], v[..., n + 1 + j, :]
+    area = 0.5 * np.linalg.norm(np.cross(c - a, d - b), axis=-1)
+    k2 = (kappa[..., j] ** 2 + kappa[..., j + 1] ** 2) / 2.0
+    k2 = (k2 + (kappa[..., n + 1 + j] ** 2 + kappa[..., n + 2 + j] ** 2) / 2.0) / 2.0
+    return 0.5 * rigidity * (k2 * area).sum(axis=(-1, -2))
+
+
+def rigid_align(source: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """``source`` moved by the rigid motion that best fits it to ``target`` (Kabsch)."""
+    cs, ct = source.mean(axis=0), target.mean(axis=0)
+    h = (source - cs).T @ (target - ct)
+    u, _, vt = np.linalg.svd(h)
+    d = np.sign(np.linalg.det(vt.T @ u.T))
+    r = vt.T @ np.diag([1.0, 1.0, d]) @ u.T
+    return (source - cs) @ r.T + ct
+
+
+def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
+    """Run the actuation procedure; returns a :class:`~compas_ccu.fea.validation.Validation`."""
+    from compas_ccu.fea.validation import Validation, _solve, _tie_set
+
+    s = settings
+    pre = s.prebend if s.prebend is not None else alpha / 4.0
+    if not (0.0 < pre < alpha):
+        raise ValueError(f"prebend must lie between 0 and the target {alpha:g} deg, got {pre!r}")
+    s1 = max(2, s.steps // 4)
+    s2 = max(2, s.steps - s1)
+    alphas1 = np.linspace(0.0, pre, s1 + 1)[1:]
+    alphas2 = np.linspace(pre, alpha, s2 + 1)[1:]
+    steps = s1 + s2
+    kin = mesh.kinematic(np.array([st.deployed for st in model.path(np.r_[alphas1, alphas2])]))
+    supports = mesh.supports
+    feet = np.intersect1d(supports, mesh.ties.ravel())  # both plates' nodes at every crease end
+    n_nodes = len(mesh.nodes)
+    anchors = n_nodes + np.arange(len(feet))
+    nodes = np.vstack([mesh.nodes, mesh.nodes[feet]])
+    hinge_k = 1e11  # N/m per m of crease: rigid for plates of this size (checked in the tests)
+    ties, lengths, _, _ = _tie_set(mesh, supports)
+    ties_all = np.vstack([ties, np.c_[anchors, feet]])
+    lengths_all = np.r_[lengths, np.full(len(feet), s.actuator_stiffness / hinge_k)]
+    common = dict(
+        nodes=nodes,
+        elements=mesh.elements,
+        material=s.material,
+        thickness=s.thickness,
+        orthotropic=s.orthotropic,
+        directions=mesh.directions,
+        hinge_stiffness=s.hinge_stiffness,
+        hinge_translational_stiffness=hinge_k,
+        ties=ties_all,
+        tie_lengths=lengths_all,
+        fixed_rotations=anchors,
+        name=model.design.name,
+    )
+    fixed = np.r_[supports, anchors]
+    u_sup = kin[:, supports] - mesh.nodes[supports]
+    u_feet = kin[:, feet] - mesh.nodes[feet]
+
+    # stage 1 alone: the reactions that hold the pre-bent state
+    stage1 = FEProblem(
+        steps=s1, fixed=fixed, prescribed=np.concatenate([u_sup, u_feet], 1)[:s1], **common
+    )
+    first = _solve(stage1, s, alphas1)
+    hold = np.zeros((len(nodes), 6))
+    hold[supports, :3] = first.reactions[-1][: len(supports)]
+    held = np.r_[np.zeros(s1 - 1), np.ones(s2 + 1)]  # full while the supports still hold
+
+    correction = np.zeros((len(feet), 3))
+    history = []
+    span_ref = float(np.linalg.norm(np.ptp(kin[-1], axis=0)))
+    for _ in range(4):
+        prescribed = np.full((steps, len(fixed), 3), np.nan)
+        prescribed[:s1, : len(supports)] = u_sup[:s1]
+        ramp = np.r_[np.zeros(s1), np.linspace(1.0 / s2, 1.0, s2)]
+        prescribed[:, len(supports) :] = u_feet + ramp[:, None, None] * correction[None]
+        problem = FEProblem(
+            steps=steps,
+            fixed=fixed,
+            prescribed=prescribed,
+            patterns=[LoadPattern("pre-bending reactions", hold, held)],
+            **common,
+        )
+        result = _solve(problem, s, np.r_[alphas1, alphas2])
+        x = result.positions(nodes)
+        miss = kin[-1, feet] - x[-1, feet]
+        history.append(float(np.linalg.norm(miss, axis=1).max()))
+        if history[-1] <= 1e-3 * span_ref:
+            break
+        correction += miss
+    # positions of the plates only (the anchors are not part of the structure)
+    x = x[:, :n_nodes]
+    forces = s.actuator_stiffness * (
+        (nodes[anchors] + result.displacements[:, anchors]) - x[:, feet]
+    )
+    lead = mesh.ties[mesh.tie_crease == 0, 0]
+    ends = lead[[0, -1]]
+    dense = np.linspace(0.0, alpha, 181)
+    k_dense = mesh.kinematic(np.array([st.deployed for st in model.path(dense, check=False)]))
+    kin_span = np.linalg.norm(k_dense[:, ends[0]] - k_dense[:, ends[1]], axis=1)
+    order = np.argsort(kin_span)
+    fe_span = np.linalg.norm(x[:, ends[0]] - x[:, ends[1]], axis=1)
+    reached = np.interp(fe_span, kin_span[order], dense[order])
+    matched_states = model.path(reached, check=False)
+    matched = mesh.kinematic(np.array([st.deployed for st in matched_states]))
+    aligned = np.array(
+        [np.linalg.norm(rigid_align(x[k], matched[k]) - matched[k], axis=1) for k in range(steps)]
+    )
+    chord = x[:, ends[1]] - x[:, ends[0]]
+    chord /= np.linalg.norm(chord, axis=1, keepdims=True)
+    along = np.einsum("kfi,ki->kf", forces, chord)
+    across = np.linalg.norm(forces - along[..., None] * chord[:, None], axis=2)
+    trimmed = _strip_anchors(result, n_nodes)
+    v = Validation(
+        model,
+        mesh,
+        s,
+        problem,
+        trimmed,
+        reached,
+        matched,
+        np.array([st.metrics["span"] for st in matched_states]),
+        steps,
+    )
+    v.extra["aligned"] = aligned
+    rigidity = s.material.isotropic_equivalent().E1 * s.thickness**3 / 12.0
+    rigidity /= 1.0 - s.material.isotropic_equivalent().nu12 ** 2
+    v.extra["actuation"] = {
+        "prebend_deg": pre,
+        "prebend_steps": s1,
+        "force_steps": s2,
+        "actuator_stiffness_N_per_m": s.actuator_stiffness,
+        "scheduled_alpha": np.r_[alphas1, alphas2].tolist(),
+        "reached_alpha": reached.tolist(),
+        "feet": len(feet),
+        "force_max_N": np.linalg.norm(forces, axis=2).max(axis=1).tolist(),
+        "force_crease_aligned_max_N": np.abs(along).max(axis=1).tolist(),
+        "force_perpendicular_max_N": across.max(axis=1).tolist(),
+        "foot_miss_m": history,
+        "kinematic_bending_energy_J": float(
+            bending_energy(matched_states[-1].deployed[None], rigidity)[0]
+        ),
+    }
+    return v
+
+
+def _strip_anchors(result, n_nodes: int):
+    """The result without the anchor nodes (reactions keep the anchors: the actuator forces)."""
+    from dataclasses import replace
+
+    return replace(
+        result,
+        displacements=result.displacements[:, :n_nodes],
+        rotations=result.rotations[:, :n_nodes],
+    )
