@@ -129,6 +129,11 @@ def _validation_lines(design: str) -> list:
         lines.append(
             f"FE checks         deflection {c['deflection_max_m'] * 1e3:.2f} mm (limit "
             f"{c['deflection_limit_m'] * 1e3:.2f} mm), utilisation {c['utilisation_max']:.2f}"
+            + (
+                f", buckling factor {c['buckling_factor']:.3g}"
+                if c.get("buckling_factor") is not None
+                else ""
+            )
             + ("" if c["deflection_ok"] and c["utilisation_ok"] else "  ** NOT OK **")
         )
     lines.append(f"                  ({record['when']}, {record['out']})")

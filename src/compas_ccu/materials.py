@@ -170,7 +170,7 @@ MATERIALS = {
             450.0,
             30.0e6,
             18.0e6,
-            description="poplar plywood (light, flexible): bending E and f_m,k along / across grain",
+            description="poplar plywood (light, flexible): bending E, f_m,k along / across grain",
         ),
         Material.isotropic(
             "gfrp",

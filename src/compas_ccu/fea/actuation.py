@@ -141,7 +141,7 @@ def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
     )
     lead = mesh.ties[mesh.tie_crease == 0, 0]
     ends = lead[[0, -1]]
-    dense = np.linspace(0.0, alpha, 181)
+    dense = np.linspace(0.0, alpha, 721)
     k_dense = mesh.kinematic(np.array([st.deployed for st in model.path(dense, check=False)]))
     kin_span = np.linalg.norm(k_dense[:, ends[0]] - k_dense[:, ends[1]], axis=1)
     order = np.argsort(kin_span)

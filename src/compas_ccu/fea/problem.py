@@ -228,6 +228,10 @@ class FEResult:
     wall_time : float
         Seconds.
     message : str
+    buckling_factor : float or None
+        Linearised buckling factor of the last state under its loads (if asked for and the
+        engine can), ``inf`` if none under increasing load.
+    buckling_note : str
     """
 
     engine: str
@@ -243,6 +247,8 @@ class FEResult:
     cuts: int = 0
     wall_time: float = 0.0
     message: str = ""
+    buckling_factor: float | None = None
+    buckling_note: str = ""
 
     @property
     def steps(self) -> int:

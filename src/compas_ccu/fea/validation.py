@@ -347,6 +347,8 @@ class Validation:
             "strength_MPa": m.strength / 1e6,
             "utilisation_ok": bool(utilisation[worst] <= 1.0),
             "reaction_total_N": np.round(r.reactions[-1].sum(axis=0), 3).tolist(),
+            "buckling_factor": r.buckling_factor,
+            "buckling_note": r.buckling_note,
         }
 
     # -- summary ----------------------------------------------------------------------------------
@@ -514,10 +516,8 @@ def validate(model, **options) -> Validation:
 
         validation = actuate(model, mesh, settings, alpha=alpha)
     else:
-        problem, alphas, kinematic, spans = deployment_problem(
-            model, mesh, settings, alpha=alpha
-        )
-        result = _solve(problem, settings, alphas)
+        problem, alphas, kinematic, spans = deployment_problem(model, mesh, settings, alpha=alpha)
+        result = _solve(problem, settings, alphas, buckling=settings.checks)
         validation = Validation(
             model, mesh, settings, problem, result, alphas, kinematic, spans, settings.steps
         )
@@ -525,13 +525,16 @@ def validate(model, **options) -> Validation:
     return validation
 
 
-def _solve(problem: FEProblem, settings: FESettings, alphas: np.ndarray) -> FEResult:
+def _solve(
+    problem: FEProblem, settings: FESettings, alphas: np.ndarray, *, buckling: bool = False
+) -> FEResult:
     result = solve(
         problem,
         settings.engine,
         tolerance=settings.tolerance,
         max_iterations=settings.max_iterations,
         max_cuts=settings.max_cuts,
+        buckling=buckling,
     )
     if not result.converged:
         step = result.failed_step

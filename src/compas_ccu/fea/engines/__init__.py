@@ -21,7 +21,7 @@ ENGINES = {
     "opensees": "compas_ccu.fea.engines.opensees",
 }
 
-DEFAULTS = {"tolerance": 1e-6, "max_iterations": 30, "max_cuts": 6}
+DEFAULTS = {"tolerance": 1e-6, "max_iterations": 30, "max_cuts": 6, "buckling": False}
 
 
 def get_engine(name: str):
@@ -37,7 +37,7 @@ def available(name: str) -> tuple:
 
 
 def solve(problem, engine: str = "kratos", **options):
-    """Solve ``problem`` with ``engine``; options: tolerance, max_iterations, max_cuts.
+    """Solve ``problem`` with ``engine``; options: tolerance, max_iterations, max_cuts, buckling.
 
     Returns
     -------

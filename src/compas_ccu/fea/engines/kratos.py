@@ -117,6 +117,8 @@ class _Model:
         )
         self.strategy.SetEchoLevel(0)
         self.strategy.Initialize()
+        self.scheme, self.builder = scheme, builder
+        self.load_scale = 1.0
         self.criterion = criterion
         self.time = 0.0
 
@@ -177,7 +179,9 @@ class _Model:
             kr = p.hinge_stiffness * length
             if kt > 0.0 or kr > 0.0:
                 props = mp.GetProperties()[t + 2]
-                el = mp.CreateNewElement("SpringDamperElement3D", eid, [int(a) + 1, int(b) + 1], props)
+                el = mp.CreateNewElement(
+                    "SpringDamperElement3D", eid, [int(a) + 1, int(b) + 1], props
+                )
                 # the spring element reads its stiffness from the element's own data
                 el.SetValue(SMA.NODAL_DISPLACEMENT_STIFFNESS, KM.Array3([kt, kt, kt]))
                 el.SetValue(SMA.NODAL_ROTATIONAL_STIFFNESS, KM.Array3([kr, kr, kr]))
@@ -215,7 +219,7 @@ class _Model:
                     node.Fix(var)
                     node.SetSolutionStepValue(var, 0, float(v))
         if len(self.loaded):
-            loads = p.loads_at(t)[self.loaded]
+            loads = self.load_scale * p.loads_at(t)[self.loaded]
             for i, row in zip(self.loaded, loads):
                 node = mp.GetNode(int(i) + 1)
                 node.SetSolutionStepValue(SMA.POINT_LOAD, 0, KM.Array3(row[:3].tolist()))
@@ -231,9 +235,11 @@ class _Model:
         self.strategy.Predict()
         converged = bool(self.strategy.SolveSolutionStep())
         iterations = int(mp.ProcessInfo[KM.NL_ITERATION_NUMBER])
-        residual = float(mp.ProcessInfo.GetValue(KM.CONVERGENCE_RATIO)) if hasattr(
-            KM, "CONVERGENCE_RATIO"
-        ) else float("nan")
+        residual = (
+            float(mp.ProcessInfo.GetValue(KM.CONVERGENCE_RATIO))
+            if hasattr(KM, "CONVERGENCE_RATIO")
+            else float("nan")
+        )
         if converged:
             self.strategy.FinalizeSolutionStep()
             self.time = t
@@ -249,7 +255,9 @@ class _Model:
         forces = np.zeros((len(p.elements), 6))
         for e in range(len(p.elements)):
             el = mp.GetElement(e + 1)
-            n = np.mean([np.array(x) for x in el.CalculateOnIntegrationPoints(SMA.SHELL_FORCE, info)], 0)
+            n = np.mean(
+                [np.array(x) for x in el.CalculateOnIntegrationPoints(SMA.SHELL_FORCE, info)], 0
+            )
             m = np.mean(
                 [np.array(x) for x in el.CalculateOnIntegrationPoints(SMA.SHELL_MOMENT, info)], 0
             )
@@ -284,7 +292,7 @@ class _Model:
             r = np.array(rhs)
             for j, i in local:
                 internal[i] -= r[6 * j : 6 * j + 3]
-        net = internal - p.loads_at(self.time)[:, :3]
+        net = internal - self.load_scale * p.loads_at(self.time)[:, :3]
         ties = net[p.ties[:, 1]] if len(p.ties) else np.zeros((0, 3))
         reactions = net[p.fixed].copy()
         where = {int(i): f for f, i in enumerate(p.fixed)}
@@ -292,8 +300,61 @@ class _Model:
             reactions[where[a]] += net[b]
         return reactions, ties
 
+    def tangent(self):
+        """(m, m) tangent stiffness at the current state on the free, independent DOFs."""
+        import scipy.sparse as sp
+        from KratosMultiphysics.scipy_conversion_tools import to_csr
 
-def solve(problem: FEProblem, *, tolerance: float, max_iterations: int, max_cuts: int) -> FEResult:
+        KM, mp = self.KM, self.mp
+        A, b = self.strategy.GetSystemMatrix(), self.strategy.GetSystemVector()
+        self.builder.Build(self.scheme, mp, A, b)
+        self.builder.ApplyConstraints(self.scheme, mp, A, b)
+        if not hasattr(self, "_active"):
+            slaves = {int(c.GetSlaveDofsVector()[0].Id()) for c in mp.MasterSlaveConstraints}
+            comps = [getattr(KM, f"{v}_{c}") for v in ("DISPLACEMENT", "ROTATION") for c in "XYZ"]
+            active = []
+            for node in mp.Nodes:
+                for j, var in enumerate(comps):
+                    if node.IsFixed(var) or (j < 3 and node.Id in slaves):
+                        continue
+                    active.append(node.GetDof(var).EquationId)
+            self._active = np.array(sorted(active), dtype=int)
+        k = sp.csr_matrix(to_csr(A))
+        return k[self._active][:, self._active]
+
+    def buckling(self, delta: float = 0.05) -> tuple:
+        """Linearised buckling factor of the current state under its loads (Kratos only).
+
+        ``K(λ) ≈ K0 + (λ - 1) ΔK`` with ``ΔK = (K(1 + δ) - K0) / δ`` from a second state with the
+        loads raised by δ; the smallest positive λ with ``K(λ)`` singular is the factor by which
+        the loads (self-weight + area load) may grow before the prestressed structure buckles.
+        """
+        import scipy.sparse.linalg as sla
+
+        k0 = self.tangent()
+        self.load_scale = 1.0 + delta
+        ok, _, _ = self.advance(self.time)
+        if not ok:
+            return None, "the loads raised by 5 % did not converge: the state is near a limit point"
+        k1 = self.tangent()
+        dk = (k1 - k0) / delta
+        lu = sla.splu(k0.tocsc())
+        op = sla.LinearOperator(k0.shape, matvec=lambda x: lu.solve(-(dk @ x)), dtype=float)
+        theta = sla.eigs(op, k=min(6, k0.shape[0] - 2), which="LR", return_eigenvectors=False)
+        theta = theta.real[(np.abs(theta.imag) < 1e-9 * np.abs(theta).max()) & (theta.real > 0)]
+        if not theta.size:
+            return float("inf"), "no buckling under increasing load (no positive eigenvalue)"
+        return float(1.0 + 1.0 / theta.max()), "linearised buckling of the loaded deployed state"
+
+
+def solve(
+    problem: FEProblem,
+    *,
+    tolerance: float,
+    max_iterations: int,
+    max_cuts: int,
+    buckling: bool = False,
+) -> FEResult:
     """Solve ``problem`` step by step (see :mod:`compas_ccu.fea.problem`)."""
     start = time.perf_counter()
     history = []  # converged pseudo-times, replayed after a failed attempt
@@ -339,8 +400,13 @@ def solve(problem: FEProblem, *, tolerance: float, max_iterations: int, max_cuts
             np.zeros((0, f, 3)),
             np.zeros((0, len(problem.ties), 3)),
         )
+    factor, note = None, ""
+    if buckling and failed is None:
+        factor, note = model.buckling()
     return FEResult(
         engine="kratos",
+        buckling_factor=factor,
+        buckling_note=note,
         displacements=disp,
         rotations=rot,
         forces=forces,
@@ -354,4 +420,3 @@ def solve(problem: FEProblem, *, tolerance: float, max_iterations: int, max_cuts
         wall_time=time.perf_counter() - start,
         message=message,
     )
-

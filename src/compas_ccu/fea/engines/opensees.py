@@ -310,7 +310,14 @@ class _Model:
         return out
 
 
-def solve(problem: FEProblem, *, tolerance: float, max_iterations: int, max_cuts: int) -> FEResult:
+def solve(
+    problem: FEProblem,
+    *,
+    tolerance: float,
+    max_iterations: int,
+    max_cuts: int,
+    buckling: bool = False,
+) -> FEResult:
     """Solve ``problem`` geometrically nonlinearly with OpenSeesPy, step by step.
 
     Every step i = 1 .. S is first tried in one Newton increment; when Newton does not reach
@@ -399,8 +406,10 @@ def solve(problem: FEProblem, *, tolerance: float, max_iterations: int, max_cuts
     converged = failed_step is None
     if converged:
         message = f"converged: {problem.steps} step(s), {sum(iterations)} iterations, {cuts} cut(s)"
+    note = "linear buckling needs the tangent matrix: available with the kratos engine only"
     return FEResult(
         engine=ENGINE,
+        buckling_note=note if buckling else "",
         converged=converged,
         failed_step=failed_step,
         residual=residual,
