@@ -14,6 +14,7 @@ corotational element state is exactly that of a clean run.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import time
 
@@ -103,14 +104,15 @@ class _Model:
         criterion.SetEchoLevel(0)
         builder = KM.ResidualBasedBlockBuilderAndSolver(solver)
         settings = KM.Parameters(
-            """{
-            "max_iteration": %d,
-            "compute_reactions": true,
-            "reform_dofs_at_each_step": false,
-            "move_mesh_flag": true,
-            "use_old_stiffness_in_first_iteration": true
-        }"""
-            % max_iterations
+            json.dumps(
+                {
+                    "max_iteration": int(max_iterations),
+                    "compute_reactions": False,  # summed from element forces, see nodal_forces
+                    "reform_dofs_at_each_step": False,
+                    "move_mesh_flag": True,
+                    "use_old_stiffness_in_first_iteration": True,
+                }
+            )
         )
         self.strategy = KM.ResidualBasedNewtonRaphsonStrategy(
             mp, scheme, criterion, builder, settings
