@@ -6,7 +6,7 @@ BIN      := $(VENV)/bin
 OUT      ?= out
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo test lint bench clean
+.PHONY: setup blas browser demo test lint bench bench-fea clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -40,6 +40,7 @@ demo: setup
 	$(BIN)/ccu deploy examples/vault.toml --out $(OUT)/vault
 	$(BIN)/ccu path examples/vault.toml --steps 12 --out $(OUT)/vault-path
 	$(BIN)/ccu report examples/vault.toml --out $(OUT)/vault-report
+	$(BIN)/ccu validate examples/cone.toml --out $(OUT)/cone-fe --compare
 	@echo ""
 	@echo "Demo finished. Open the report to see the vault deploy:"
 	@echo "  $(OUT)/vault-report/index.html      (viewer, figures, animation, key figures, all files)"
@@ -49,6 +50,8 @@ demo: setup
 	@echo "  $(OUT)/vault/structure.compas.json (COMPAS meshes)"
 	@echo "  $(OUT)/vault-path/path.csv         (alpha, span, rise, crease planarity per state)"
 	@echo "  $(OUT)/vault-path/states/          (one structure file per state)"
+	@echo "  $(OUT)/cone-fe/                    (FE validation of the cone pair: Kratos + OpenSees)"
+	@echo "FE validation of the vault (about 2 minutes): .venv/bin/ccu validate examples/vault.toml --out $(OUT)/vault-fe"
 
 lint: setup
 	$(BIN)/ruff check src tests benchmarks
@@ -59,6 +62,9 @@ test: setup browser lint
 
 bench: setup
 	$(BIN)/python benchmarks/bench_deploy.py
+
+bench-fea: setup
+	$(BIN)/python benchmarks/bench_fea.py
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info

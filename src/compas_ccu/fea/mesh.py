@@ -12,7 +12,7 @@ at every crease point; :attr:`ShellMesh.ties` pairs them.
 >>> from compas_ccu.fea.mesh import mesh_model
 >>> mesh = mesh_model(CCUModel(load_design("examples/vault.toml")), element_size=0.1)
 >>> mesh.elements.shape, mesh.ties.shape
-((2560, 4), (1161, 2))
+((1920, 4), (585, 2))
 """
 
 from __future__ import annotations

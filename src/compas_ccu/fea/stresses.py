@@ -9,7 +9,7 @@ orientation of that frame, so two engines with different local axes compare dire
 >>> s = surface_stresses(f, thickness=0.01)
 >>> s["top"][0] / 1e6, s["bottom"][0] / 1e6                # sigma11 = -/+ 6 m / t^2
 (array([-0.6,  0. ,  0. ]), array([0.6, 0. , 0. ]))
->>> signed_bending_stress(f, thickness=0.01)[0] / 1e6      # the top surface is compressed
+>>> float(signed_bending_stress(f, thickness=0.01)[0] / 1e6)  # the top surface is compressed
 -0.6
 """
 

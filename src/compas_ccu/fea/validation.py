@@ -34,7 +34,12 @@ import numpy as np
 from compas_ccu.fea.engines import solve
 from compas_ccu.fea.mesh import ShellMesh, mesh_model
 from compas_ccu.fea.problem import ConvergenceError, FEError, FEProblem, FEResult, LoadPattern
-from compas_ccu.fea.stresses import signed_bending_stress, stress_summary, surface_stresses
+from compas_ccu.fea.stresses import (
+    principal,
+    signed_bending_stress,
+    stress_summary,
+    surface_stresses,
+)
 from compas_ccu.materials import material as get_material
 
 __all__ = ["FESettings", "Validation", "validate", "deployment_problem", "MODES", "CONTROLS"]
@@ -324,8 +329,6 @@ class Validation:
         span = float(self.spans[k0])
         m = s.material if s.orthotropic else s.material.isotropic_equivalent()
         stress = surface_stresses(r.forces[-1], thickness=s.thickness)
-        from compas_ccu.fea.stresses import principal
-
         peak = np.maximum(
             np.abs(principal(stress["top"])).max(axis=1),
             np.abs(principal(stress["bottom"])).max(axis=1),
@@ -400,7 +403,14 @@ class Validation:
         }
 
     def write(self, out, *, figures: bool = True) -> list:
-        """Write ``validation.json``, ``fe_results.npz`` and the pictures into ``out``."""
+        """Write ``validation.json``, ``fe_results.npz`` and the pictures into ``out``.
+
+        ``fe_results.npz`` holds, for every step: node ``positions`` and their ``kinematic``
+        positions (k, N, 3), element ``forces`` (k, E, 6) and the plane stresses
+        ``stress_top`` / ``stress_bottom`` / ``stress_membrane`` (k, E, 3) in the element frame,
+        support ``reactions``, hinge ``tie_forces`` (k, T, 3) of the node pairs ``ties``, and the
+        ``deviation`` (k, N) in m; plus the mesh (``nodes``, ``elements``, ``element_plate``).
+        """
         os.makedirs(out, exist_ok=True)
         paths = []
         summary = self.summary()
@@ -409,6 +419,7 @@ class Validation:
             json.dump(summary, f, indent=1)
         paths.append(path)
         path = os.path.join(out, "fe_results.npz")
+        stresses = surface_stresses(self.result.forces, thickness=self.settings.thickness)
         np.savez_compressed(
             path,
             nodes=self.mesh.nodes,
@@ -418,7 +429,12 @@ class Validation:
             positions=self.positions,
             kinematic=self.kinematic,
             forces=self.result.forces,
+            stress_top=stresses["top"],
+            stress_bottom=stresses["bottom"],
+            stress_membrane=stresses["membrane"],
             reactions=self.result.reactions,
+            tie_forces=self.result.tie_forces,
+            ties=self.problem.ties,
             deviation=self.deviation,
         )
         paths.append(path)
@@ -435,19 +451,25 @@ class Validation:
 
         from compas_ccu.viz.fea import plot_fe_curves, plot_fe_shape
 
+        os.makedirs(out, exist_ok=True)
         k = self.deployment_steps - 1
         s = self.settings
         x = self.positions[k]
         name = self.model.design.name
+        # the surface facing up (the extrados) on every plate: alternate plates are mirrored in
+        # the stack, so their element normals point down; bending flips sign between the faces
         bend = signed_bending_stress(self.result.forces[k], thickness=s.thickness)
+        up = self.mesh.element_normals(x) @ self.model.axes[1]
+        bend = np.where(up < 0.0, -bend, bend)
         paths = []
         fig = plot_fe_shape(
             x,
             self.mesh.elements,
             bend,
             mode="stress",
-            title=f"{name}: active bending at alpha = {self.alphas[k]:.1f} deg "
-            f"({self.result.engine}, blue tension / red compression, top surface)",
+            label="bending stress, upper surface [MPa]",
+            title=f"{name}, alpha = {self.alphas[k]:.1f} deg ({self.result.engine}): "
+            "active bending, tension blue, compression red",
         )
         paths.append(os.path.join(out, "fe_stress.png"))
         fig.savefig(paths[-1], dpi=130)
@@ -458,7 +480,7 @@ class Validation:
             self.mesh.elements,
             dev,
             mode="deviation",
-            title=f"{name}: FE vs kinematic model, max {dev.max():.3f} % of span",
+            title=f"{name}: FE against the kinematic model, max {dev.max():.3f} % of span",
         )
         paths.append(os.path.join(out, "fe_deviation.png"))
         fig.savefig(paths[-1], dpi=130)
