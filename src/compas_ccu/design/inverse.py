@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from compas_ccu.analysis.alignment import rigid_align
 from compas_ccu.errors import DesignError
 
 __all__ = ["design_from_crease", "flat_design", "round_trip", "write_design"]
@@ -167,16 +168,6 @@ def flat_design(design, *, name: str | None = None):
     return Design(doc)
 
 
-def _rigid_align(source: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """``source`` moved by the rotation and translation that best fit it to ``target``."""
-    cs, ct = source.mean(axis=0), target.mean(axis=0)
-    h = (source - cs).T @ (target - ct)
-    u, _, vt = np.linalg.svd(h)
-    d = np.sign(np.linalg.det(vt.T @ u.T))
-    rot = vt.T @ np.diag([1.0, 1.0, d]) @ u.T
-    return (source - cs) @ rot.T + ct
-
-
 def round_trip(design) -> dict:
     """Target -> cut pattern -> deploy -> target, for a deployed-state single-crease design.
 
@@ -193,7 +184,7 @@ def round_trip(design) -> dict:
     pattern = flat_design(design).build().deploy(design.alpha)
     a = np.asarray(pattern.deployed).reshape(-1, 3)
     b = np.asarray(target.deployed).reshape(-1, 3)
-    moved = _rigid_align(a, b).reshape(np.shape(target.deployed))
+    moved = rigid_align(a, b).reshape(np.shape(target.deployed))
     dist = np.linalg.norm(moved - np.asarray(target.deployed), axis=-1)
     n = pattern.metrics["segments"]
     span = float(target.metrics["span"])

@@ -25,11 +25,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.analysis.alignment import rigid_align
 from compas_ccu.fea.mesh import ShellMesh
 from compas_ccu.fea.problem import FEProblem, LoadPattern
 from compas_ccu.strips.curvature import plate_curvature
 
-__all__ = ["actuate", "bending_energy", "rigid_align"]
+__all__ = ["actuate", "bending_energy"]
 
 
 def bending_energy(vertices: np.ndarray, rigidity: float) -> np.ndarray:
@@ -50,16 +51,6 @@ def bending_energy(vertices: np.ndarray, rigidity: float) -> np.ndarray:
     k2 = (kappa[..., j] ** 2 + kappa[..., j + 1] ** 2) / 2.0
     k2 = (k2 + (kappa[..., n + 1 + j] ** 2 + kappa[..., n + 2 + j] ** 2) / 2.0) / 2.0
     return 0.5 * rigidity * (k2 * area).sum(axis=(-1, -2))
-
-
-def rigid_align(source: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """``source`` moved by the rigid motion that best fits it to ``target`` (Kabsch)."""
-    cs, ct = source.mean(axis=0), target.mean(axis=0)
-    h = (source - cs).T @ (target - ct)
-    u, _, vt = np.linalg.svd(h)
-    d = np.sign(np.linalg.det(vt.T @ u.T))
-    r = vt.T @ np.diag([1.0, 1.0, d]) @ u.T
-    return (source - cs) @ r.T + ct
 
 
 def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
