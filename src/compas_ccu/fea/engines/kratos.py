@@ -287,15 +287,20 @@ class _Model:
                     adjacent.append((el, local))
             self._adjacent = adjacent
             self._wanted = np.array(sorted(wanted), dtype=int)
-        internal = np.zeros((len(p.nodes), 3))
+        internal = np.zeros((len(p.nodes), 3))  # all elements (shells and springs)
+        shells = np.zeros((len(p.nodes), 3))  # the plates only: what a hinge passes on
         rhs, info = KM.Vector(), mp.ProcessInfo
+        n_shells = len(p.elements)
         for el, local in self._adjacent:
             el.CalculateRightHandSide(rhs, info)
             r = np.array(rhs)
             for j, i in local:
                 internal[i] -= r[6 * j : 6 * j + 3]
-        net = internal - self.load_scale * p.loads_at(self.time)[:, :3]
-        ties = net[p.ties[:, 1]] if len(p.ties) else np.zeros((0, 3))
+                if el.Id <= n_shells:
+                    shells[i] -= r[6 * j : 6 * j + 3]
+        loads = self.load_scale * p.loads_at(self.time)[:, :3]
+        net = internal - loads
+        ties = (shells - loads)[p.ties[:, 1]] if len(p.ties) else np.zeros((0, 3))
         reactions = net[p.fixed].copy()
         where = {int(i): f for f, i in enumerate(p.fixed)}
         for a, b in self.carried:

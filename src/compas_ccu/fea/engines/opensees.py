@@ -288,14 +288,14 @@ class _Model:
             for member in self.members.get(node, [node]):
                 reactions[i] += ops.nodeReaction(member + 1)[:3]
         reactions[np.isnan(p.prescribed_at(t))] = 0.0
-        return disp[:, :3], disp[:, 3:6], forces, reactions, self.tie_forces()
+        return disp[:, :3], disp[:, 3:6], forces, reactions, self.tie_forces(t)
 
-    def tie_forces(self) -> np.ndarray:
-        """(T, 3) internal force of the slave's elements at every tied slave node."""
+    def tie_forces(self, t: float) -> np.ndarray:
+        """(T, 3) force every tie passes to its slave: its elements' internal force, less loads."""
         ops, p = self.ops, self.problem
         out = np.zeros((len(p.ties), 3))
         if not hasattr(self, "_slave_elements"):
-            slave = {int(b): t for t, b in enumerate(p.ties[:, 1])}
+            slave = {int(b): k for k, b in enumerate(p.ties[:, 1])}
             self._slave_elements = [
                 (e, j, slave[int(i)])
                 for e, quad in enumerate(p.elements)
@@ -303,10 +303,12 @@ class _Model:
                 if int(i) in slave
             ]
         cache = {}
-        for e, j, t in self._slave_elements:
+        for e, j, k in self._slave_elements:
             if e not in cache:
                 cache[e] = np.asarray(ops.eleResponse(e + 1, "forces"), dtype=float)
-            out[t] += cache[e][6 * j : 6 * j + 3]
+            out[k] += cache[e][6 * j : 6 * j + 3]
+        if len(p.ties):
+            out -= p.loads_at(t)[p.ties[:, 1], :3]
         return out
 
 
