@@ -45,8 +45,11 @@ def test_mesh_reproduces_the_plates_exactly_at_every_state(cone):
     n = cone.segments
     assert mesh.along == 2 and list(mesh.across) == [8, 8]
     assert mesh.elements.shape == (2 * n * 2 * 8, 4)
-    for alpha in (0.0, 17.0, 40.0):
+    # the geometry-only path gives exactly the structures' vertices
+    many = cone.vertices([0.0, 17.0, 40.0])
+    for k, alpha in enumerate((0.0, 17.0, 40.0)):
         s = cone.deploy(alpha)
+        assert np.array_equal(many[k], s.deployed)
         x = mesh.kinematic(s.deployed)
         # nodes on the model's vertices sit exactly on them; hinge nodes coincide
         corners = (mesh.node_uv[:, 0] == 0) & np.isin(mesh.node_uv[:, 1], (0.0, 1.0))

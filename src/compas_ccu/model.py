@@ -265,6 +265,26 @@ class CCUModel:
             out.append(Structure.from_model(self, states, k, float(alpha), metrics, kinds, flat))
         return out
 
+    def vertices(self, alphas) -> np.ndarray:
+        """(k, p, 2n + 2, 3) world vertices of every plate at reference angles ``alphas`` (deg).
+
+        The plate vertices of :meth:`path` (same order as ``Structure.deployed``) without the
+        metrics, checks and objects: for callers that need many states' geometry only.
+        """
+        states = self.mechanism.deploy(np.radians(np.atleast_1d(np.asarray(alphas, float))))
+        return self.state_vertices(states)
+
+    def state_vertices(self, states, k: int | None = None) -> np.ndarray:
+        """World vertices of placed mechanism states in output plate order.
+
+        (k, p, 2n + 2, 3) for all states, or (p, 2n + 2, 3) for state ``k`` only.
+        """
+        if k is not None:
+            local = np.concatenate([states.near[k], states.far[k]], axis=1)[self.order]
+        else:
+            local = np.concatenate([states.near, states.far], axis=2)[:, self.order]
+        return self._to_world(local)
+
     @property
     def planes(self):
         """The crease planes of a multi-crease layout at the design state, or None.

@@ -100,8 +100,7 @@ class Structure(Data):
     ) -> Structure:
         """Structure of state ``k`` of a :class:`compas_ccu.model.CCUModel` placement."""
         n = model.segments
-        local = np.concatenate([states.near[k], states.far[k]], axis=1)[model.order]
-        deployed = model._to_world(local)
+        deployed = model.state_vertices(states, k)
         creases = []
         for ci, crease in enumerate(model.mechanism.creases):
             pa = model._mech_to_out[crease.plate_a]

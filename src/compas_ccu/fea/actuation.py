@@ -133,7 +133,7 @@ def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
     lead = mesh.ties[mesh.tie_crease == 0, 0]
     ends = lead[[0, -1]]
     dense = np.linspace(0.0, alpha, 721)
-    k_dense = mesh.kinematic(np.array([st.deployed for st in model.path(dense, check=False)]))
+    k_dense = mesh.kinematic(model.vertices(dense))
     kin_span = np.linalg.norm(k_dense[:, ends[0]] - k_dense[:, ends[1]], axis=1)
     order = np.argsort(kin_span)
     fe_span = np.linalg.norm(x[:, ends[0]] - x[:, ends[1]], axis=1)

@@ -138,7 +138,8 @@ def mesh_model(model, *, element_size: float = 0.05) -> ShellMesh:
         raise FEError(f"element_size must be > 0 m, got {element_size!r}")
     n = model.segments
     flat = model.flat()
-    stack = model.path([0.0], check=False)[0].deployed  # (p, 2n + 2, 3) at alpha = 0
+    structure = model.path([0.0], check=False)[0]  # the flat-folded stack
+    stack = structure.deployed  # (p, 2n + 2, 3)
     p_count = len(flat)
     near, far = flat[:, : n + 1, :2], flat[:, n + 1 :, :2]
     seg = np.linalg.norm(np.diff(near, axis=1), axis=2).max()
@@ -195,7 +196,6 @@ def mesh_model(model, *, element_size: float = 0.05) -> ShellMesh:
 
     a_all = np.arange(a_count)
     # hinges: crease vertices of plate a (near or far row) against plate b's near row
-    structure = model.path([0.0], check=False)[0]
     ties, tie_crease, tie_lengths = [], [], []
     on_crease = np.zeros(offsets[-1], dtype=bool)
     for crease in structure.creases:

@@ -286,7 +286,6 @@ class _Model:
                 if local:
                     adjacent.append((el, local))
             self._adjacent = adjacent
-            self._wanted = np.array(sorted(wanted), dtype=int)
         internal = np.zeros((len(p.nodes), 3))  # all elements (shells and springs)
         shells = np.zeros((len(p.nodes), 3))  # the plates only: what a hinge passes on
         rhs, info = KM.Vector(), mp.ProcessInfo
