@@ -11,7 +11,7 @@ CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea]"
+	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab]"
 	@touch $(BIN)/ccu
 
 setup: $(BIN)/ccu blas
@@ -38,6 +38,7 @@ browser:
 demo: setup
 	$(BIN)/ccu info examples/vault.toml
 	$(BIN)/ccu deploy examples/vault.toml --out $(OUT)/vault
+	$(BIN)/ccu fabricate examples/vault.toml --out $(OUT)/vault-fab
 	$(BIN)/ccu path examples/vault.toml --steps 12 --out $(OUT)/vault-path
 	$(BIN)/ccu report examples/vault.toml --out $(OUT)/vault-report
 	$(BIN)/ccu validate examples/cone.toml --out $(OUT)/cone-fe --compare

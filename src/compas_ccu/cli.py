@@ -1,5 +1,5 @@
-"""Command line interface: ``ccu deploy | path | info | planarity | catalog | validate | figures |
-animate | view | sheet | report``.
+"""Command line interface: ``ccu deploy | path | info | planarity | catalog | validate | fabricate |
+figures | animate | view | sheet | report``.
 
 Every command takes a design TOML file (see ``docs/design-files.md``). Errors in the input are
 printed as one line naming the cause and the value, with exit status 2.
@@ -105,8 +105,82 @@ def _cmd_info(args) -> int:
         f"{m['crease_planarity_max']:.1e} m",
     ]
     lines += _shape_lines(model)
+    lines += _thickness_lines(model)
     lines += _validation_lines(args.design)
     print("\n".join(lines))
+    return 0
+
+
+def _thickness_lines(model) -> list:
+    """``ccu info`` lines on the thick plates: stack, corrections, collisions, bending."""
+    from compas_ccu.errors import GeometryError
+    from compas_ccu.thickness import ThickModel
+
+    try:
+        summary = ThickModel(model).summary(path_states=21)
+    except GeometryError as exc:
+        return [f"thickness         not modelled: {exc}"]
+    return thickness_lines(summary)
+
+
+def thickness_lines(summary: dict) -> list:
+    """Text lines of a :meth:`compas_ccu.thickness.ThickModel.summary` (info, fabricate)."""
+    b, c = summary["bending"], summary["collisions"]
+    pairs = summary["pairing"]
+    lines = [
+        f"thickness         {summary['thickness'] * 1e3:.4g} mm {summary['material']}, flat "
+        f"stack {summary['stack_height'] * 1e3:.4g} mm (order {summary['stack_order']})",
+        f"axis-shift hinges {pairs.count('intrados')} intrados-intrados, "
+        f"{pairs.count('extrados')} extrados-extrados; offset crease correction "
+        f"{max(summary['correction_design'], default=0.0) * 1e3:.3g} mm at the design, hinge "
+        f"gap along the path {summary['hinge_gap_max_path'] * 1e3:.3g} mm",
+    ]
+    if c["first"] is None:
+        closest = c["closest"]
+        where = (
+            f" (plates {closest['plates'][0]}/{closest['plates'][1]} at alpha "
+            f"{closest['alpha']:.3g} deg)"
+            if "plates" in closest
+            else ""
+        )
+        lines.append(
+            f"collisions        none from the flat stack to the design; min clearance "
+            f"{c['min_clearance'] * 1e3:.3g} mm{where}"
+        )
+    else:
+        f = c["first"]
+        lines.append(
+            f"collisions        ** plates {f['plates'][0]} and {f['plates'][1]} interpenetrate "
+            f"at alpha {f['alpha']:.4g} deg by {f['depth'] * 1e3:.3g} mm near "
+            f"{[round(v, 3) for v in f['point']]} m **"
+        )
+    worst = b["worst"]
+    lines.append(
+        f"bending check     max curvature {b['max_curvature']:.3g} 1/m, utilisation "
+        f"{b['max_utilisation']:.2f} (plate {worst['plate']} at alpha {worst['alpha']:.3g} deg; "
+        f"limit f/(E t/2) >= {b['curvature_limit_min']:.3g} 1/m)"
+        + ("  ** EXCEEDED: the plates would break **" if b["exceeded"] else "")
+    )
+    return lines
+
+
+def _cmd_fabricate(args) -> int:
+    from compas_ccu.fabrication.fabricate import fabricate
+
+    model = _load(args.design)
+    manifest = fabricate(
+        model,
+        args.out,
+        thickness=args.thickness,
+        material=args.material,
+        grain=args.grain,
+        hinge_width=args.hinge_width,
+        allow_collisions=args.allow_collisions,
+    )
+    for line in thickness_lines(manifest):
+        _say(args, line)
+    for f in manifest["files"]:
+        _say(args, f"wrote {Path(args.out) / f}")
     return 0
 
 
@@ -688,6 +762,28 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-figures", action="store_true", help="skip the pictures")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(func=_cmd_validate)
+
+    p = sub.add_parser(
+        "fabricate",
+        help="write the workshop files (DXF, 3dm, OBJ/glTF, FOLD, assembly sheet)",
+        description="Model the plates' thickness (axis-shift hinges), check collisions from "
+        "the flat stack to the design state and the bending of the plates, then write into "
+        "--out: plates/plate_<id>.dxf (mm; layers CUT, CREASE, RULING_SCORE, LABEL), "
+        "hinges.dxf (textile hinge strips), <name>.3dm (m), solids.obj / solids.glb / "
+        "stack.obj, <name>.fold, assembly.svg / .pdf and fabrication.json. Defaults come from "
+        "the design's [plates] section.",
+    )
+    p.add_argument("design", help="design TOML file")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--thickness", type=float, default=None, help="plate thickness, m")
+    p.add_argument("--material", default=None, help="material name (docs/thickness.md)")
+    p.add_argument("--grain", type=float, default=None, help="grain direction, degrees")
+    p.add_argument("--hinge-width", type=float, default=None, help="hinge strip width, m")
+    p.add_argument(
+        "--allow-collisions", action="store_true", help="write even if the plates collide"
+    )
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=_cmd_fabricate)
 
     p = sub.add_parser(
         "report",

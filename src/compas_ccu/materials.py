@@ -126,6 +126,41 @@ class Material:
         E, f = (self.E1, self.f1) if direction == 1 else (self.E2, self.f2)
         return f / (E * thickness / 2.0)
 
+    def off_axis_modulus(self, angle):
+        """Young's modulus at ``angle`` (radians, scalar or array) from direction 1, Pa.
+
+        ``1/E(φ) = cos⁴φ/E1 + (1/G12 - 2ν12/E1) sin²φ cos²φ + sin⁴φ/E2`` (plane stress).
+        """
+        import numpy as np
+
+        c2, s2 = np.cos(angle) ** 2, np.sin(angle) ** 2
+        return 1.0 / (
+            c2 * c2 / self.E1
+            + (1.0 / self.G12 - 2.0 * self.nu12 / self.E1) * s2 * c2
+            + s2 * s2 / self.E2
+        )
+
+    def off_axis_strength(self, angle):
+        """Bending strength at ``angle`` (radians) from direction 1 (Hankinson's formula), Pa.
+
+        ``f(φ) = f1 f2 / (f1 sin²φ + f2 cos²φ)``, the standard off-grain rule for wood.
+        """
+        import numpy as np
+
+        return self.f1 * self.f2 / (self.f1 * np.sin(angle) ** 2 + self.f2 * np.cos(angle) ** 2)
+
+    def curvature_limit_at(self, thickness: float, angle):
+        """Curvature limit ``f(φ) / (E(φ) t / 2)`` for bending at ``angle`` (radians) to 1, 1/m.
+
+        >>> m = material("birch-plywood")
+        >>> limit = float(m.curvature_limit_at(0.008, 0.0))
+        >>> round(limit, 4) == round(m.curvature_limit(0.008, 1), 4)
+        True
+        """
+        if not (thickness > 0.0):
+            raise MaterialError(f"thickness must be > 0, got {thickness!r}")
+        return self.off_axis_strength(angle) / (self.off_axis_modulus(angle) * thickness / 2.0)
+
     def to_dict(self) -> dict:
         return asdict(self)
 

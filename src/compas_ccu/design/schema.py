@@ -307,6 +307,38 @@ SCHEMA: dict = {
             "(-x) of support.",
         ),
     },
+    "plates": {
+        "_doc": "Plate thickness, material and hinges (paper §5.3, docs/thickness.md): the "
+        "thick solids (axis-shift hinges), the collision and bending checks and the "
+        "fabrication files use them.",
+        "thickness": Key(
+            "float",
+            "Plate thickness t, m (the flat-folded stack is plates x t high).",
+            default=0.008,
+            check=lambda v: 0.0 < v <= 0.1,
+            check_doc="> 0 and <= 0.1",
+        ),
+        "material": Key(
+            "str",
+            "Plate material from the library (docs/thickness.md): its stiffness and strength "
+            "give the curvature limit of the bending check.",
+            default="plywood",
+            choices=("plywood", "birch-plywood", "poplar-plywood", "gfrp", "aluminium"),
+        ),
+        "grain": Key(
+            "float",
+            "Face-grain direction (material direction 1) in every cut pattern, degrees from "
+            "the plane x axis; matters for the orthotropic plywoods.",
+            default=0.0,
+        ),
+        "hinge_width": Key(
+            "float",
+            "Width of the textile hinge strips centred on the creases, m.",
+            default=0.05,
+            check=_positive,
+            check_doc="> 0",
+        ),
+    },
     "plane": {
         "_doc": "Placement of the leading crease plane in world coordinates (metres). Profile "
         "x runs along xaxis, profile y along yaxis; the plane normal is xaxis x yaxis.",

@@ -43,8 +43,9 @@ def plate_curvature(vertices) -> np.ndarray:
     Returns
     -------
     (..., 2n + 2) float
-        Curvature in 1/m, positive where the plate bends towards the normal of its quads
-        (``(far_{j+1} - near_j) x (far_j - near_{j+1})``). The end rulings, which have a quad on
+        Curvature in 1/m, positive where the plate bends away from the normal of its quads
+        (``(far_{j+1} - near_j) x (far_j - near_{j+1})``): that normal then points to the convex
+        side (the extrados). The end rulings, which have a quad on
         one side only, take the value of their neighbour. A single-quad strip is flat (0).
 
     Examples

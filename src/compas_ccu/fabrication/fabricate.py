@@ -1,0 +1,113 @@
+"""``ccu fabricate``: every workshop file of a design in one folder.
+
+Layout of ``OUT``::
+
+    plates/plate_<id>.dxf     one DXF per plate, millimetres: CUT, CREASE, RULING_SCORE, LABEL
+    hinges.dxf                the textile hinge strips as cut patterns (mm)
+    <name>.3dm                Rhino: plates, creases, rulings, solids, cut patterns, stack (m)
+    solids.obj, solids.glb    the thick plates at the design state (OBJ doubles, glTF float32)
+    stack.obj                 the flat-folded stack
+    <name>.fold               FOLD 1.1: folded form, cut patterns, flat-folded stack
+    assembly.svg, assembly.pdf   plate numbering and stacking order
+    fabrication.json          what was written and the checks (stack, corrections, collisions,
+                              bending)
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+__all__ = ["fabricate"]
+
+
+def fabricate(
+    model,
+    out,
+    *,
+    thickness=None,
+    material=None,
+    grain=None,
+    hinge_width=None,
+    allow_collisions: bool = False,
+) -> dict:
+    """Write the fabrication files of ``model`` at its design state into ``out``.
+
+    Parameters
+    ----------
+    model : compas_ccu.model.CCUModel
+    out : str or Path
+    thickness, material, grain, hinge_width : optional
+        Override the design's ``[plates]`` values.
+    allow_collisions : bool
+        Write the files even if the thick plates interpenetrate on the way from the flat stack
+        to the design state.
+
+    Returns
+    -------
+    dict
+        The manifest written to ``fabrication.json``.
+
+    Raises
+    ------
+    SelfIntersectionError
+        The thick plates interpenetrate along the path (unless ``allow_collisions``).
+    GeometryError, MaterialError
+        Impossible thickness, hinge width or material.
+    """
+    from compas_ccu.errors import SelfIntersectionError
+    from compas_ccu.fabrication import fabrication_data
+    from compas_ccu.fabrication.dxf import write_hinge_dxf, write_plate_dxf
+    from compas_ccu.fabrication.fold import write_fold
+    from compas_ccu.fabrication.hinges import hinge_strips
+    from compas_ccu.fabrication.meshes import write_gltf, write_obj
+    from compas_ccu.fabrication.rhino import write_3dm
+    from compas_ccu.fabrication.sheet import write_assembly_sheet
+    from compas_ccu.thickness import ThickModel
+
+    thick = ThickModel(model, thickness=thickness, material=material, grain=grain)
+    summary = thick.summary()
+    first = summary["collisions"]["first"]
+    if first is not None and not allow_collisions:
+        raise SelfIntersectionError(
+            f"thick plates {first['plates'][0]} and {first['plates'][1]} interpenetrate at "
+            f"alpha = {first['alpha']:.4g} deg on the way to the design state (depth "
+            f"{first['depth'] * 1000:.3g} mm near {[round(v, 4) for v in first['point']]} m); "
+            "nothing was written (allow_collisions / --allow-collisions writes anyway)",
+            alpha=first["alpha"],
+            crease=None,
+        )
+    data = fabrication_data(model, thick=thick, hinge_width=hinge_width)
+    out = Path(out)
+    (out / "plates").mkdir(parents=True, exist_ok=True)
+    stem = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in data.name) or "design"
+    files = [
+        write_plate_dxf(data, i, out / "plates" / f"plate_{pid}.dxf")
+        for i, pid in enumerate(data.plate_ids)
+    ]
+    strips = hinge_strips(data)
+    write_hinge_dxf(strips, out / "hinges.dxf", name=data.name)
+    files += [
+        out / "hinges.dxf",
+        write_3dm(data, out / f"{stem}.3dm"),
+        write_obj(data, out / "solids.obj", state="deployed"),
+        write_gltf(data, out / "solids.glb", state="deployed"),
+        write_obj(data, out / "stack.obj", state="stack"),
+        write_fold(data, out / f"{stem}.fold"),
+        write_assembly_sheet(data, out / "assembly.svg"),
+        write_assembly_sheet(data, out / "assembly.pdf"),
+    ]
+    manifest = {
+        "format": "ccu.fabrication",
+        "version": 1,
+        "design": data.name,
+        "alpha": data.alpha,
+        "units": {"dxf": "mm", "3dm": "m", "obj": "m", "glb": "m", "fold": "m"},
+        "files": [str(Path(f).relative_to(out)) for f in files] + ["fabrication.json"],
+        "plates": len(data.plate_ids),
+        "hinge_width": data.hinge_width,
+        "hinge_strips": len(strips),
+        **summary,
+    }
+    (out / "fabrication.json").write_text(json.dumps(manifest, indent=1), encoding="utf-8")
+    return manifest

@@ -1,0 +1,112 @@
+"""Bending check of bending-active plates: κ ≤ f / (E · t/2) (Lienhard 2014, paper §5.3).
+
+A developable plate bends across its rulings only, so the outer-fibre stress at a ruling is
+``σ = E(φ) κ t/2`` with κ the principal curvature (:func:`compas_ccu.strips.curvature.
+plate_curvature`) and φ the angle between the bending direction (normal to the ruling in the cut
+pattern) and the material's direction 1 (the face grain). The utilisation is
+
+    u = |κ| / κ_lim(φ),   κ_lim(φ) = f(φ) / (E(φ) t / 2)
+
+with the off-axis modulus and Hankinson's off-axis strength of
+:class:`compas_ccu.materials.Material` (for isotropic materials simply ``f / (E t/2)``).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from compas_ccu.strips.curvature import plate_curvature
+
+__all__ = ["BendingCheck", "bending_check", "bending_angles"]
+
+
+class BendingCheck(NamedTuple):
+    """Bending utilisation of every plate in ``k`` states.
+
+    Attributes
+    ----------
+    curvature : (k, p, 2n + 2) float
+        Signed principal curvature at every vertex, 1/m.
+    limit : (p, 2n + 2) float
+        Curvature limit at every vertex (depends on the bending direction to the grain), 1/m.
+    utilisation : (k, p, 2n + 2) float
+        ``|κ| / κ_lim``.
+    """
+
+    curvature: np.ndarray
+    limit: np.ndarray
+    utilisation: np.ndarray
+
+    @property
+    def per_plate(self) -> np.ndarray:
+        """(k, p) largest utilisation of every plate in every state."""
+        return self.utilisation.max(axis=2)
+
+    @property
+    def max(self) -> float:
+        return float(self.utilisation.max())
+
+    def worst(self) -> tuple:
+        """(state, plate, vertex) of the largest utilisation."""
+        u = self.utilisation
+        return tuple(int(i) for i in np.unravel_index(u.argmax(), u.shape))
+
+
+def bending_angles(flat, grain: float) -> np.ndarray:
+    """(p, 2n + 2) angle φ (radians) between the bending direction and the grain at every vertex.
+
+    Parameters
+    ----------
+    flat : (p, 2n + 2, 2 or 3) float
+        Cut patterns (plane coordinates).
+    grain : float
+        Grain direction in the cut patterns, radians from the x axis.
+    """
+    flat = np.asarray(flat, dtype=float)
+    n = flat.shape[1] // 2 - 1
+    ruling = flat[:, n + 1 :, :2] - flat[:, : n + 1, :2]
+    # bending direction: normal to the ruling in the pattern
+    bend = np.arctan2(ruling[..., 0], -ruling[..., 1])
+    phi = np.mod(bend - grain, np.pi)
+    return np.concatenate([phi, phi], axis=1)
+
+
+def bending_check(vertices, flat, thickness: float, material, *, grain: float = 0.0):
+    """Curvature against the material's limit at every vertex of every plate and state.
+
+    Parameters
+    ----------
+    vertices : (k, p, 2n + 2, 3) float
+        Deployed mid-surfaces.
+    flat : (p, 2n + 2, 2 or 3) float
+        Their cut patterns.
+    thickness : float
+        m.
+    material : compas_ccu.materials.Material
+    grain : float
+        Grain direction in the cut patterns, radians from the x axis.
+
+    Returns
+    -------
+    BendingCheck
+
+    Examples
+    --------
+    A cylinder of radius 2 m in 8 mm plywood (E 9 GPa, f 30 MPa): κ = 0.5 1/m against the
+    limit 30e6 / (9e9 · 0.004) = 0.8333 1/m, utilisation 0.6.
+
+    >>> import numpy as np
+    >>> from compas_ccu.materials import material
+    >>> phi = np.linspace(0.0, 1.0, 41)
+    >>> ring = np.c_[2 * np.cos(phi), 2 * np.sin(phi), np.zeros_like(phi)]
+    >>> plate = np.concatenate([ring, ring + [0.0, 0.0, 0.5]])[None, None]
+    >>> flat = np.concatenate([np.c_[2 * phi, 0 * phi], np.c_[2 * phi, 0 * phi + 0.5]])[None]
+    >>> check = bending_check(plate, flat, 0.008, material("plywood"))
+    >>> round(check.max, 3)
+    0.6
+    """
+    kappa = plate_curvature(vertices)
+    limit = material.curvature_limit_at(thickness, bending_angles(flat, grain))
+    return BendingCheck(kappa, limit, np.abs(kappa) / limit[None])

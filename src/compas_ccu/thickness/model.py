@@ -1,0 +1,411 @@
+"""Thick plates of a built design: :class:`ThickModel` (axis shift, collisions, bending).
+
+>>> from compas_ccu.design import load_design
+>>> thick = ThickModel(load_design("examples/vault.toml").build(), thickness=0.008)
+>>> round(thick.stack_height * 1000, 9)   # ten 8 mm plates, folded closed
+80.0
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from compas_ccu.errors import GeometryError, SelfIntersectionError
+from compas_ccu.kinematics.mechanism import MechanismStates
+from compas_ccu.materials import MaterialError
+from compas_ccu.materials import material as get_material
+from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thick, solid_faces
+from compas_ccu.thickness.bending import BendingCheck, bending_check
+from compas_ccu.thickness.collision import plate_contacts
+
+__all__ = ["ThickModel", "ThickState", "CollisionReport"]
+
+
+@dataclass
+class ThickState:
+    """One deployed state of the thick plates (world coordinates, plates in id order).
+
+    Attributes
+    ----------
+    alpha : float
+        Reference reflection angle, degrees.
+    mid : (p, 2n + 2, 3) float
+        Mid-surfaces (exact isometries of the cut patterns).
+    solids : (p, 2, 2n + 2, 3) float
+        Lower and upper face vertices of every thick plate (crease edges corrected for the
+        design state).
+    metrics : dict
+    """
+
+    alpha: float
+    mid: np.ndarray
+    solids: np.ndarray
+    metrics: dict = field(default_factory=dict)
+
+
+@dataclass
+class CollisionReport:
+    """Interpenetration check along a deployment path.
+
+    Attributes
+    ----------
+    alphas : (k,) float
+        Checked reference angles, degrees.
+    penetration : (k,) float
+        Largest penetration depth of a face vertex into another plate, m (<= tolerance: none).
+    clearance : (k,) float
+        Smallest gap between plates that share no crease, m.
+    crossing : (k,) bool
+        A plate passes through another one.
+    first : dict or None
+        The first state that interpenetrates: alpha, plates, vertex, point, depth.
+    closest : dict
+        Where the smallest clearance occurs: alpha, plates, vertex, point, clearance.
+    tolerance : float
+    """
+
+    alphas: np.ndarray
+    penetration: np.ndarray
+    clearance: np.ndarray
+    crossing: np.ndarray
+    first: dict | None
+    closest: dict
+    tolerance: float
+
+    @property
+    def ok(self) -> bool:
+        return self.first is None
+
+    def summary(self) -> dict:
+        return {
+            "alphas": [float(self.alphas[0]), float(self.alphas[-1]), len(self.alphas)],
+            "interpenetration": not self.ok,
+            "max_penetration": float(self.penetration.max()),
+            "min_clearance": float(self.clearance.min()),
+            "first": self.first,
+            "closest": self.closest,
+            "tolerance": self.tolerance,
+        }
+
+
+class ThickModel:
+    """The thick plates of a :class:`compas_ccu.model.CCUModel` (paper §5.3).
+
+    Parameters
+    ----------
+    model : compas_ccu.model.CCUModel
+    thickness : float, optional
+        Plate thickness, m; default: the design's ``plates.thickness``.
+    material : str, dict or Material, optional
+        Default: the design's ``plates.material``.
+    grain : float, optional
+        Grain direction in the cut patterns, degrees from the plane x axis; default: the
+        design's ``plates.grain``.
+
+    Raises
+    ------
+    GeometryError
+        Thickness not positive and finite, or too large for the plates (more than half the
+        narrowest plate width), or a design with CCF creases.
+    MaterialError
+        Unknown or impossible material.
+    """
+
+    def __init__(self, model, *, thickness=None, material=None, grain=None):
+        plates = model.design.values.get("plates") or {}
+        thickness = plates.get("thickness", 0.008) if thickness is None else thickness
+        material = plates.get("material", "plywood") if material is None else material
+        grain = plates.get("grain", 0.0) if grain is None else grain
+        if isinstance(thickness, bool) or not isinstance(thickness, (int, float)):
+            raise GeometryError(f"thickness must be a number in metres, got {thickness!r}")
+        if not (math.isfinite(thickness) and thickness > 0.0):
+            raise GeometryError(f"thickness must be a finite length > 0 m, got {thickness!r}")
+        widths = [p.intrinsics.ruling_lengths.min() for p in model.mechanism.plates]
+        narrowest = float(min(widths))
+        if thickness > 0.5 * narrowest:
+            raise GeometryError(
+                f"thickness {thickness:.6g} m is more than half the narrowest plate width "
+                f"({narrowest:.6g} m): the plates would be blocks, not bending-active plates"
+            )
+        if not (isinstance(grain, (int, float)) and math.isfinite(grain)):
+            raise MaterialError(f"grain must be a finite angle in degrees, got {grain!r}")
+        self.model = model
+        self.thickness = float(thickness)
+        self.material = get_material(material)
+        self.grain = float(grain)
+        mech = model.mechanism
+        self.mechanism = mech
+        alpha = model.alpha_design if model.alpha_design > 0.0 else 0.5 * model.alpha_limit
+        probe = mech.deploy(math.radians(min(alpha, 0.5 * model.alpha_limit + 0.5 * alpha)))
+        self.sides = crease_sides(mech, probe)
+        design = self.place([model.alpha_design])
+        self.design_corrections = design.corrections[0]  # (c, n + 1)
+        n = model.segments
+        p = len(mech.plates)
+        self._shift_near = np.zeros((p, n + 1))
+        self._shift_far = np.zeros((p, n + 1))
+        for ci, crease in enumerate(mech.creases):
+            shift = self.design_corrections[ci]
+            (self._shift_near if crease.boundary_a == "near" else self._shift_far)[
+                crease.plate_a
+            ] = shift
+            self._shift_near[crease.plate_b] = shift
+        flat = self.place([0.0])
+        heights = flat.near[0, :, :, 2].mean(axis=1)  # local z of the mid-surfaces
+        order = np.argsort(heights)
+        position = np.empty(p, dtype=int)
+        position[order] = np.arange(p)
+        self.stack_position = [int(position[i]) for i in model.order]  # by plate id
+        self._pairs_neighbours = {tuple(sorted((c.plate_a, c.plate_b))) for c in mech.creases}
+
+    # -- placement ----------------------------------------------------------------------------
+    def place(self, alphas) -> ThickStates:
+        """Thick placement (local frame, mechanism order) at reference angles (degrees)."""
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        s0 = self.mechanism.leading.s0_for_alpha(np.radians(alphas))
+        return place_thick(self.mechanism, s0, self.thickness, self.sides)
+
+    def _faces_local(self, st: ThickStates) -> np.ndarray:
+        return solid_faces(
+            st.near,
+            st.far,
+            st.offsets,
+            self.thickness,
+            self._shift_near[None],
+            self._shift_far[None],
+        )
+
+    def _world(self, local: np.ndarray) -> np.ndarray:
+        return self.model._to_world(local)
+
+    def states(self, alphas) -> list:
+        """:class:`ThickState` objects at reference angles ``alphas`` (degrees)."""
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        st = self.place(alphas)
+        faces = self._faces_local(st)[:, self.model.order]
+        mid = np.concatenate([st.near, st.far], axis=2)[:, self.model.order]
+        metrics = self.metrics(st)
+        out = []
+        for k, alpha in enumerate(alphas):
+            m = {key: np.asarray(v[k]).tolist() for key, v in metrics.items()}
+            out.append(ThickState(float(alpha), self._world(mid[k]), self._world(faces[k]), m))
+        return out
+
+    def deploy(self, alpha: float | None = None) -> ThickState:
+        """The thick plates at ``alpha`` (degrees; default: the design)."""
+        alpha = self.model.alpha_design if alpha is None else float(alpha)
+        return self.states([alpha])[0]
+
+    def flat_stack(self) -> ThickState:
+        """The flat-folded stack (alpha = 0)."""
+        return self.states([0.0])[0]
+
+    @property
+    def stack_height(self) -> float:
+        """Height of the flat-folded stack, m (Σt for plates folded completely closed)."""
+        faces = self._faces_local(self.place([0.0]))[0]
+        z = faces[..., 2]
+        return float(z.max() - z.min())
+
+    @property
+    def stack_order(self) -> list:
+        """Plate ids from the bottom of the flat-folded stack to its top."""
+        ids = self.model.plate_ids
+        return [ids[i] for i in np.argsort(self.stack_position)]
+
+    # -- invariants ---------------------------------------------------------------------------
+    def metrics(self, st: ThickStates) -> dict:
+        """Invariants of ``k`` thick states: (k,) arrays, and (k, c) per crease.
+
+        * ``isometry``, ``quad_planarity``, ``mirror_error``: of the mid-surfaces (exact);
+        * ``hinge_gap``: largest distance between the two facing faces' crease edges;
+        * ``offset_planarity`` (k, c): distance of the uncorrected offset crease from its plane;
+        * ``correction`` (k, c): largest correction along the rulings (paper §5.3).
+        """
+        mstates = MechanismStates(
+            st.near, st.far, st.hinge_origins, st.hinge_normals, st.offset_planarity, st.tilts
+        )
+        inv = self.model.invariants(mstates)
+        faces = self._faces_local(st)
+        n = self.model.segments
+        gaps = []
+        for ci, crease in enumerate(self.mechanism.creases):
+            sa, sb = self.sides[ci]
+            rows = slice(0, n + 1) if crease.boundary_a == "near" else slice(n + 1, 2 * n + 2)
+            fa = faces[:, crease.plate_a, int(sa > 0), rows]
+            fb = faces[:, crease.plate_b, int(sb > 0), : n + 1]
+            gaps.append(np.linalg.norm(fa - fb, axis=-1).max(axis=1))
+        k = st.near.shape[0]
+        return {
+            "isometry": inv["isometry"],
+            "quad_planarity": inv["quad_planarity"],
+            "mirror_error": inv["mirror_error"],
+            "hinge_gap": np.max(gaps, axis=0) if gaps else np.zeros(k),
+            "offset_planarity": st.offset_planarity,
+            "correction": np.abs(st.corrections).max(axis=2),
+        }
+
+    def pairing(self) -> list:
+        """Per crease: which faces the hinge joins, "intrados" or "extrados" (paper Fig. 8c).
+
+        The facing face of a plate is its intrados where the plate bends towards it (concave
+        side, compressed) and its extrados where it bends away; by mirror symmetry both plates of
+        a crease pair the same kind. Measured at the design state on the crease vertices
+        (positive curvature: the quad normal points to the convex side).
+        """
+        from compas_ccu.strips.curvature import plate_curvature
+
+        st = self.place([self.model.alpha_design])
+        verts = np.concatenate([st.near, st.far], axis=2)[0]
+        kappa = plate_curvature(verts)
+        n = self.model.segments
+        out = []
+        for ci, crease in enumerate(self.mechanism.creases):
+            rows = slice(0, n + 1) if crease.boundary_a == "near" else slice(n + 1, 2 * n + 2)
+            k = np.median(self.sides[ci, 0] * kappa[crease.plate_a, rows])
+            out.append("intrados" if k < 0 else ("extrados" if k > 0 else "flat"))
+        return out
+
+    # -- checks -------------------------------------------------------------------------------
+    def collisions(self, alphas=None, *, tolerance: float = 1e-6) -> CollisionReport:
+        """Interpenetration of the thick plates along a path.
+
+        Parameters
+        ----------
+        alphas : (k,) float, optional
+            Reference angles, degrees; default: 41 states from the flat stack to the design.
+        tolerance : float
+            Penetration depth below which plates only touch, m.
+        """
+        if alphas is None:
+            alphas = np.linspace(0.0, self.model.alpha_design, 41)
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        st = self.place(alphas)
+        faces = self._faces_local(st)
+        ruling = (st.far - st.near) / np.linalg.norm(st.far - st.near, axis=-1, keepdims=True)
+        mid_near = st.near + self._shift_near[None, :, :, None] * ruling
+        mid_far = st.far - self._shift_far[None, :, :, None] * ruling
+        p = len(self.mechanism.plates)
+        pairs = [(a, b) for a in range(p) for b in range(p) if a != b]
+        n = self.model.segments
+        rows = {}
+        for crease in self.mechanism.creases:
+            row_a = np.zeros(2 * n + 2, dtype=bool)
+            row_a[: n + 1] = crease.boundary_a == "near"
+            row_a[n + 1 :] = crease.boundary_a == "far"
+            row_b = np.zeros(2 * n + 2, dtype=bool)
+            row_b[: n + 1] = True
+            # vertices of b on the hinge with a, and of a on the hinge with b (both faces)
+            rows[(crease.plate_a, crease.plate_b)] = np.concatenate([row_b, row_b])
+            rows[(crease.plate_b, crease.plate_a)] = np.concatenate([row_a, row_a])
+        hinged = [rows.get(q) for q in pairs]
+        depth, clear, crossing, where = plate_contacts(
+            mid_near, mid_far, st.offsets, faces, self.thickness, pairs=pairs, hinged=hinged
+        )
+        neighbours = np.array([tuple(sorted(q)) in self._pairs_neighbours for q in pairs])
+        penetration = np.maximum(depth.max(axis=1), 0.0)
+        others = clear[:, ~neighbours] if (~neighbours).any() else np.full((len(alphas), 1), np.inf)
+        clearance = others.min(axis=1)
+        ids = self.model.plate_ids
+        to_id = {int(m): ids[int(np.flatnonzero(self.model.order == m)[0])] for m in range(p)}
+
+        def where_(k, q, what, value):
+            a, b = pairs[q]
+            v = int(where[k, q])
+            point = self._world(faces[k, b].reshape(-1, 3)[v][None])[0]
+            return {
+                "alpha": float(alphas[k]),
+                "plates": [to_id[a], to_id[b]],
+                "vertex": v,
+                "point": point.tolist(),
+                what: float(value),
+            }
+
+        bad = (depth > tolerance) | crossing
+        first = None
+        if bad.any():
+            k = int(np.flatnonzero(bad.any(axis=1))[0])
+            q = int(np.flatnonzero(bad[k])[0])
+            first = where_(k, q, "depth", depth[k, q])
+            first["crossing"] = bool(crossing[k, q])
+        closest = {"clearance": float("inf")}
+        if np.isfinite(clearance).any():
+            masked = np.where(neighbours[None], np.inf, clear)
+            k, q = np.unravel_index(np.argmin(masked), masked.shape)
+            closest = where_(int(k), int(q), "clearance", masked[k, q])
+        return CollisionReport(
+            alphas, penetration, clearance, crossing.any(axis=1), first, closest, tolerance
+        )
+
+    def check_collisions(self, alphas=None, **options) -> CollisionReport:
+        """:meth:`collisions`, raising :class:`SelfIntersectionError` on interpenetration."""
+        report = self.collisions(alphas, **options)
+        if report.first is not None:
+            f = report.first
+            how = (
+                "pass through each other"
+                if f.get("crossing")
+                else (f"interpenetrate by {f['depth'] * 1000:.3g} mm")
+            )
+            raise SelfIntersectionError(
+                f"thick plates {f['plates'][0]} and {f['plates'][1]} {how} at alpha = "
+                f"{f['alpha']:.6g} deg, near {np.round(f['point'], 4).tolist()} m "
+                f"(thickness {self.thickness * 1000:.4g} mm)",
+                alpha=f["alpha"],
+                crease=None,
+            )
+        return report
+
+    def bending(self, alphas=None) -> BendingCheck:
+        """Bending utilisation (:func:`compas_ccu.thickness.bending.bending_check`).
+
+        Default states: 21 from the flat stack to the design. Plates in id order.
+        """
+        if alphas is None:
+            alphas = np.linspace(0.0, self.model.alpha_design, 21)
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        st = self.place(alphas)
+        mid = np.concatenate([st.near, st.far], axis=2)[:, self.model.order]
+        return bending_check(
+            mid, self.model.flat(), self.thickness, self.material, grain=math.radians(self.grain)
+        )
+
+    def summary(self, *, path_states: int = 41) -> dict:
+        """Everything ``ccu info`` and the report show: stack, corrections, checks."""
+        alphas = np.linspace(0.0, self.model.alpha_design, path_states)
+        st = self.place(alphas)
+        metrics = self.metrics(st)
+        bend = self.bending(alphas)
+        per_plate = bend.per_plate.max(axis=0)
+        k, plate, vertex = bend.worst()
+        collisions = self.collisions(alphas)
+        design = -1
+        return {
+            "thickness": self.thickness,
+            "material": self.material.name,
+            "grain": self.grain,
+            "stack_height": self.stack_height,
+            "stack_order": self.stack_order,
+            "pairing": self.pairing(),
+            "offset_planarity_design": metrics["offset_planarity"][design].tolist(),
+            "correction_design": metrics["correction"][design].tolist(),
+            "correction_max_path": float(metrics["correction"].max()),
+            "hinge_gap_max_path": float(metrics["hinge_gap"].max()),
+            "isometry_max_path": float(metrics["isometry"].max()),
+            "bending": {
+                "curvature_limit_min": float(bend.limit.min()),
+                "max_curvature": float(np.abs(bend.curvature).max()),
+                "max_utilisation": bend.max,
+                "utilisation_per_plate": per_plate.tolist(),
+                "worst": {
+                    "alpha": float(alphas[k]),
+                    "plate": self.model.plate_ids[plate],
+                    "vertex": vertex,
+                },
+                "exceeded": bool(bend.max > 1.0),
+            },
+            "collisions": collisions.summary(),
+        }

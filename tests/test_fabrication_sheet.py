@@ -1,0 +1,72 @@
+"""The assembly sheet: SVG and PDF written, with the plate ids, stack order and assembly text."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+matplotlib = pytest.importorskip("matplotlib")
+
+from compas_ccu.fabrication import fabrication_data  # noqa: E402
+from compas_ccu.fabrication.sheet import write_assembly_sheet  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def data(vault_model):
+    return fabrication_data(vault_model, thickness=0.008, material="plywood", hinge_width=0.05)
+
+
+@pytest.fixture(scope="module")
+def svg_text(data, tmp_path_factory):
+    path = tmp_path_factory.mktemp("sheet") / "assembly.svg"
+    with matplotlib.rc_context({"svg.fonttype": "none"}):
+        out = write_assembly_sheet(data, path)
+    assert out == path
+    assert path.stat().st_size > 10_000
+    return path.read_text(encoding="utf-8")
+
+
+def _texts(svg: str) -> list:
+    return [t.strip() for t in re.findall(r"<text[^>]*>([^<]*)</text>", svg)]
+
+
+def test_svg_has_every_plate_and_its_stack_position(data, svg_text):
+    texts = _texts(svg_text)
+    p = len(data.plate_ids)
+    assert len(texts) > 2 * p
+    for i, pid in enumerate(data.plate_ids):
+        assert f"P{pid}" in texts  # the plate id in large type on its pattern (and the section)
+        assert texts.count(f"P{pid}") >= 2
+        assert f"stack {data.stack_position[i] + 1} of {p}" in texts
+    joined = " ".join(texts)
+    assert "stack" in joined.lower()
+
+
+def test_svg_title_and_assembly(data, svg_text):
+    joined = " ".join(_texts(svg_text))
+    assert data.name in joined and data.material in joined
+    p = len(data.plate_ids)
+    assert f"t = {data.thickness * 1000:g} mm" in joined
+    assert f"stack height \u03a3t = {p * data.thickness * 1000:g} mm" in joined
+    assert "face up" in joined
+    # bottom-to-top order and one hinge entry per crease (crease c between plates a and b)
+    order = sorted(range(p), key=lambda i: data.stack_position[i])
+    assert ", ".join(f"P{data.plate_ids[i]}" for i in order) in re.sub(r"\s+", " ", joined)
+    for c in data.creases:
+        a, b = c["plates"]
+        assert f"c{c['id']}: P{a}-P{b}" in joined
+        assert f"c{c['id']}" in _texts(svg_text)  # the crease marker in the stack section
+
+
+def test_pdf(data, tmp_path):
+    path = write_assembly_sheet(data, tmp_path / "assembly.pdf")
+    blob = path.read_bytes()
+    assert blob.startswith(b"%PDF")
+    assert len(blob) > 10_000
+    assert blob.rstrip().endswith(b"%%EOF")
+
+
+def test_bad_suffix(data, tmp_path):
+    with pytest.raises(ValueError, match=r"\.docx"):
+        write_assembly_sheet(data, tmp_path / "assembly.docx")

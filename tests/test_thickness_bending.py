@@ -1,0 +1,99 @@
+"""Bending check κ ≤ f / (E t/2) (Lienhard 2014): hand examples, orthotropy, flags."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES
+
+from compas_ccu.cli import main
+from compas_ccu.design import load_design
+from compas_ccu.materials import material
+from compas_ccu.thickness import ThickModel, bending_check
+
+
+def _cylinder(radius=2.0, angle=1.0, width=0.5, n=40, grain_axis="x"):
+    """A plate rolled to a cylinder of ``radius``: rulings along z, bending along the arc."""
+    phi = np.linspace(0.0, angle, n + 1)
+    ring = np.c_[radius * np.cos(phi), radius * np.sin(phi), np.zeros_like(phi)]
+    plate = np.concatenate([ring, ring + [0.0, 0.0, width]])[None, None]
+    s = radius * phi
+    flat = np.concatenate([np.c_[s, 0 * s], np.c_[s, 0 * s + width]])[None]
+    return plate, flat
+
+
+def test_hand_example_plywood_cylinder():
+    """R = 2 m, 8 mm plywood: κ = 0.5 1/m, κ_lim = 30 MPa / (9 GPa · 4 mm) = 0.8333 1/m → 0.6."""
+    plate, flat = _cylinder()
+    check = bending_check(plate, flat, 0.008, material("plywood"))
+    assert np.abs(check.curvature).max() == pytest.approx(0.5, rel=2e-4)
+    assert check.limit.min() == pytest.approx(30e6 / (9e9 * 0.004), rel=1e-12)
+    assert check.max == pytest.approx(0.6, rel=2e-4)
+    assert check.per_plate.shape == (1, 1)
+
+
+@pytest.mark.parametrize(
+    "grain, limit",
+    [
+        (0.0, 45e6 / (11e9 * 0.004)),  # bending along the grain: f1 / (E1 t/2) = 1.0227
+        (90.0, 35e6 / (6e9 * 0.004)),  # across: f2 / (E2 t/2) = 1.4583
+        # 45°: 1/E = (1/E1 + 1/E2 + 1/G12 - 2 nu12/E1) / 4 -> E = 2.0886 GPa;
+        # Hankinson f = f1 f2 / ((f1 + f2) / 2) = 39.375 MPa -> 4.7131 1/m
+        (45.0, 39.375e6 * (1 / 11e9 + 1 / 6e9 + 1 / 0.6e9 - 0.1 / 11e9) / 4 / 0.004),
+    ],
+)
+def test_orthotropic_birch_limit_by_grain_direction(grain, limit):
+    plate, flat = _cylinder()
+    check = bending_check(plate, flat, 0.008, material("birch-plywood"), grain=math.radians(grain))
+    assert check.limit[0, 1:-1] == pytest.approx(np.full(check.limit.shape[1] - 2, limit), rel=1e-6)
+    assert check.max == pytest.approx(0.5 / limit, rel=2e-4)
+
+
+def test_poplar_is_more_flexible_across_than_along():
+    m = material("poplar-plywood")
+    along, across = m.curvature_limit_at(0.008, 0.0), m.curvature_limit_at(0.008, math.pi / 2)
+    assert along == pytest.approx(30e6 / (6.5e9 * 0.004))
+    assert across == pytest.approx(18e6 / (2.5e9 * 0.004))
+
+
+def test_vault_utilisation_per_plate(vault_model):
+    thick = ThickModel(vault_model, thickness=0.008, material="plywood")
+    check = thick.bending(np.linspace(0.0, 30.0, 7))
+    assert check.utilisation[0].max() < 1e-12  # the flat stack is unbent
+    per_plate = check.per_plate
+    assert per_plate.shape == (7, 10)
+    assert np.all(np.diff(per_plate.max(axis=1)) > 0)  # bending grows as the vault opens
+    # u = |κ| / (f / (E t/2)) with the measured curvature
+    assert check.max == pytest.approx(np.abs(check.curvature).max() / (30e6 / 36e6), rel=1e-12)
+    assert 0.4 < check.max < 0.7
+    summary = thick.summary(path_states=7)["bending"]
+    assert summary["exceeded"] is False
+    assert summary["max_utilisation"] == pytest.approx(check.max)
+
+
+def test_thicker_plates_fail_and_are_flagged(vault_model, capsys):
+    """Doubling t halves the curvature limit: 16 mm plywood would break in the vault."""
+    thick = ThickModel(vault_model, thickness=0.016)
+    summary = thick.summary(path_states=5)["bending"]
+    assert summary["max_utilisation"] == pytest.approx(
+        2 * ThickModel(vault_model).summary(path_states=5)["bending"]["max_utilisation"], rel=1e-9
+    )
+    assert summary["exceeded"] is True
+
+
+def test_info_flags_exceeded_bending(tmp_path, capsys):
+    text = (EXAMPLES / "vault.toml").read_text()
+    text += '\n[plates]\nthickness = 0.016\nmaterial = "plywood"\n'
+    if text.count("[plates]") > 1:  # the example already has a [plates] section
+        text = (EXAMPLES / "vault.toml").read_text().replace(
+            "thickness = 0.008", "thickness = 0.016"
+        )
+    path = tmp_path / "thick-vault.toml"
+    path.write_text(text)
+    assert load_design(path).values["plates"]["thickness"] == 0.016
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "EXCEEDED" in out
+    assert "16 mm plywood" in out
