@@ -87,8 +87,8 @@ def test_info_flags_exceeded_bending(tmp_path, capsys):
     text = (EXAMPLES / "vault.toml").read_text()
     text += '\n[plates]\nthickness = 0.016\nmaterial = "plywood"\n'
     if text.count("[plates]") > 1:  # the example already has a [plates] section
-        text = (EXAMPLES / "vault.toml").read_text().replace(
-            "thickness = 0.008", "thickness = 0.016"
+        text = (
+            (EXAMPLES / "vault.toml").read_text().replace("thickness = 0.008", "thickness = 0.016")
         )
     path = tmp_path / "thick-vault.toml"
     path.write_text(text)

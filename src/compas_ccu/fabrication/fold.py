@@ -99,7 +99,7 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
-def _signed_angle(nl, nr, e) -> tuple:
+def _signed_angle(nl, nr, e) -> np.ndarray:
     """FOLD fold angle (deg) between left / right unit normals about the unit edge ``e``."""
     s = -np.einsum("ij,ij->i", np.cross(nl, nr), e)
     theta = np.degrees(np.arctan2(s, np.einsum("ij,ij->i", nl, nr)))

@@ -143,6 +143,12 @@ def write_report(
     structure = model.deploy()
     path_structures = model.path(np.linspace(0.0, model.alpha_design, int(steps) + 1))
     report.figures = design_figures(model, structure, path_structures)
+    try:
+        from compas_ccu.thickness import ThickModel
+
+        report.figures["thickness"] = ThickModel(model).summary(path_states=int(steps) + 1)
+    except CCUError as exc:
+        report.skipped["thickness"] = str(exc)
     figures: dict = {}
 
     def data():
@@ -338,6 +344,7 @@ def _page(model, structure, report: Report, figures: dict, elapsed: float) -> st
         if p != report.index
     )
     description = f'<p class="sub">{e(f["description"])}</p>' if f["description"] else ""
+    thick = _thickness_section(f.get("thickness"))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
@@ -353,12 +360,76 @@ def _page(model, structure, report: Report, figures: dict, elapsed: float) -> st
 <h3>Creases at the design state</h3>
 <table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
 <th>planarity</th></tr>{crease_rows}</table>
+{thick}
 {anim}
 <h2 id="figures">Figures</h2>{"".join(figs)}
 {"<h2>Not produced</h2><ul>" + skipped + "</ul>" if skipped else ""}
 <h2 id="files">Files</h2><table>{file_rows}</table>
 </body></html>
 """
+
+
+def _thickness_section(t) -> str:
+    """The page's "Thickness and bending" section from ``ThickModel.summary()``."""
+    if not t:
+        return ""
+    e = html.escape
+    b, c = t["bending"], t["collisions"]
+    if c["first"] is None:
+        closest = c["closest"]
+        where = (
+            f" (plates {closest['plates'][0]} / {closest['plates'][1]} at α "
+            f"{closest['alpha']:.3g}°)"
+            if "plates" in closest
+            else ""
+        )
+        collide = f"none; smallest clearance {c['min_clearance'] * 1e3:.3g} mm{where}"
+    else:
+        f = c["first"]
+        collide = (
+            f'<b class="skip">plates {f["plates"][0]} and {f["plates"][1]} interpenetrate at '
+            f"α {f['alpha']:.4g}° by {f['depth'] * 1e3:.3g} mm</b>"
+        )
+    worst = b["worst"]
+    verdict = (
+        '<b class="skip">EXCEEDED: the plates would break</b>'
+        if b["exceeded"]
+        else "within the limit"
+    )
+    pairs = t["pairing"]
+    rows = [
+        ("Plates", f"{t['thickness'] * 1e3:.4g} mm {e(t['material'])}, grain {t['grain']:g}°"),
+        ("Flat-folded stack height (Σt)", f"{t['stack_height'] * 1e3:.4g} mm"),
+        ("Stack order, bottom to top", ", ".join(f"P{i}" for i in t["stack_order"])),
+        (
+            "Axis-shift hinges (Fig. 8c)",
+            f"{pairs.count('intrados')} intrados–intrados, "
+            f"{pairs.count('extrados')} extrados–extrados",
+        ),
+        (
+            "Offset-crease correction at the design state",
+            f"{max(t['correction_design'], default=0.0) * 1e3:.3g} mm",
+        ),
+        ("Hinge gap along the path", f"{t['hinge_gap_max_path'] * 1e3:.3g} mm"),
+        ("Collisions, flat stack → design", collide),
+        ("Largest plate curvature", f"{b['max_curvature']:.4g} 1/m"),
+        (
+            "Bending utilisation κ / (f / (E t/2))",
+            f"{b['max_utilisation']:.3f} (plate {worst['plate']} at α {worst['alpha']:.3g}°): "
+            f"{verdict}",
+        ),
+    ]
+    body = "\n".join(f"<tr><th>{e(a)}</th><td>{v}</td></tr>" for a, v in rows)
+    return (
+        '<h2 id="thickness">Thickness and bending (paper §5.3)</h2>'
+        f"<table>{body}</table>"
+        "<p>Per plate utilisation: "
+        + ", ".join(
+            f"P{i}: {u:.2f}"
+            for i, u in zip(range(len(b["utilisation_per_plate"])), b["utilisation_per_plate"])
+        )
+        + "</p>"
+    )
 
 
 def _size(path: Path) -> str:

@@ -1,0 +1,108 @@
+"""``ccu fabricate``: every file from one command, read back against the thick model."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES
+
+pytest.importorskip("ezdxf")
+pytest.importorskip("rhino3dm")
+pytest.importorskip("trimesh")
+
+from compas_ccu.cli import main  # noqa: E402
+from compas_ccu.fabrication.dxf import read_plate_dxf  # noqa: E402
+from compas_ccu.fabrication.fold import read_fold  # noqa: E402
+from compas_ccu.fabrication.rhino import read_3dm_summary  # noqa: E402
+from compas_ccu.thickness import ThickModel  # noqa: E402
+
+VAULT = str(EXAMPLES / "vault.toml")
+
+
+@pytest.fixture(scope="module")
+def fabricated(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fab")
+    assert main(["fabricate", VAULT, "--out", str(out), "--quiet"]) == 0
+    return out, json.loads((out / "fabrication.json").read_text())
+
+
+def test_manifest_lists_every_file(fabricated):
+    out, manifest = fabricated
+    assert manifest["format"] == "ccu.fabrication"
+    for name in manifest["files"]:
+        assert (out / name).is_file() and (out / name).stat().st_size > 0, name
+    suffixes = {name.rsplit(".", 1)[-1] for name in manifest["files"]}
+    assert suffixes == {"dxf", "3dm", "obj", "glb", "fold", "svg", "pdf", "json"}
+    assert sum(name.startswith("plates/") for name in manifest["files"]) == 10
+
+
+def test_manifest_numbers(fabricated, vault_model):
+    _, m = fabricated
+    assert m["stack_height"] == pytest.approx(0.080, abs=1e-12)
+    assert m["thickness"] == 0.008 and m["material"] == "plywood"
+    assert m["collisions"]["interpenetration"] is False
+    assert m["collisions"]["min_clearance"] == pytest.approx(0.008, abs=1e-12)
+    assert 0.4 < m["bending"]["max_utilisation"] < 0.7
+    assert m["bending"]["exceeded"] is False
+    assert max(m["correction_design"]) < 1e-12
+    assert m["stack_order"] == ThickModel(vault_model).stack_order
+
+
+def test_plate_dxf_matches_cut_pattern(fabricated, vault_model):
+    out, _ = fabricated
+    flat = vault_model.flat()
+    n = vault_model.segments
+    order = np.r_[np.arange(n + 1), np.arange(2 * n + 1, n, -1)]
+    for i, pid in enumerate(vault_model.plate_ids):
+        plate = read_plate_dxf(out / "plates" / f"plate_{pid}.dxf")
+        assert np.abs(plate["outline"] - flat[i, order, :2]).max() < 1e-5  # 0.01 mm
+        assert len(plate["rulings"]) == n - 1
+        assert any(f"{pid}" in text for text in plate["labels"])
+
+
+def test_3dm_layers_and_solids(fabricated, vault_model):
+    out, _ = fabricated
+    summary = read_3dm_summary(out / "vault.3dm")
+    assert summary["units"] == "Meters"
+    layers = summary["layers"]
+    for name in ("plates", "creases", "rulings", "solids", "cut patterns"):
+        assert name in layers
+    assert layers["solids"]["count"] == 10
+    assert layers["creases"]["count"] == len(vault_model.mechanism.creases)
+
+
+def test_fold_file_has_the_structure(fabricated, vault_model):
+    out, _ = fabricated
+    fold = read_fold(out / "vault.fold")
+    assert fold["file_spec"] == 1.1
+    n = vault_model.segments
+    assert len(fold["faces_vertices"]) == 10 * n
+    assignments = set(fold["edges_assignment"])
+    assert {"B", "F"} <= assignments and assignments & {"M", "V"}
+
+
+def test_stack_obj_is_sum_of_thicknesses(fabricated, vault_model):
+    import trimesh
+
+    out, _ = fabricated
+    scene = trimesh.load(out / "stack.obj", force="scene")
+    points = np.concatenate([g.vertices for g in scene.geometry.values()])
+    heights = (points - vault_model.origin) @ vault_model.axes[2]
+    assert np.ptp(heights) == pytest.approx(0.080, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    "option, message",
+    [
+        (["--thickness", "0"], "thickness must be a finite length > 0"),
+        (["--thickness", "0.3"], "more than half the narrowest plate width"),
+        (["--material", "balsa"], "unknown material 'balsa'"),
+        (["--hinge-width", "-0.01"], "hinge width must be a finite number > 0"),
+    ],
+)
+def test_bad_values_refused(tmp_path, capsys, option, message):
+    assert main(["fabricate", VAULT, "--out", str(tmp_path / "x"), *option]) == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "x" / "fabrication.json").exists()
