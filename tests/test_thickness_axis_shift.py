@@ -6,12 +6,12 @@ import math
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, make_design
 
 from compas_ccu.design import load_design
 from compas_ccu.errors import DesignError, GeometryError
 from compas_ccu.materials import MaterialError
 from compas_ccu.thickness import ThickModel, vertex_offsets
+from conftest import EXAMPLES, make_design
 
 T = 0.008
 

@@ -6,12 +6,12 @@ import math
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
 
 from compas_ccu.cli import main
 from compas_ccu.design import load_design
 from compas_ccu.materials import material
 from compas_ccu.thickness import ThickModel, bending_check
+from conftest import EXAMPLES
 
 
 def _cylinder(radius=2.0, angle=1.0, width=0.5, n=40, grain_axis="x"):

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
 
 from compas_ccu.design import load_design
 from compas_ccu.errors import SelfIntersectionError
 from compas_ccu.thickness import ThickModel, solid_faces, vertex_offsets
 from compas_ccu.thickness.collision import plate_contacts
+from conftest import EXAMPLES
 
 T = 0.008
 
