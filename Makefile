@@ -6,7 +6,7 @@ BIN      := $(VENV)/bin
 OUT      ?= out
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo test lint bench bench-fea clean
+.PHONY: setup blas browser demo test lint bench bench-fea bench-thickness clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -66,6 +66,9 @@ bench: setup
 
 bench-fea: setup
 	$(BIN)/python benchmarks/bench_fea.py
+
+bench-thickness: setup
+	$(BIN)/python benchmarks/bench_thickness.py
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info
