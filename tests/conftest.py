@@ -43,6 +43,14 @@ def vault_model():
 
 
 @pytest.fixture(scope="session")
+def vault_fab_data(vault_model):
+    """Fabrication data of the vault: 8 mm plywood, 50 mm hinge strips."""
+    from compas_ccu.fabrication import fabrication_data
+
+    return fabrication_data(vault_model, thickness=0.008, material="plywood", hinge_width=0.05)
+
+
+@pytest.fixture(scope="session")
 def cone_model():
     return load_design(EXAMPLES / "cone.toml").build()
 

@@ -13,7 +13,7 @@ ezdxf = pytest.importorskip("ezdxf")
 from shapely import LineString, Point, Polygon  # noqa: E402
 
 from compas_ccu.errors import GeometryError  # noqa: E402
-from compas_ccu.fabrication import FabricationData, fabrication_data  # noqa: E402
+from compas_ccu.fabrication import FabricationData  # noqa: E402
 from compas_ccu.fabrication.dxf import (  # noqa: E402
     APPID,
     HINGE_LAYERS,
@@ -28,8 +28,8 @@ TOL = 0.01  # mm
 
 
 @pytest.fixture(scope="module")
-def data(vault_model):
-    return fabrication_data(vault_model, thickness=0.008, material="plywood", hinge_width=0.05)
+def data(vault_fab_data):
+    return vault_fab_data
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from compas_ccu.fabrication import fabrication_data
 from compas_ccu.fabrication.fold import crease_fold_angles, fold_document, read_fold, write_fold
 from compas_ccu.fabrication.meshes import crease_line
 
@@ -17,8 +16,8 @@ TOL = 1e-5  # 0.01 mm
 
 
 @pytest.fixture(scope="module")
-def data(vault_model):
-    return fabrication_data(vault_model, thickness=0.008, material="plywood", hinge_width=0.05)
+def data(vault_fab_data):
+    return vault_fab_data
 
 
 @pytest.fixture(scope="module")

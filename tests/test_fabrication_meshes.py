@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from compas_ccu.fabrication import fabrication_data
 from compas_ccu.fabrication.meshes import (
     layout_offsets,
     plate_solids,
@@ -21,8 +20,8 @@ THICKNESS = 0.008
 
 
 @pytest.fixture(scope="module")
-def data(vault_model):
-    return fabrication_data(vault_model, thickness=THICKNESS, material="plywood", hinge_width=0.05)
+def data(vault_fab_data):
+    return vault_fab_data
 
 
 def plate_area(data, i):

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from compas_ccu.fabrication import fabrication_data
 from compas_ccu.fabrication.meshes import solid_mesh
 from compas_ccu.fabrication.rhino import LAYERS, read_3dm_summary, write_3dm
 
@@ -15,8 +14,8 @@ TOL = 1e-5  # 0.01 mm
 
 
 @pytest.fixture(scope="module")
-def data(vault_model):
-    return fabrication_data(vault_model, thickness=0.008, material="plywood", hinge_width=0.05)
+def data(vault_fab_data):
+    return vault_fab_data
 
 
 @pytest.fixture(scope="module")

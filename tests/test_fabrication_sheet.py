@@ -8,13 +8,12 @@ import pytest
 
 matplotlib = pytest.importorskip("matplotlib")
 
-from compas_ccu.fabrication import fabrication_data  # noqa: E402
 from compas_ccu.fabrication.sheet import write_assembly_sheet  # noqa: E402
 
 
 @pytest.fixture(scope="module")
-def data(vault_model):
-    return fabrication_data(vault_model, thickness=0.008, material="plywood", hinge_width=0.05)
+def data(vault_fab_data):
+    return vault_fab_data
 
 
 @pytest.fixture(scope="module")

@@ -99,3 +99,13 @@ def test_report_refuses_bad_steps(tmp_path, capsys):
     assert code == 2
     assert "steps must be an integer >= 1, got 0" in capsys.readouterr().err
     assert not (Path(tmp_path) / "index.html").exists()
+
+
+def test_thickness_section_is_on_the_page(report):
+    _, page = report
+    text = " ".join(" ".join(page.text).split())
+    assert "Thickness and bending (paper §5.3)" in text
+    assert "Flat-folded stack height (Σt) 80 mm" in text
+    assert "Axis-shift hinges (Fig. 8c) 5 intrados–intrados, 4 extrados–extrados" in text
+    assert "Collisions, flat stack → design none; min clearance 8 mm" in text
+    assert "within the limit" in text and "EXCEEDED" not in text

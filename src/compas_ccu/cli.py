@@ -125,6 +125,8 @@ def _thickness_lines(model) -> list:
 
 def thickness_lines(summary: dict) -> list:
     """Text lines of a :meth:`compas_ccu.thickness.ThickModel.summary` (info, fabricate)."""
+    from compas_ccu.thickness.model import collision_text
+
     b, c = summary["bending"], summary["collisions"]
     pairs = summary["pairing"]
     lines = [
@@ -135,25 +137,15 @@ def thickness_lines(summary: dict) -> list:
         f"{max(summary['correction_design'], default=0.0) * 1e3:.3g} mm at the design, hinge "
         f"gap along the path {summary['hinge_gap_max_path'] * 1e3:.3g} mm",
     ]
-    if c["first"] is None:
-        closest = c["closest"]
-        where = (
-            f" (plates {closest['plates'][0]}/{closest['plates'][1]} at alpha "
-            f"{closest['alpha']:.3g} deg)"
-            if "plates" in closest
-            else ""
+    text = collision_text(c)
+    lines.append(
+        "collisions        "
+        + (
+            f"** {text} **"
+            if c["first"]
+            else text.replace("none", "none from the flat stack to the design", 1)
         )
-        lines.append(
-            f"collisions        none from the flat stack to the design; min clearance "
-            f"{c['min_clearance'] * 1e3:.3g} mm{where}"
-        )
-    else:
-        f = c["first"]
-        lines.append(
-            f"collisions        ** plates {f['plates'][0]} and {f['plates'][1]} interpenetrate "
-            f"at alpha {f['alpha']:.4g} deg by {f['depth'] * 1e3:.3g} mm near "
-            f"{[round(v, 3) for v in f['point']]} m **"
-        )
+    )
     worst = b["worst"]
     lines.append(
         f"bending check     max curvature {b['max_curvature']:.3g} 1/m, utilisation "

@@ -21,7 +21,7 @@ from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thi
 from compas_ccu.thickness.bending import BendingCheck, bending_check
 from compas_ccu.thickness.collision import plate_contacts
 
-__all__ = ["ThickModel", "ThickState", "CollisionReport"]
+__all__ = ["ThickModel", "ThickState", "CollisionReport", "collision_text"]
 
 
 @dataclass
@@ -80,6 +80,7 @@ class CollisionReport:
         return self.first is None
 
     def summary(self) -> dict:
+        """Plain-data summary (JSON); :func:`collision_text` words it."""
         return {
             "alphas": [float(self.alphas[0]), float(self.alphas[-1]), len(self.alphas)],
             "interpenetration": not self.ok,
@@ -89,6 +90,25 @@ class CollisionReport:
             "closest": self.closest,
             "tolerance": self.tolerance,
         }
+
+
+def collision_text(summary: dict, *, degree: str = " deg") -> str:
+    """One line on a :meth:`CollisionReport.summary`: the first interpenetration or "none"."""
+    first = summary["first"]
+    if first is not None:
+        return (
+            f"plates {first['plates'][0]} and {first['plates'][1]} interpenetrate at alpha "
+            f"{first['alpha']:.4g}{degree} by {first['depth'] * 1e3:.3g} mm near "
+            f"{[round(v, 3) for v in first['point']]} m"
+        )
+    closest = summary["closest"]
+    where = (
+        f" (plates {closest['plates'][0]}/{closest['plates'][1]} at alpha "
+        f"{closest['alpha']:.3g}{degree})"
+        if "plates" in closest
+        else ""
+    )
+    return f"none; min clearance {summary['min_clearance'] * 1e3:.3g} mm{where}"
 
 
 class ThickModel:

@@ -371,25 +371,15 @@ def _page(model, structure, report: Report, figures: dict, elapsed: float) -> st
 
 def _thickness_section(t) -> str:
     """The page's "Thickness and bending" section from ``ThickModel.summary()``."""
+    from compas_ccu.thickness.model import collision_text
+
     if not t:
         return ""
     e = html.escape
     b, c = t["bending"], t["collisions"]
-    if c["first"] is None:
-        closest = c["closest"]
-        where = (
-            f" (plates {closest['plates'][0]} / {closest['plates'][1]} at α "
-            f"{closest['alpha']:.3g}°)"
-            if "plates" in closest
-            else ""
-        )
-        collide = f"none; smallest clearance {c['min_clearance'] * 1e3:.3g} mm{where}"
-    else:
-        f = c["first"]
-        collide = (
-            f'<b class="skip">plates {f["plates"][0]} and {f["plates"][1]} interpenetrate at '
-            f"α {f['alpha']:.4g}° by {f['depth'] * 1e3:.3g} mm</b>"
-        )
+    collide = e(collision_text(c, degree="°"))
+    if c["first"] is not None:
+        collide = f'<b class="skip">{collide}</b>'
     worst = b["worst"]
     verdict = (
         '<b class="skip">EXCEEDED: the plates would break</b>'
