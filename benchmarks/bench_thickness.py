@@ -27,26 +27,27 @@ def best_of(fn, repeats: int = 5) -> float:
     return min(times)
 
 
+def bench_design(name: str) -> tuple:
+    """One table row: timings of the thickness model of ``examples/<name>``."""
+    model = load_design(ROOT / "examples" / name).build()
+    thick = ThickModel(model)
+    path = np.linspace(0.0, model.alpha_design, 41)
+    verts = len(model.plate_ids) * (2 * model.segments + 2)
+    return (
+        name,
+        len(model.plate_ids),
+        verts,
+        best_of(lambda: ThickModel(model), 3) * 1e3,
+        best_of(lambda: model.mechanism.deploy(np.radians([20.0])), 20) * 1e3,
+        best_of(lambda: thick.place([20.0]), 20) * 1e3,
+        best_of(lambda: thick.place(path), 5) * 1e3,
+        best_of(lambda: thick.bending(path), 5) * 1e3,
+        best_of(lambda: thick.collisions(path), 2),
+    )
+
+
 def main() -> int:
-    rows = []
-    for name in ("vault.toml", "catalog/fig12c-funnel.toml"):
-        model = load_design(ROOT / "examples" / name).build()
-        thick = ThickModel(model)
-        path = np.linspace(0.0, model.alpha_design, 41)
-        verts = len(model.plate_ids) * (2 * model.segments + 2)
-        rows.append(
-            (
-                name,
-                len(model.plate_ids),
-                verts,
-                best_of(lambda: ThickModel(model), 3) * 1e3,
-                best_of(lambda: model.mechanism.deploy(np.radians([20.0])), 20) * 1e3,
-                best_of(lambda: thick.place([20.0]), 20) * 1e3,
-                best_of(lambda: thick.place(path), 5) * 1e3,
-                best_of(lambda: thick.bending(path), 5) * 1e3,
-                best_of(lambda: thick.collisions(path), 2),
-            )
-        )
+    rows = [bench_design(name) for name in ("vault.toml", "catalog/fig12c-funnel.toml")]
     print(
         "| design | plates | vertices | ThickModel() ms | zero-t state ms | thick state ms "
         "| 41 thick states ms | bending, 41 states ms | collisions, 41 states s |"
