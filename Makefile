@@ -51,6 +51,8 @@ demo: setup
 	@echo "  $(OUT)/vault/structure.compas.json (COMPAS meshes)"
 	@echo "  $(OUT)/vault-path/path.csv         (alpha, span, rise, crease planarity per state)"
 	@echo "  $(OUT)/vault-path/states/          (one structure file per state)"
+	@echo "  $(OUT)/vault-fab/                  (workshop files: DXF per plate in mm, hinge strips, .3dm,"
+	@echo "                                     OBJ/glTF solids, FOLD, assembly.svg/pdf, fabrication.json)"
 	@echo "  $(OUT)/cone-fe/                    (FE validation of the cone pair: Kratos + OpenSees)"
 	@echo "FE validation of the vault (about 2 minutes): .venv/bin/ccu validate examples/vault.toml --out $(OUT)/vault-fe"
 
