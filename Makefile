@@ -1,17 +1,19 @@
 # Quick start: `make demo` (set up + run the vault example and write its report),
-# `make test` (set up + browser + lint + tests).
+# `make test` (set up + browser + lint + tests). `make explore` runs the example design-space
+# sweep (270 variants on a local Dask cluster).
 PYTHON   ?= python3
 VENV     ?= .venv
 BIN      := $(VENV)/bin
 OUT      ?= out
+WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo test lint bench bench-fea bench-thickness clean
+.PHONY: setup blas browser demo explore test lint bench bench-fea bench-thickness bench-explore clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab]"
+	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab,explore]"
 	@touch $(BIN)/ccu
 
 setup: $(BIN)/ccu blas
@@ -56,6 +58,12 @@ demo: setup
 	@echo "  $(OUT)/cone-fe/                    (FE validation of the cone pair: Kratos + OpenSees)"
 	@echo "FE validation of the vault (about 2 minutes): .venv/bin/ccu validate examples/vault.toml --out $(OUT)/vault-fe"
 
+# design-space sweep of the vault: 270 variants on a local Dask cluster (about 2 minutes on 2 cores)
+explore: setup
+	$(BIN)/ccu explore examples/sweeps/vault.toml --out $(OUT)/vault-sweep --workers $(WORKERS)
+	@echo "Open $(OUT)/vault-sweep/plots/pareto.png and design_space.png; the table is"
+	@echo "$(OUT)/vault-sweep/results.parquet, the best variants are in $(OUT)/vault-sweep/best/"
+
 lint: setup
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/ruff format --check src tests benchmarks
@@ -71,6 +79,9 @@ bench-fea: setup
 
 bench-thickness: setup
 	$(BIN)/python benchmarks/bench_thickness.py
+
+bench-explore: setup
+	$(BIN)/python benchmarks/bench_explore.py
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info

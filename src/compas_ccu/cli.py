@@ -1,5 +1,5 @@
 """Command line interface: ``ccu deploy | path | info | planarity | catalog | validate | fabricate |
-figures | animate | view | sheet | report``.
+explore | figures | animate | view | sheet | report``.
 
 Every command takes a design TOML file (see ``docs/design-files.md``). Errors in the input are
 printed as one line naming the cause and the value, with exit status 2.
@@ -416,6 +416,86 @@ def _cmd_validate(args) -> int:
     return 0
 
 
+def _cmd_explore(args) -> int:
+    import importlib.util
+    import signal
+
+    from compas_ccu.explore import load_sweep, run_sweep
+
+    needed = ["pyarrow"] + ([] if args.in_process else ["distributed"])
+    needed += ["bokeh"] if args.dashboard else []
+    missing = [m for m in needed if importlib.util.find_spec(m) is None]
+    if missing:
+        raise ValueError(
+            f"ccu explore needs {', '.join(missing)}: pip install 'compas_ccu[explore]'"
+            + (" bokeh" if "bokeh" in missing else "")
+            + " (make setup installs the extra)"
+        )
+    sweep = load_sweep(args.sweep)
+    if args.in_process and (args.scheduler or args.workers):
+        raise ValueError("--in-process runs without Dask: drop --scheduler / --workers")
+    plots = not args.no_plots and importlib.util.find_spec("matplotlib") is not None
+    _say(
+        args,
+        f"sweep {sweep.name}: {len(sweep.variants)} variants ({sweep.sampling}"
+        + (f", seed {sweep.seed}" if sweep.sampling in ("random", "lhs") else "")
+        + f") of {sweep.base_path.name} over {', '.join(sweep.parameter_names)}"
+        + (f"; {sweep.duplicates} repeated samples dropped" if sweep.duplicates else ""),
+    )
+
+    def stop(signum, frame):  # SIGTERM: stop like Ctrl-C (the cluster shuts down cleanly)
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        result = run_sweep(
+            sweep,
+            args.out,
+            scheduler=args.scheduler,
+            workers=args.workers,
+            in_process=args.in_process,
+            progress=not args.quiet,
+            plots=plots,
+            dashboard=args.dashboard,
+        )
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    where = {"in-process": "in this process", "local": f"{result.workers} local Dask workers"}
+    runner = where.get(result.scheduler, f"{result.workers} workers of {result.scheduler}")
+    if result.reused:
+        _say(args, f"{result.reused} variants were already in {result.out} (not recomputed)")
+    if result.computed:
+        _say(
+            args,
+            f"computed {result.computed} variants in {result.seconds:.1f} s on {runner}: "
+            f"{result.throughput:.2f} variants/s"
+            + (f" (cluster start {result.startup:.1f} s)" if result.startup else ""),
+        )
+    if result.interrupted:
+        print(
+            f"ccu explore: interrupted with {len(result.rows)} of {result.total} variants saved "
+            f"in {result.out}; run the same command again to compute the rest",
+            file=sys.stderr,
+        )
+        return 130
+    s = result.summary
+    if s is not None:
+        errors = ", ".join(f"{n} {k}" for k, n in s["errors"].items())
+        _say(
+            args,
+            f"{s['variants']} variants: {s['ok']} ok, {s['failed']} failed"
+            + (f" ({errors})" if errors else "")
+            + f"; {s['feasible']} feasible, {len(s['pareto'])} on the Pareto front of "
+            + ", ".join(f"{k} ({v})" for k, v in s["objectives"].items()),
+        )
+        for b in s["best"]:
+            params = ", ".join(f"{k} = {v}" for k, v in b["parameters"].items())
+            values = ", ".join(f"{k} {v:.4g}" for k, v in b["objectives"].items())
+            _say(args, f"  best {b['rank']}: {params}: {values}")
+    _say(args, f"wrote {result.out / 'results.parquet'} and the summary in {result.out}")
+    return 0
+
+
 def _need_viz(command: str) -> None:
     import importlib.util
 
@@ -754,6 +834,43 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-figures", action="store_true", help="skip the pictures")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(func=_cmd_validate)
+
+    p = sub.add_parser(
+        "explore",
+        help="explore a design space: a sweep of variants on Dask",
+        description="Build, deploy and measure every variant of SWEEP (a TOML file naming a base "
+        "design and the parameters to vary, docs/explore.md) on a local Dask cluster or the "
+        "cluster at --scheduler. Writes DIR/results.parquet (one row per variant: parameters, "
+        "metrics, error), a journal that makes the run resumable (run it again to compute only "
+        "what is missing), summary.json, plots/ and best/ (structure files of the best "
+        "variants on the Pareto front).",
+    )
+    p.add_argument("sweep", help="sweep TOML file")
+    p.add_argument("--out", required=True, help="output folder (resumes if it holds this sweep)")
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="address of a running Dask scheduler, e.g. tcp://host:8786",
+    )
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help="worker processes of the local cluster (default: one per core)",
+    )
+    p.add_argument(
+        "--in-process",
+        action="store_true",
+        help="evaluate in this process without Dask (debugging, comparisons)",
+    )
+    p.add_argument(
+        "--dashboard", action="store_true", help="serve the local cluster's Dask dashboard on :8787"
+    )
+    p.add_argument("--no-plots", action="store_true", help="skip the summary plots")
+    p.add_argument("--quiet", action="store_true", help="no progress, print nothing on success")
+    p.set_defaults(func=_cmd_explore)
 
     p = sub.add_parser(
         "fabricate",

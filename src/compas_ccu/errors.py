@@ -14,6 +14,7 @@ __all__ = [
     "DesignError",
     "GeometryError",
     "SelfIntersectionError",
+    "SweepError",
 ]
 
 
@@ -76,3 +77,11 @@ class SelfIntersectionError(CCUError):
         self.alpha = alpha
         self.crease = crease
         super().__init__(message)
+
+
+class SweepError(CCUError):
+    """A sweep file (``ccu explore``) is invalid, or its output folder belongs to another sweep."""
+
+    def __init__(self, message: str, *, key: str | None = None):
+        self.key = key
+        super().__init__(f"{key}: {message}" if key else message)

@@ -1,0 +1,29 @@
+"""Design-space exploration: sweeps of design variants on Dask (``ccu explore``).
+
+A sweep file names a base design and the parameters to vary (:mod:`.sweep`); every variant is
+built, deployed and measured (:mod:`.evaluate`, :mod:`.metrics`) on a Dask cluster
+(:mod:`.run`); the results go to a Parquet table (:mod:`.results`) and a summary with the
+Pareto front and the best variants (:mod:`.pareto`, :mod:`.summary`). See docs/explore.md.
+
+Dask and pyarrow are imported only when a sweep runs (the ``explore`` extra).
+"""
+
+from __future__ import annotations
+
+from compas_ccu.explore.evaluate import evaluate_variant
+from compas_ccu.explore.metrics import METRICS, metric_names
+from compas_ccu.explore.pareto import pareto_mask
+from compas_ccu.explore.run import SweepResult, run_sweep
+from compas_ccu.explore.sweep import Sweep, Variant, load_sweep
+
+__all__ = [
+    "Sweep",
+    "Variant",
+    "load_sweep",
+    "run_sweep",
+    "SweepResult",
+    "evaluate_variant",
+    "METRICS",
+    "metric_names",
+    "pareto_mask",
+]

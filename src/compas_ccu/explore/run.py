@@ -1,0 +1,417 @@
+"""Run a sweep on Dask: a local cluster by default, any existing cluster by address.
+
+The client submits one task per missing variant (:func:`compas_ccu.explore.evaluate_variant`,
+plain data in and out), writes every result to the journal as it arrives and shows progress.
+Resuming is by variant id: a run in an output folder that already holds results of the same
+sweep (same base design, checks, FE options and compas_ccu version: the *fingerprint*) computes
+only the variants that are missing. A variant that fails is a row with its error; a worker that
+dies is replaced by Dask, which recomputes the tasks it held (a variant that kills workers
+repeatedly is recorded as ``KilledWorker``); nothing the client has received is lost.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from compas_ccu.errors import SweepError
+
+__all__ = ["run_sweep", "SweepResult", "columns", "CLUSTER_ERRORS"]
+
+#: Errors of the cluster rather than of the design: such variants are computed again on resume.
+CLUSTER_ERRORS = ("KilledWorker", "CancelledError", "FutureCancelledError", "CommClosedError")
+#: Environment of the local cluster's workers. Dask's nannies set MALLOC_TRIM_THRESHOLD_=65536,
+#: and glibc then maps and unmaps every large NumPy temporary afresh (page faults): the
+#: collision check ran 1.2 s per vault variant on a worker against 0.69 s in-process. Keeping
+#: arrays up to 32 MiB on the heap and trimming above 256 MiB gives 0.63 s
+#: (docs/benchmarks.md). Set the same variables on the workers of your own cluster.
+WORKER_ENV = {"MALLOC_MMAP_THRESHOLD_": str(2**25), "MALLOC_TRIM_THRESHOLD_": str(2**28)}
+MANIFEST = "sweep.json"
+JOURNAL = "journal.jsonl"
+TABLE = "results.parquet"
+
+
+@dataclass
+class SweepResult:
+    """What a run did.
+
+    Attributes
+    ----------
+    out : Path
+        Output folder.
+    rows : list of dict
+        One row per variant of the sweep that has a result, in sweep order.
+    total : int
+        Variants in the sweep.
+    reused : int
+        Variants finished by earlier runs (not computed again).
+    computed : int
+        Variants computed by this run.
+    failed : int
+        Rows with status "failed".
+    seconds : float
+        Wall time of this run's computation (first submission to last result).
+    startup : float
+        Time to start or connect to the cluster, s.
+    workers : int
+        Workers (1 in-process).
+    scheduler : str
+        "in-process", "local" or the scheduler address.
+    interrupted : bool
+        The run was stopped (Ctrl-C, SIGTERM) before all variants were computed.
+    summary : dict or None
+        :func:`compas_ccu.explore.summary.summarise` of a complete sweep.
+    """
+
+    out: Path
+    rows: list
+    total: int
+    reused: int
+    computed: int
+    failed: int
+    seconds: float
+    startup: float
+    workers: int
+    scheduler: str
+    interrupted: bool = False
+    summary: dict | None = None
+    files: list = field(default_factory=list)
+
+    @property
+    def throughput(self) -> float:
+        """Variants computed per second in this run."""
+        return self.computed / self.seconds if self.seconds > 0 else 0.0
+
+    @property
+    def complete(self) -> bool:
+        return len(self.rows) == self.total
+
+
+def columns(sweep) -> tuple:
+    """Column order and declared types of the results table of ``sweep``."""
+    from compas_ccu.explore.evaluate import STAGES
+    from compas_ccu.explore.metrics import metric, metric_names
+
+    metrics = metric_names(collisions=sweep.collisions, fe=sweep.fe is not None)
+    head = ["variant", "index", *sweep.parameter_names, "status", "stage", "error_type", "error"]
+    tail = ["seconds", *[f"t_{s}" for s in STAGES], "worker", "run"]
+    declared = {name: metric(name).dtype for name in metrics}
+    declared.update({k: "str" for k in ("variant", "status", "stage", "error_type", "error")})
+    declared.update({k: "float" for k in tail[:-2]}, worker="str", run="int", index="int")
+    return head + metrics + tail, declared
+
+
+def _read_manifest(out: Path, sweep) -> dict:
+    path = out / MANIFEST
+    if not path.exists():
+        return {}
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as exc:
+        raise SweepError(f"{path} is not a sweep manifest ({exc}); use another --out") from exc
+    if manifest.get("fingerprint") != sweep.fingerprint:
+        raise SweepError(
+            f"{out} holds results of a different sweep (base design, [checks], [fe] or "
+            f"compas_ccu version differ: fingerprint {manifest.get('fingerprint')!r}, this "
+            f"sweep {sweep.fingerprint!r}); choose another --out or delete the folder"
+        )
+    return manifest
+
+
+def _write_manifest(out: Path, sweep, runs: int) -> None:
+    manifest = {
+        "format": "ccu.sweep",
+        "version": 1,
+        "name": sweep.name,
+        "fingerprint": sweep.fingerprint,
+        "base": str(sweep.base_path),
+        "sampling": sweep.sampling,
+        "seed": sweep.seed,
+        "options": sweep.options,
+        "parameters": sweep.parameter_names,
+        "objectives": sweep.objectives,
+        "constraints": sweep.constraints,
+        "runs": runs,
+        "variants": [{"variant": v.id, "index": v.index, **v.params} for v in sweep.variants],
+    }
+    tmp = out / (MANIFEST + ".tmp")
+    tmp.write_text(json.dumps(manifest, indent=1), encoding="utf-8")
+    os.replace(tmp, out / MANIFEST)
+
+
+def _cluster_failure(exc: BaseException, options: dict) -> dict:
+    from compas_ccu.explore.evaluate import row_template
+
+    row = row_template(collisions=options["collisions"], fe=options["fe"] is not None)
+    name = type(exc).__name__
+    hint = " (the variant killed its worker repeatedly)" if name == "KilledWorker" else ""
+    row.update(status="failed", stage="cluster", error_type=name, error=f"{exc}{hint}")
+    return row
+
+
+def _worker_version():  # runs on every worker of a remote cluster
+    import compas_ccu
+
+    return compas_ccu.__version__
+
+
+def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: bool):
+    """(client, cluster or None, label, worker count)."""
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError as exc:  # pragma: no cover - the explore extra is missing
+        raise SweepError(
+            "ccu explore needs Dask: pip install 'compas_ccu[explore]' (dask[distributed], pyarrow)"
+        ) from exc
+    if scheduler is not None:
+        if workers is not None:
+            raise SweepError(
+                "--workers sizes the local cluster; with --scheduler the cluster's own workers "
+                f"are used (got --workers {workers} and --scheduler {scheduler})"
+            )
+        try:
+            client = Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError) as exc:
+            raise SweepError(
+                f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}"
+            ) from exc
+        try:
+            client.wait_for_workers(1, timeout=60)
+        except TimeoutError as exc:
+            client.close()
+            raise SweepError(
+                f"no Dask worker joined the scheduler at {scheduler!r} in 60 s"
+            ) from exc
+        from compas_ccu import __version__
+
+        versions = client.run(_worker_version)
+        wrong = {w: v for w, v in versions.items() if v != __version__}
+        if wrong:
+            client.close()
+            raise SweepError(
+                f"workers run another compas_ccu version than this client ({__version__}): "
+                f"{wrong}; install the same version on every worker"
+            )
+        return client, None, scheduler, len(versions)
+    if workers is not None and workers < 1:
+        raise SweepError(f"--workers must be >= 1, got {workers}")
+    n = workers or max(1, min(os.cpu_count() or 1, todo))
+    cluster = LocalCluster(
+        n_workers=n,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=":8787" if dashboard else None,
+        silence_logs=logging.ERROR,
+        env=WORKER_ENV,
+    )
+    return Client(cluster), cluster, "local", n
+
+
+def run_sweep(
+    sweep,
+    out,
+    *,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    client=None,
+    in_process: bool = False,
+    progress: bool = True,
+    summary: bool = True,
+    plots: bool = True,
+    dashboard: bool = False,
+) -> SweepResult:
+    """Compute every missing variant of ``sweep`` and write the results into ``out``.
+
+    Parameters
+    ----------
+    sweep : compas_ccu.explore.Sweep
+    out : path-like
+        Output folder: ``sweep.json`` (manifest), ``journal.jsonl`` (every result as it
+        arrives), ``results.parquet`` (the table), and for a complete sweep the summary
+        (``summary.json``, ``plots/``, ``best/``).
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://host:8786``); its workers need the same
+        compas_ccu version. Default: start a local cluster.
+    workers : int, optional
+        Worker processes of the local cluster (default: one per core, at most one per
+        variant).
+    client : distributed.Client, optional
+        Use this client (and its cluster) instead.
+    in_process : bool
+        Evaluate in this process, one variant after the other, without Dask.
+    progress : bool
+        Show a progress bar on stderr.
+    summary, plots : bool
+        Write the summary (and its plots) when the sweep is complete.
+    dashboard : bool
+        Serve the local cluster's Dask dashboard on port 8787.
+
+    Returns
+    -------
+    SweepResult
+
+    Raises
+    ------
+    SweepError
+        The folder belongs to another sweep, the scheduler cannot be reached, or its workers
+        run another compas_ccu version.
+    """
+    from compas_ccu.explore.evaluate import evaluate_variant
+    from compas_ccu.explore.results import Journal, write_table
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    manifest = _read_manifest(out, sweep)
+    run = int(manifest.get("runs", 0)) + 1
+    _write_manifest(out, sweep, run)
+    journal = Journal(out / JOURNAL)
+    done = journal.read()
+    current = {v.id for v in sweep.variants}
+    kept = {
+        vid: row
+        for vid, row in done.items()
+        if vid in current and row.get("error_type") not in CLUSTER_ERRORS
+    }
+    todo = [v for v in sweep.variants if v.id not in kept]
+    options = sweep.options
+    names, declared = columns(sweep)
+    state = {"computed": 0, "failed": sum(r.get("status") == "failed" for r in kept.values())}
+
+    bar = _progress(sweep, len(kept), progress)
+
+    def record(variant, row):
+        full = {"variant": variant.id, "index": variant.index, **variant.params, **row, "run": run}
+        journal.append(full)
+        kept[variant.id] = full
+        state["computed"] += 1
+        state["failed"] += row["status"] == "failed"
+        bar.update(1)
+        bar.set_postfix(failed=state["failed"], refresh=False)
+
+    interrupted = False
+    own_client = cluster = None
+    label, count, startup = "in-process", 1, 0.0
+    t0 = time.perf_counter()
+    try:
+        if not todo:
+            pass
+        elif in_process:
+            t0 = time.perf_counter()
+            for v in todo:
+                record(v, evaluate_variant(sweep.document_for(v), **options))
+        else:
+            if client is None:
+                own_client, cluster, label, count = _connect(
+                    scheduler, workers, len(todo), dashboard
+                )
+                use = own_client
+            else:
+                use, label = client, "client"
+                count = len(client.scheduler_info().get("workers", {}))
+            startup = time.perf_counter() - t0
+            t0 = time.perf_counter()
+            _run_on_dask(use, sweep, todo, options, record)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        seconds = time.perf_counter() - t0
+        bar.close()
+        if own_client is not None:
+            own_client.close()
+        if cluster is not None:
+            cluster.close()
+        rows = [kept[v.id] for v in sweep.variants if v.id in kept]
+        table = write_table(
+            rows,
+            names,
+            out / TABLE,
+            declared=declared,
+            metadata={"name": sweep.name, "fingerprint": sweep.fingerprint},
+        )
+    result = SweepResult(
+        out=out,
+        rows=rows,
+        total=len(sweep.variants),
+        reused=len(sweep.variants) - len(todo),
+        computed=state["computed"],
+        failed=state["failed"],
+        seconds=seconds if todo else 0.0,
+        startup=startup,
+        workers=count,
+        scheduler=label,
+        interrupted=interrupted,
+        files=[out / MANIFEST, out / JOURNAL, table],
+    )
+    if summary and result.complete and not interrupted:
+        from compas_ccu.explore.summary import summarise
+
+        result.summary = summarise(sweep, rows, out, run=result, plots=plots)
+        result.files += [Path(f) for f in result.summary["files"]]
+    return result
+
+
+def _run_on_dask(client, sweep, todo: list, options: dict, record) -> None:
+    """Submit one task per variant and record each result as it completes."""
+    from distributed import as_completed
+
+    from compas_ccu.explore.evaluate import evaluate_variant
+
+    pending = {}
+    for v in todo:
+        future = client.submit(
+            evaluate_variant,
+            sweep.document_for(v),
+            key=f"ccu-variant-{sweep.fingerprint}-{v.id}",
+            **options,
+        )
+        pending[future] = v
+    try:
+        for future in as_completed(list(pending)):
+            v = pending.pop(future)
+            if future.status == "finished":
+                row = future.result()
+            else:
+                try:
+                    exc = future.exception()
+                except BaseException as cancelled:  # a cancelled future raises instead
+                    exc = cancelled
+                row = _cluster_failure(exc, options)
+            future.release()
+            record(v, row)
+    finally:
+        for future in pending:  # interrupted: forget the rest on the cluster
+            future.cancel()
+
+
+class _Silent:
+    def update(self, n=1):
+        pass
+
+    def set_postfix(self, **kw):
+        pass
+
+    def close(self):
+        pass
+
+
+def _progress(sweep, initial: int, show: bool):
+    if not show:
+        return _Silent()
+    try:
+        from tqdm import tqdm
+    except ImportError:  # pragma: no cover - tqdm comes with the explore extra
+        return _Silent()
+    return tqdm(
+        total=len(sweep.variants),
+        initial=initial,
+        desc=sweep.name,
+        unit="variant",
+        file=sys.stderr,
+        mininterval=0.5,
+        dynamic_ncols=True,
+    )

@@ -1,0 +1,150 @@
+"""Summary of a finished sweep: counts, errors, stage times, Pareto front, best variants, plots."""
+
+from __future__ import annotations
+
+import json
+import statistics
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["summarise", "write_best"]
+
+
+def write_best(sweep, picks: list, out) -> list:
+    """The best variants' files: ``best/<rank>-<variant>/`` with the design (TOML), the
+    deployed structure (``structure.json``, SPEC §4) and ``structure.obj``.
+
+    Parameters
+    ----------
+    sweep : compas_ccu.explore.Sweep
+    picks : list of (rank, Variant)
+    out : path-like
+        The sweep's output folder.
+    """
+    import tomli_w
+
+    from compas_ccu.design.model import Design
+    from compas_ccu.io import write_obj, write_structure_json
+
+    files = []
+    for rank, variant in picks:
+        folder = Path(out) / "best" / f"{rank}-{variant.id}"
+        folder.mkdir(parents=True, exist_ok=True)
+        document = sweep.document_for(variant)
+        text = tomli_w.dumps(document)
+        header = (
+            f"# variant {variant.id} of sweep {sweep.name!r} (rank {rank}); parameters:\n"
+            + "".join(f"#   {k} = {v!r}\n" for k, v in variant.params.items())
+        )
+        (folder / "design.toml").write_text(header + text, encoding="utf-8")
+        structure = Design(document).build().deploy()
+        files += [
+            folder / "design.toml",
+            write_structure_json(structure, folder / "structure.json"),
+            write_obj(structure, folder / "structure.obj"),
+        ]
+    return files
+
+
+def _stage_seconds(rows: list) -> dict:
+    from compas_ccu.explore.evaluate import STAGES
+
+    out = {}
+    for stage in STAGES:
+        times = [r[f"t_{stage}"] for r in rows if r.get(f"t_{stage}") is not None]
+        if times:
+            out[stage] = {
+                "mean": statistics.fmean(times),
+                "max": max(times),
+                "total": sum(times),
+                "count": len(times),
+            }
+    return out
+
+
+def summarise(sweep, rows: list, out, *, run=None, plots: bool = True) -> dict:
+    """Write ``summary.json``, the plots and the best variants' files of a complete sweep.
+
+    Parameters
+    ----------
+    sweep : compas_ccu.explore.Sweep
+    rows : list of dict
+        The results table's rows, in sweep order.
+    out : path-like
+    run : compas_ccu.explore.SweepResult, optional
+        Adds the run's timing (computed, reused, seconds, throughput, workers).
+    plots : bool
+        Write ``plots/design_space.png`` and ``plots/pareto.png`` (needs matplotlib).
+
+    Returns
+    -------
+    dict
+        What ``summary.json`` holds, plus ``files``.
+    """
+    from compas_ccu.explore.pareto import feasible, rank_best
+
+    out = Path(out)
+    ok = [r for r in rows if r.get("status") == "ok"]
+    failed = [r for r in rows if r.get("status") != "ok"]
+    feasible_mask = feasible(rows, sweep.constraints)
+    front, best = rank_best(rows, sweep.objectives, sweep.constraints, sweep.best)
+    by_id = {v.id: v for v in sweep.variants}
+    picks = [(rank + 1, by_id[rows[i]["variant"]]) for rank, (i, _) in enumerate(best)]
+    files = write_best(sweep, picks, out)
+    summary = {
+        "format": "ccu.sweep-summary",
+        "version": 1,
+        "name": sweep.name,
+        "variants": len(rows),
+        "ok": len(ok),
+        "failed": len(failed),
+        "errors": dict(Counter(r.get("error_type") for r in failed).most_common()),
+        "failed_stage": dict(Counter(r.get("stage") for r in failed).most_common()),
+        "feasible": int(feasible_mask.sum()),
+        "objectives": sweep.objectives,
+        "constraints": sweep.constraints,
+        "pareto": [rows[i]["variant"] for i in np.flatnonzero(front)],
+        "best": [
+            {
+                "rank": rank + 1,
+                "variant": rows[i]["variant"],
+                "distance": dist,
+                "parameters": {k: rows[i].get(k) for k in sweep.parameter_names},
+                "objectives": {k: rows[i].get(k) for k in sweep.objectives},
+                "folder": str(out / "best" / f"{rank + 1}-{rows[i]['variant']}"),
+            }
+            for rank, (i, dist) in enumerate(best)
+        ],
+        "ranges": {
+            name: [min(vals), max(vals)]
+            for name in sweep.objectives
+            if (vals := [r[name] for r in ok if r.get(name) is not None])
+        },
+        "stage_seconds": _stage_seconds(ok),
+    }
+    if run is not None:
+        summary["run"] = {
+            "computed": run.computed,
+            "reused": run.reused,
+            "seconds": run.seconds,
+            "startup_seconds": run.startup,
+            "throughput_per_s": run.throughput,
+            "workers": run.workers,
+            "scheduler": run.scheduler,
+        }
+    if plots:
+        from compas_ccu.viz.explore import plot_design_space, plot_pareto
+        from compas_ccu.viz.export import save_figure
+
+        folder = out / "plots"
+        folder.mkdir(exist_ok=True)
+        fig = plot_design_space(rows, sweep.parameter_names, sweep=sweep)
+        files += save_figure(fig, folder / "design_space", formats=("png",))
+        fig = plot_pareto(rows, sweep.objectives, front, best, feasible_mask, title=sweep.name)
+        files += save_figure(fig, folder / "pareto", formats=("png",))
+    path = out / "summary.json"
+    summary["files"] = [str(f) for f in files] + [str(path)]
+    path.write_text(json.dumps(summary, indent=1, default=float), encoding="utf-8")
+    return summary

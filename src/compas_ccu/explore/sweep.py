@@ -1,0 +1,564 @@
+"""Sweep files: a base design, the parameters to vary and how to sample them.
+
+A sweep file is TOML (``docs/explore.md`` lists every key)::
+
+    [sweep]
+    name = "vault-sweep"
+    base = "../vault.toml"            # the base design, relative to this file
+    sampling = "grid"                 # grid | list | random | lhs
+    samples = 200                     # random / lhs
+    seed = 1                          # random / lhs
+
+    [parameters]
+    "crease.rise" = [0.8, 1.0, 1.2]                   # values: a grid axis, or choices
+    "deployment.alpha" = {min = 20, max = 40, num = 5}  # a range (num: grid points)
+    layout = [{label = "parallel", type = "parallel", plates = 6, spacing = 0.12},
+              {label = "radial", type = "radial", plates = 6, angle = 6.0, axis = 3.0}]
+
+A dotted parameter sets one key of the design; a parameter named after a section (``layout``)
+replaces the whole section with each of its tables (dotted parameters apply on top). Every
+variant is identified by its parameter values (:attr:`Variant.id`), so a sweep that grows keeps
+the variants it already computed.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from compas_ccu.errors import DesignError, SweepError
+
+__all__ = ["Parameter", "Variant", "Sweep", "load_sweep", "SAMPLINGS"]
+
+SAMPLINGS = ("grid", "list", "random", "lhs")
+SECTIONS = ("sweep", "parameters", "variants", "checks", "fe", "objectives", "constraints")
+SWEEP_KEYS = ("name", "description", "base", "sampling", "samples", "seed", "best")
+CHECK_KEYS = ("path_states", "collisions")
+FE_KEYS = (
+    "engine",
+    "mode",
+    "element_size",
+    "steps",
+    "orthotropic",
+    "hinge_stiffness",
+    "control",
+    "self_weight",
+    "checks",
+    "area_load",
+    "deflection_limit",
+)
+DEFAULT_OBJECTIVES = {"rise": "max", "bending_utilisation": "min", "stack_height": "min"}
+DEFAULT_CONSTRAINTS = {"bending_utilisation": {"max": 1.0}}
+MAX_VARIANTS = 1_000_000
+RANGE_KEYS = ("min", "max", "num")
+NUMERIC_KINDS = ("float", "int", "float_or_list", "gamma")
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _round(value) -> float:
+    """A sampled number to 12 significant digits (linspace gives 0.7999999999999999 for 0.8)."""
+    return float(f"{float(value):.12g}")
+
+
+def _column_value(value):
+    """The value as stored in the results table: scalars as they are, lists as JSON text."""
+    if isinstance(value, (bool, int, float, str)):
+        return value
+    return json.dumps(value, separators=(",", ":"))
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One swept parameter.
+
+    Attributes
+    ----------
+    name : str
+        ``"section.key"`` (one design key) or ``"section"`` (whole-section tables).
+    values : tuple or None
+        Discrete values (a grid axis; the choices for random / LHS sampling).
+    low, high : float or None
+        A range: grid points ``linspace(low, high, num)``; uniform for random / LHS sampling.
+    num : int or None
+        Grid points of a range.
+    integer : bool
+        The design key is an integer (ranges give integers).
+    labels : tuple or None
+        Whole-section parameters: the label of each table (the column value).
+    """
+
+    name: str
+    values: tuple | None = None
+    low: float | None = None
+    high: float | None = None
+    num: int | None = None
+    integer: bool = False
+    labels: tuple | None = None
+
+    @property
+    def section(self) -> str:
+        return self.name.split(".", 1)[0]
+
+    @property
+    def is_range(self) -> bool:
+        return self.values is None
+
+    def grid_values(self) -> list:
+        """Values of a grid axis."""
+        if not self.is_range:
+            return list(self.values)
+        if self.num is None:
+            raise SweepError(
+                "a range needs num (grid points) for grid sampling, e.g. "
+                f"{{min = {self.low:g}, max = {self.high:g}, num = 5}}",
+                key=f"parameters.{self.name}",
+            )
+        values = np.linspace(self.low, self.high, self.num)
+        if self.integer:
+            return list(dict.fromkeys(int(round(v)) for v in values))
+        return [_round(v) for v in values]
+
+    def from_unit(self, u: np.ndarray) -> list:
+        """Values for samples ``u`` in [0, 1): uniform over the range or over the choices."""
+        u = np.clip(np.asarray(u, dtype=float), 0.0, np.nextafter(1.0, 0.0))
+        if not self.is_range:
+            return [self.values[int(i)] for i in np.floor(u * len(self.values))]
+        if self.integer:
+            lo, hi = int(self.low), int(self.high)
+            return [lo + int(i) for i in np.floor(u * (hi - lo + 1))]
+        return [_round(v) for v in self.low + u * (self.high - self.low)]
+
+    def column(self, value):
+        """The table value of ``value`` (the label of a section table)."""
+        if self.labels is not None:
+            return self.labels[self.values.index(value)]
+        return _column_value(value)
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One design of the sweep.
+
+    Attributes
+    ----------
+    index : int
+        Position in the sweep.
+    settings : dict
+        Parameter name -> value applied to the base design.
+    params : dict
+        Parameter name -> value as stored in the results table (labels, JSON for lists).
+    """
+
+    index: int
+    settings: dict = field(compare=False)
+    params: dict
+
+    @property
+    def id(self) -> str:
+        """Stable identifier: a hash of the parameter values (12 hex digits)."""
+        text = json.dumps(self.params, sort_keys=True, separators=(",", ":"))
+        return hashlib.sha1(text.encode("utf-8")).hexdigest()[:12]
+
+
+class Sweep:
+    """A validated sweep file.
+
+    Parameters
+    ----------
+    document : dict
+        The parsed sweep TOML.
+    base_dir : path-like
+        Folder against which ``sweep.base`` is resolved (the sweep file's folder).
+    name : str, optional
+        Fallback name when the file has no ``sweep.name``.
+
+    Raises
+    ------
+    SweepError
+        Unknown section or key, bad sampling, bad parameter, missing or invalid base design.
+
+    Examples
+    --------
+    >>> sweep = Sweep({"sweep": {"base": "vault.toml"},
+    ...                "parameters": {"crease.rise": [0.8, 1.0], "layout.plates": [4, 6, 8]}},
+    ...               base_dir="examples")
+    >>> len(sweep.variants), sweep.variants[1].params
+    (6, {'crease.rise': 0.8, 'layout.plates': 6})
+    >>> sweep.document_for(sweep.variants[1])["layout"]["plates"]
+    6
+    """
+
+    def __init__(self, document: dict, *, base_dir=".", name: str | None = None):
+        from compas_ccu.design.schema import SCHEMA
+
+        if not isinstance(document, dict):
+            raise SweepError(f"a sweep must be a table, got {type(document).__name__}")
+        for section in document:
+            if section not in SECTIONS:
+                raise SweepError(f"unknown section; allowed: {', '.join(SECTIONS)}", key=section)
+        head = self._table(document, "sweep")
+        self._known(head, SWEEP_KEYS, "sweep")
+        self.name = str(head.get("name") or name or "sweep")
+        self.description = str(head.get("description", ""))
+        self.sampling = head.get("sampling", "grid")
+        if self.sampling not in SAMPLINGS:
+            raise SweepError(
+                f"must be one of {', '.join(SAMPLINGS)}, got {self.sampling!r}",
+                key="sweep.sampling",
+            )
+        self.samples = self._int(head, "samples", None, 1, "sweep")
+        self.seed = self._int(head, "seed", 0, 0, "sweep")
+        self.best = self._int(head, "best", 5, 0, "sweep")
+        if self.sampling in ("random", "lhs") and self.samples is None:
+            raise SweepError(f"sampling {self.sampling!r} needs samples", key="sweep.samples")
+
+        checks = self._table(document, "checks")
+        self._known(checks, CHECK_KEYS, "checks")
+        self.path_states = self._int(checks, "path_states", 21, 2, "checks")
+        self.collisions = checks.get("collisions", False)
+        if not isinstance(self.collisions, bool):
+            raise SweepError(
+                f"must be true or false, got {self.collisions!r}", key="checks.collisions"
+            )
+        self.fe = self._fe(document)
+
+        # the base design
+        if "base" not in head:
+            raise SweepError(
+                "missing: the base design file, e.g. base = 'vault.toml'", key="sweep.base"
+            )
+        self.base_path = (Path(base_dir) / str(head["base"])).resolve()
+        from compas_ccu.design.model import load_design
+
+        try:
+            base = load_design(self.base_path)
+        except DesignError as exc:
+            raise SweepError(f"base design: {exc}", key="sweep.base") from exc
+        self.base_document = base.document
+
+        self.parameters = self._parameters(document, SCHEMA)
+        self.variants = self._variants(document, SCHEMA)
+        self.objectives = self._goals(document, "objectives", DEFAULT_OBJECTIVES)
+        self.constraints = self._goals(document, "constraints", self._default_constraints())
+        self.document = document
+
+    # -- parsing helpers ----------------------------------------------------------------------
+    @staticmethod
+    def _table(document: dict, section: str) -> dict:
+        value = document.get(section, {})
+        if not isinstance(value, dict):
+            raise SweepError("must be a table", key=f"[{section}]")
+        return value
+
+    @staticmethod
+    def _known(table: dict, allowed, section: str) -> None:
+        for key in table:
+            if key not in allowed:
+                raise SweepError(
+                    f"unknown key; allowed in [{section}]: {', '.join(allowed)}",
+                    key=f"{section}.{key}",
+                )
+
+    @staticmethod
+    def _int(table: dict, key: str, default, low: int, section: str):
+        value = table.get(key, default)
+        if value is None:
+            return None
+        if not (isinstance(value, int) and not isinstance(value, bool)) or value < low:
+            raise SweepError(f"must be an integer >= {low}, got {value!r}", key=f"{section}.{key}")
+        return value
+
+    def _fe(self, document: dict):
+        if "fe" not in document:
+            return None
+        table = self._table(document, "fe")
+        self._known(table, FE_KEYS, "fe")
+        from compas_ccu.fea.problem import FEError
+        from compas_ccu.fea.validation import FESettings
+
+        options = {"engine": "kratos", "element_size": 0.25, "steps": 4, **table}
+        try:
+            FESettings(**options)
+        except (FEError, TypeError, ValueError) as exc:
+            raise SweepError(str(exc), key="[fe]") from exc
+        if options["engine"] not in ("kratos", "opensees"):
+            raise SweepError(
+                f"engine must be 'kratos' or 'opensees', got {options['engine']!r}", key="fe.engine"
+            )
+        return options
+
+    def _default_constraints(self) -> dict:
+        out = dict(DEFAULT_CONSTRAINTS)
+        if self.collisions:
+            out["collision_free"] = True
+        return out
+
+    def _goals(self, document: dict, section: str, default: dict) -> dict:
+        from compas_ccu.explore.metrics import metric_names
+
+        if section not in document:
+            return dict(default)
+        table = self._table(document, section)
+        names = metric_names(collisions=self.collisions, fe=self.fe is not None)
+        for metric, goal in table.items():
+            if metric not in names:
+                raise SweepError(
+                    f"unknown metric; available: {', '.join(names)}", key=f"{section}.{metric}"
+                )
+            if section == "objectives" and goal not in ("min", "max"):
+                raise SweepError(f"must be 'min' or 'max', got {goal!r}", key=f"{section}.{metric}")
+            if section == "constraints":
+                ok = isinstance(goal, bool) or (
+                    isinstance(goal, dict)
+                    and goal
+                    and set(goal) <= {"min", "max"}
+                    and all(_is_number(v) for v in goal.values())
+                )
+                if not ok:
+                    raise SweepError(
+                        f"must be true / false or a table {{min = ..., max = ...}}, got {goal!r}",
+                        key=f"{section}.{metric}",
+                    )
+        if section == "objectives" and not table:
+            raise SweepError("needs at least one metric", key="[objectives]")
+        return dict(table)
+
+    @staticmethod
+    def _flatten(table: dict, prefix: str = "") -> dict:
+        """``{"crease": {"rise": [...]}}`` (TOML dotted keys) -> ``{"crease.rise": [...]}``."""
+        out = {}
+        for key, value in table.items():
+            name = f"{prefix}{key}"
+            if isinstance(value, dict) and not prefix and not set(value) <= set(RANGE_KEYS):
+                out.update(Sweep._flatten(value, f"{name}."))
+            else:
+                out[name] = value
+        return out
+
+    @staticmethod
+    def _schema_key(name: str, schema: dict, where: str):
+        """The :class:`~compas_ccu.design.schema.Key` of a dotted name (None: a section)."""
+        section, _, key = name.partition(".")
+        if section not in schema:
+            raise SweepError(
+                f"unknown design section {section!r}; sections: {', '.join(schema)}", key=where
+            )
+        if not key:
+            return None
+        allowed = [k for k in schema[section] if not k.startswith("_")]
+        if key not in allowed or "." in key:
+            raise SweepError(
+                f"unknown design key; allowed in [{section}]: {', '.join(allowed)}", key=where
+            )
+        return schema[section][key]
+
+    def _parameters(self, document: dict, schema: dict) -> list:
+        table = self._flatten(self._table(document, "parameters"))
+        if self.sampling == "list":
+            if table:
+                raise SweepError(
+                    "sampling 'list' takes its variants from [[variants]], not [parameters]",
+                    key="[parameters]",
+                )
+            return []
+        if not table:
+            raise SweepError("needs at least one parameter to vary", key="[parameters]")
+        return [self._parameter(name, spec, schema) for name, spec in table.items()]
+
+    def _parameter(self, name: str, spec, schema: dict) -> Parameter:
+        where = f"parameters.{name}"
+        key = self._schema_key(name, schema, where)
+        if key is None:  # whole-section tables
+            if not (isinstance(spec, list) and spec and all(isinstance(v, dict) for v in spec)):
+                raise SweepError(
+                    "a section parameter takes a list of tables, e.g. "
+                    f"{name} = [{{label = 'a', ...}}, {{label = 'b', ...}}]",
+                    key=where,
+                )
+            values, labels = [], []
+            for table in spec:
+                table = dict(table)
+                label = table.pop("label", None)
+                values.append(table)
+                labels.append(
+                    str(label)
+                    if label is not None
+                    else ", ".join(f"{k}={_column_value(v)}" for k, v in table.items())
+                )
+            if len(set(labels)) != len(labels):
+                raise SweepError(f"labels must be different, got {labels}", key=where)
+            return Parameter(name, values=tuple(values), labels=tuple(labels))
+        if isinstance(spec, list):
+            if not spec:
+                raise SweepError("needs at least one value", key=where)
+            kinds = {type(v) if not _is_number(v) else float for v in spec}
+            if len(kinds) > 1:
+                raise SweepError(f"values must all be of one type, got {spec!r}", key=where)
+            return Parameter(name, values=tuple(spec))
+        if isinstance(spec, dict):
+            unknown = set(spec) - set(RANGE_KEYS)
+            if unknown or not {"min", "max"} <= set(spec):
+                raise SweepError(
+                    f"a range is {{min = ..., max = ..., num = ...}}, got {spec!r}", key=where
+                )
+            if key.kind not in NUMERIC_KINDS:
+                raise SweepError(f"a range needs a numeric design key, not {key.kind}", key=where)
+            low, high = spec["min"], spec["max"]
+            if not (_is_number(low) and _is_number(high) and math.isfinite(low + high)):
+                raise SweepError(f"min and max must be numbers, got {low!r}, {high!r}", key=where)
+            if high < low:
+                raise SweepError(f"max {high!r} is below min {low!r}", key=where)
+            integer = key.kind == "int"
+            if integer and not (float(low).is_integer() and float(high).is_integer()):
+                raise SweepError(
+                    f"an integer key needs integer min and max, got {spec!r}", key=where
+                )
+            num = spec.get("num")
+            if num is not None and not (
+                isinstance(num, int) and not isinstance(num, bool) and num >= 1
+            ):
+                raise SweepError(f"num must be an integer >= 1, got {num!r}", key=where)
+            return Parameter(name, low=float(low), high=float(high), num=num, integer=integer)
+        raise SweepError(
+            f"must be a list of values or a range {{min, max, num}}, got {spec!r}", key=where
+        )
+
+    def _variants(self, document: dict, schema: dict) -> list:
+        if self.sampling == "list":
+            rows = document.get("variants")
+            if not (isinstance(rows, list) and rows and all(isinstance(r, dict) for r in rows)):
+                raise SweepError(
+                    "sampling 'list' needs [[variants]] tables of parameter values", key="variants"
+                )
+            rows = [self._flatten(r) for r in rows]
+            for i, row in enumerate(rows):
+                for name in row:
+                    if self._schema_key(name, schema, f"variants[{i}].{name}") is None:
+                        raise SweepError(
+                            "list variants set design keys (section.key), not whole sections",
+                            key=f"variants[{i}].{name}",
+                        )
+            names = list(dict.fromkeys(n for r in rows for n in r))
+            settings = [{n: r[n] for n in names if n in r} for r in rows]
+        elif "variants" in document:
+            raise SweepError("[[variants]] needs sampling = 'list'", key="variants")
+        elif self.sampling == "grid":
+            axes = [p.grid_values() for p in self.parameters]
+            count = math.prod(len(a) for a in axes)
+            if count > MAX_VARIANTS:
+                raise SweepError(f"the grid has {count} variants, more than {MAX_VARIANTS}")
+            grid = np.stack(np.meshgrid(*[np.arange(len(a)) for a in axes], indexing="ij"), -1)
+            grid = grid.reshape(-1, len(axes))
+            settings = [
+                {p.name: axes[j][i] for j, (p, i) in enumerate(zip(self.parameters, row))}
+                for row in grid.tolist()
+            ]
+        else:
+            if self.samples > MAX_VARIANTS:
+                raise SweepError(f"more than {MAX_VARIANTS} samples", key="sweep.samples")
+            rng = np.random.default_rng(self.seed)
+            d, n = len(self.parameters), self.samples
+            if self.sampling == "lhs":
+                from scipy.stats import qmc
+
+                unit = qmc.LatinHypercube(d=d, seed=rng).random(n)
+            else:
+                unit = rng.random((n, d))
+            columns = [p.from_unit(unit[:, j]) for j, p in enumerate(self.parameters)]
+            settings = [
+                {p.name: col[i] for p, col in zip(self.parameters, columns)} for i in range(n)
+            ]
+        by_name = {p.name: p for p in self.parameters}
+        variants, seen = [], set()
+        for values in settings:
+            params = {
+                n: (by_name[n].column(v) if n in by_name else _column_value(v))
+                for n, v in values.items()
+            }
+            variant = Variant(len(variants), values, params)
+            if variant.id in seen:  # random choices can repeat a design: compute it once
+                continue
+            seen.add(variant.id)
+            variants.append(variant)
+        self.duplicates = len(settings) - len(variants)
+        return variants
+
+    # -- use ----------------------------------------------------------------------------------
+    @property
+    def parameter_names(self) -> list:
+        """Parameter columns of the results table, in order."""
+        if self.parameters:
+            return [p.name for p in self.parameters]
+        return list(dict.fromkeys(n for v in self.variants for n in v.params))
+
+    def document_for(self, variant: Variant) -> dict:
+        """The design document of ``variant``: the base with its parameters applied."""
+        doc = copy.deepcopy(self.base_document)
+        items = sorted(variant.settings.items(), key=lambda kv: "." in kv[0])  # sections first
+        for name, value in items:
+            section, _, key = name.partition(".")
+            if key:
+                doc.setdefault(section, {})[key] = copy.deepcopy(value)
+            else:
+                doc[section] = copy.deepcopy(value)
+        name = doc.setdefault("design", {}).get("name") or self.base_path.stem
+        doc["design"]["name"] = f"{name}-{variant.id}"
+        return doc
+
+    @property
+    def options(self) -> dict:
+        """Evaluation options of every variant (:func:`compas_ccu.explore.evaluate_variant`)."""
+        return {"path_states": self.path_states, "collisions": self.collisions, "fe": self.fe}
+
+    @property
+    def fingerprint(self) -> str:
+        """Hash of what decides a variant's numbers besides its parameters: the base design,
+        the evaluation options and the compas_ccu version."""
+        from compas_ccu import __version__
+
+        text = json.dumps(
+            {"base": self.base_document, "options": self.options, "version": __version__},
+            sort_keys=True,
+            default=str,
+        )
+        return hashlib.sha1(text.encode("utf-8")).hexdigest()[:16]
+
+    def __repr__(self) -> str:
+        return (
+            f"Sweep({self.name!r}, {len(self.variants)} variants, sampling={self.sampling!r}, "
+            f"parameters={self.parameter_names})"
+        )
+
+
+def load_sweep(path) -> Sweep:
+    """Load and validate a sweep TOML file (``base`` is resolved against its folder).
+
+    Raises
+    ------
+    SweepError
+        The file is missing, not TOML, or not a valid sweep (the message names the key).
+    """
+    from compas_ccu.design.model import _toml_loads
+
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SweepError(f"cannot read sweep file {str(path)!r}: {exc.strerror}") from exc
+    try:
+        document = _toml_loads(text)
+    except Exception as exc:
+        raise SweepError(f"{path}: not valid TOML: {exc}") from exc
+    try:
+        return Sweep(document, base_dir=path.parent, name=path.stem)
+    except SweepError as exc:
+        raise SweepError(f"{path}: {exc}") from exc
