@@ -7,13 +7,13 @@ import math
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
 
 from compas_ccu.design import load_design
 from compas_ccu.explore import METRICS, evaluate_variant, metric_names
 from compas_ccu.explore.evaluate import STAGES, row_template
 from compas_ccu.explore.metrics import collision_metrics, metrics_markdown
 from compas_ccu.thickness import ThickModel
+from conftest import EXAMPLES
 
 CONE = load_design(EXAMPLES / "cone.toml").document
 

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
 
 from compas_ccu.errors import SweepError
 from compas_ccu.explore import Sweep, load_sweep
+from conftest import EXAMPLES
 
 
 def sweep(parameters=None, **sections):

@@ -31,6 +31,8 @@ CLUSTER_ERRORS = ("KilledWorker", "CancelledError", "FutureCancelledError", "Com
 #: arrays up to 32 MiB on the heap and trimming above 256 MiB gives 0.63 s
 #: (docs/benchmarks.md). Set the same variables on the workers of your own cluster.
 WORKER_ENV = {"MALLOC_MMAP_THRESHOLD_": str(2**25), "MALLOC_TRIM_THRESHOLD_": str(2**28)}
+CONNECT_TIMEOUT = "20s"  # to reach a --scheduler
+WORKER_TIMEOUT = 60.0  # s for a first worker to join it
 MANIFEST = "sweep.json"
 JOURNAL = "journal.jsonl"
 TABLE = "results.parquet"
@@ -175,7 +177,7 @@ def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: b
                 f"are used (got --workers {workers} and --scheduler {scheduler})"
             )
         try:
-            client = Client(scheduler, timeout="20s")
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT)
         except (OSError, TimeoutError) as exc:
             raise SweepError(
                 f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}"

@@ -48,6 +48,11 @@ def write_best(sweep, picks: list, out) -> list:
     return files
 
 
+def _counts(values) -> dict:
+    """Occurrences, most frequent first, ties by name."""
+    return dict(sorted(Counter(values).items(), key=lambda kv: (-kv[1], str(kv[0]))))
+
+
 def _stage_seconds(rows: list) -> dict:
     from compas_ccu.explore.evaluate import STAGES
 
@@ -100,8 +105,8 @@ def summarise(sweep, rows: list, out, *, run=None, plots: bool = True) -> dict:
         "variants": len(rows),
         "ok": len(ok),
         "failed": len(failed),
-        "errors": dict(Counter(r.get("error_type") for r in failed).most_common()),
-        "failed_stage": dict(Counter(r.get("stage") for r in failed).most_common()),
+        "errors": _counts(r.get("error_type") for r in failed),
+        "failed_stage": _counts(r.get("stage") for r in failed),
         "feasible": int(feasible_mask.sum()),
         "objectives": sweep.objectives,
         "constraints": sweep.constraints,
