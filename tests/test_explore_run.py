@@ -19,7 +19,7 @@ from compas_ccu.design import load_design
 from compas_ccu.errors import SweepError
 from compas_ccu.explore import load_sweep, run_sweep
 from compas_ccu.explore.results import Journal, read_table
-from compas_ccu.explore.run import WORKER_ENV
+from compas_ccu.explore.run import local_cluster
 from conftest import EXAMPLES
 from imagecheck import assert_picture, load_rgb
 
@@ -64,9 +64,7 @@ def small(tmp_path_factory):
 @pytest.fixture(scope="module")
 def cluster():
     """A local cluster of 2 worker processes, shared by the tests of this module."""
-    c = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, env=WORKER_ENV
-    )
+    c = local_cluster(2)
     client = distributed.Client(c)
     yield c, client
     client.close()

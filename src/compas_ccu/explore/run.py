@@ -21,15 +21,16 @@ from pathlib import Path
 
 from compas_ccu.errors import SweepError
 
-__all__ = ["run_sweep", "SweepResult", "columns", "CLUSTER_ERRORS"]
+__all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRORS", "WORKER_ENV"]
 
 #: Errors of the cluster rather than of the design: such variants are computed again on resume.
 CLUSTER_ERRORS = ("KilledWorker", "CancelledError", "FutureCancelledError", "CommClosedError")
-#: Environment of the local cluster's workers. Dask's nannies set MALLOC_TRIM_THRESHOLD_=65536,
-#: and glibc then maps and unmaps every large NumPy temporary afresh (page faults): the
-#: collision check ran 1.2 s per vault variant on a worker against 0.69 s in-process. Keeping
-#: arrays up to 32 MiB on the heap and trimming above 256 MiB gives 0.63 s
-#: (docs/benchmarks.md). Set the same variables on the workers of your own cluster.
+#: Environment of the local cluster's worker processes. Dask's nannies set
+#: MALLOC_TRIM_THRESHOLD_=65536, and glibc then maps and unmaps every large NumPy temporary
+#: afresh (page faults, system time): the collision check of a vault variant took 1.0-1.2 s on
+#: a worker against 0.59 s in-process. Keeping arrays up to 32 MiB on the heap and trimming
+#: above 256 MiB gives 0.56 s (docs/benchmarks.md). Set the same variables on the workers of
+#: your own cluster (``distributed.nanny.pre-spawn-environ``).
 WORKER_ENV = {"MALLOC_MMAP_THRESHOLD_": str(2**25), "MALLOC_TRIM_THRESHOLD_": str(2**28)}
 CONNECT_TIMEOUT = "20s"  # to reach a --scheduler
 WORKER_TIMEOUT = 60.0  # s for a first worker to join it
@@ -165,7 +166,7 @@ def _worker_version():  # runs on every worker of a remote cluster
 def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: bool):
     """(client, cluster or None, label, worker count)."""
     try:
-        from distributed import Client, LocalCluster
+        from distributed import Client
     except ImportError as exc:  # pragma: no cover - the explore extra is missing
         raise SweepError(
             "ccu explore needs Dask: pip install 'compas_ccu[explore]' (dask[distributed], pyarrow)"
@@ -203,15 +204,26 @@ def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: b
     if workers is not None and workers < 1:
         raise SweepError(f"--workers must be >= 1, got {workers}")
     n = workers or max(1, min(os.cpu_count() or 1, todo))
-    cluster = LocalCluster(
-        n_workers=n,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=":8787" if dashboard else None,
-        silence_logs=logging.ERROR,
-        env=WORKER_ENV,
-    )
+    cluster = local_cluster(n, dashboard=dashboard)
     return Client(cluster), cluster, "local", n
+
+
+def local_cluster(workers: int, *, dashboard: bool = False):
+    """A ``distributed.LocalCluster`` of ``workers`` single-threaded processes with
+    :data:`WORKER_ENV` (set before the worker processes start, also when a nanny restarts one).
+    """
+    import dask
+    from distributed import LocalCluster
+
+    environ = {f"distributed.nanny.pre-spawn-environ.{k}": v for k, v in WORKER_ENV.items()}
+    with dask.config.set(environ):
+        return LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":8787" if dashboard else None,
+            silence_logs=logging.ERROR,
+        )
 
 
 def run_sweep(
