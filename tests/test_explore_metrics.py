@@ -150,3 +150,9 @@ def test_metric_catalogue_is_unique_and_documented():
     table = metrics_markdown()
     assert all(f"`{n}`" in table for n in names)
     assert metric_names(collisions=True, fe=True) == names
+
+
+def test_docs_list_every_metric():
+    text = (EXAMPLES.parent / "docs" / "explore.md").read_text(encoding="utf-8")
+    table = text.split("<!-- metrics:begin")[1].split("-->", 1)[1].split("<!-- metrics:end -->")[0]
+    assert table.strip() == metrics_markdown().strip()  # regenerate: see the comment in the docs

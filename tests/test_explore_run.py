@@ -378,3 +378,17 @@ def test_example_sweep_stage_names_match_the_table(small):
     assert set(declared) <= set(names) and np.all(
         [declared[k] in ("float", "int", "bool", "str") for k in declared]
     )
+
+
+def test_an_fe_sweep_on_the_cluster(cluster, tmp_path):
+    """Kratos runs inside the Dask workers; FE metrics land in the table."""
+    s = load_sweep(EXAMPLES / "sweeps" / "cone-fe.toml")
+    assert s.fe == {"engine": "kratos", "element_size": 0.2, "steps": 4, "checks": True}
+    s.variants = s.variants[:2]
+    r = run_sweep(s, tmp_path, client=cluster[1], progress=False, plots=False)
+    assert [row["status"] for row in r.rows] == ["ok", "ok"], [row["error"] for row in r.rows]
+    for row in r.rows:
+        assert 0.0 < row["fe_deviation_percent"] < 1.0 and row["fe_elements"] > 0
+        assert 0.0 < row["fe_utilisation"] < 1.0 and row["fe_buckling_factor"] > 1.0
+        assert row["t_fe"] > row["t_model"]
+    assert r.summary["objectives"] == {"rise": "max", "fe_utilisation": "min"}

@@ -70,13 +70,18 @@ def _cells(mid_near, mid_far, offsets):
     return centre, normal, (a, s0), (b, s1), (a, e_near), (d, e_far)
 
 
+def _heights(points, base, normal):
+    """(K, P, n) signed distances ``(p - base_j) . normal_j`` of points (K, P, 3) from the
+    planes (K, n, 3): one batched matrix product (BLAS) instead of a (K, P, n, 3) temporary."""
+    return points @ np.swapaxes(normal, -1, -2) - _dot(base, normal)[..., None, :]
+
+
 def _lateral(points, cells, tol):
     """(..., P, n) True where a point's foot lies inside a cell's footprint."""
     _, _, *planes = cells
     inside = None
     for base, normal in planes:
-        s = _dot(points[..., :, None, :] - base[..., None, :, :], normal[..., None, :, :])
-        ok = s >= -tol
+        ok = _heights(points, base, normal) >= -tol
         inside = ok if inside is None else inside & ok
     return inside
 
@@ -135,7 +140,7 @@ def plate_contacts(
         skip = None if hinged is None else hinged[q]
         if skip is not None:
             lateral &= ~skip[None, :, None]
-        d = _dot(pts[:, :, None, :] - centre[:, None, :, :], normal[:, None, :, :])  # (K, P, n)
+        d = _heights(pts, centre, normal)  # (K, P, n)
         gap = np.where(lateral, np.abs(d) - half, np.inf)
         best = gap.min(axis=2)  # (K, P): most negative = deepest
         worst = best.argmin(axis=1)
@@ -147,8 +152,8 @@ def plate_contacts(
         for face in (0, 1) if skip is None else ():
             x0 = faces[ks, pb, face, :m]
             x1 = faces[ks, pb, face, m:]
-            d0 = _dot(x0[:, :, None, :] - centre[:, None, :, :], normal[:, None, :, :])
-            d1 = _dot(x1[:, :, None, :] - centre[:, None, :, :], normal[:, None, :, :])
+            d0 = _heights(x0, centre, normal)
+            d1 = _heights(x1, centre, normal)
             sign_change = (d0 * d1) < 0.0
             if not sign_change.any():
                 continue

@@ -26,6 +26,11 @@ def _axis_values(rows: list, name: str):
     return np.array([index[v] for v in values], dtype=float), labels
 
 
+def _varies(values: np.ndarray) -> bool:
+    v = values[np.isfinite(values)]
+    return v.size > 0 and np.ptp(v) > 1e-9 * max(1.0, np.abs(v).max())
+
+
 def _metric(rows: list, name: str) -> np.ndarray:
     return np.array([np.nan if r.get(name) is None else float(r[name]) for r in rows])
 
@@ -47,8 +52,9 @@ def plot_design_space(rows: list, parameters: list, *, sweep=None, metrics=None,
     Returns
     -------
     matplotlib.figure.Figure
-        Feasible variants blue, successful but infeasible ones orange; the last row is the
-        fraction of variants that failed (with their error) per parameter value.
+        Feasible variants blue, successful but infeasible ones orange; metrics that are the
+        same in every variant are left out; when variants failed, the last row is the fraction
+        that failed (with their error) per parameter value.
 
     Examples
     --------
@@ -64,12 +70,14 @@ def plot_design_space(rows: list, parameters: list, *, sweep=None, metrics=None,
 
     if metrics is None:
         metrics = list(sweep.objectives) if sweep is not None else ["rise"]
-        metrics += [m for m in ("span", "limit_margin") if m not in metrics]
+        metrics += [m for m in ("span", "plan_area", "limit_margin") if m not in metrics]
+        metrics = [m for m in metrics if _varies(_metric(rows, m))]  # a constant says nothing
     metrics = metrics[:6]
     parameters = list(parameters)[:8]
     ok = np.array([r.get("status") == "ok" for r in rows], dtype=bool)
     good = feasible(rows, sweep.constraints) if sweep is not None else ok
-    nrows, ncols = len(metrics) + 1, max(1, len(parameters))
+    failures = bool((~ok).any())
+    nrows, ncols = len(metrics) + failures, max(1, len(parameters))
     fig = Figure(figsize=(2.7 * ncols + 0.6, 2.0 * nrows + 0.6), layout="constrained")
     axes = fig.subplots(nrows, ncols, squeeze=False)
     rng = np.random.default_rng(0)
@@ -88,11 +96,19 @@ def plot_design_space(rows: list, parameters: list, *, sweep=None, metrics=None,
                 )
             if j == 0:
                 ax.set_ylabel(metric)
+            ax.ticklabel_format(axis="y", useOffset=False, style="plain")
+            last = i == nrows - 1
             if labels is not None:
-                ax.set_xticks(range(len(labels)), labels=[""] * len(labels))
-            else:
+                ax.set_xticks(range(len(labels)), labels=labels if last else [""] * len(labels))
+                if last and (len(labels) > 5 or max(map(len, labels)) > 8):
+                    ax.tick_params(axis="x", labelrotation=30, labelsize=7)
+            elif not last:
                 ax.tick_params(labelbottom=False)
+            if last:
+                ax.set_xlabel(name)
             ax.grid(alpha=0.3)
+        if not failures:
+            continue
         ax = axes[-1, j]
         if labels is not None:
             share = [(~ok[x == k]).mean() if (x == k).any() else 0.0 for k in range(len(labels))]
