@@ -57,8 +57,9 @@ demo: setup
 	@echo "                                     OBJ/glTF solids, FOLD, assembly.svg/pdf, fabrication.json)"
 	@echo "  $(OUT)/cone-fe/                    (FE validation of the cone pair: Kratos + OpenSees)"
 	@echo "FE validation of the vault (about 2 minutes): .venv/bin/ccu validate examples/vault.toml --out $(OUT)/vault-fe"
+	@echo "Design-space sweep, 270 variants on a local Dask cluster (about 30 s): make explore"
 
-# design-space sweep of the vault: 270 variants on a local Dask cluster (about 2 minutes on 2 cores)
+# design-space sweep of the vault: 270 variants on a local Dask cluster (about 30 s on 2 cores)
 explore: setup
 	$(BIN)/ccu explore examples/sweeps/vault.toml --out $(OUT)/vault-sweep --workers $(WORKERS)
 	@echo "Open $(OUT)/vault-sweep/plots/pareto.png and design_space.png; the table is"

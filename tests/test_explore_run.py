@@ -236,7 +236,7 @@ def test_a_killed_worker_loses_no_result(cluster, tmp_path):
 
     thread = threading.Thread(target=kill_one, daemon=True)
     thread.start()
-    r = run_sweep(s, out, client=client, progress=False, summary=False)
+    r = run_sweep(s, out, client=client, progress=False, summary=False, window=3)
     thread.join(timeout=30)
     assert killed, "no worker was killed"
     assert r.computed == 12 and [row["status"] for row in r.rows] == ["ok"] * 12

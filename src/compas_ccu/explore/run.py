@@ -11,6 +11,7 @@ repeatedly is recorded as ``KilledWorker``); nothing the client has received is 
 
 from __future__ import annotations
 
+import itertools
 import json
 import logging
 import os
@@ -27,10 +28,10 @@ __all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRO
 CLUSTER_ERRORS = ("KilledWorker", "CancelledError", "FutureCancelledError", "CommClosedError")
 #: Environment of the local cluster's worker processes. Dask's nannies set
 #: MALLOC_TRIM_THRESHOLD_=65536, and glibc then maps and unmaps every large NumPy temporary
-#: afresh (page faults, system time): the collision check of a vault variant took 1.0-1.2 s on
-#: a worker against 0.59 s in-process. Keeping arrays up to 32 MiB on the heap and trimming
-#: above 256 MiB gives 0.56 s (docs/benchmarks.md). Set the same variables on the workers of
-#: your own cluster (``distributed.nanny.pre-spawn-environ``).
+#: afresh (page faults, system time): the collision check of an 8-plate vault variant took
+#: 0.51 s on such a worker. Keeping arrays up to 32 MiB on the heap and trimming above 256 MiB
+#: gives 0.12 s (docs/benchmarks.md). Set the same variables on the workers of your own
+#: cluster (``distributed.nanny.pre-spawn-environ``).
 WORKER_ENV = {"MALLOC_MMAP_THRESHOLD_": str(2**25), "MALLOC_TRIM_THRESHOLD_": str(2**28)}
 CONNECT_TIMEOUT = "20s"  # to reach a --scheduler
 WORKER_TIMEOUT = 60.0  # s for a first worker to join it
@@ -238,6 +239,7 @@ def run_sweep(
     summary: bool = True,
     plots: bool = True,
     dashboard: bool = False,
+    window: int | None = None,
 ) -> SweepResult:
     """Compute every missing variant of ``sweep`` and write the results into ``out``.
 
@@ -264,6 +266,8 @@ def run_sweep(
         Write the summary (and its plots) when the sweep is complete.
     dashboard : bool
         Serve the local cluster's Dask dashboard on port 8787.
+    window : int, optional
+        Variants in flight on the cluster at a time (default: 8 per worker, at least 64).
 
     Returns
     -------
@@ -329,7 +333,7 @@ def run_sweep(
                 count = len(client.scheduler_info().get("workers", {}))
             startup = time.perf_counter() - t0
             t0 = time.perf_counter()
-            _run_on_dask(use, sweep, todo, options, record)
+            _run_on_dask(use, sweep, todo, options, record, window=window or 0)
     except KeyboardInterrupt:
         interrupted = True
     finally:
@@ -369,14 +373,20 @@ def run_sweep(
     return result
 
 
-def _run_on_dask(client, sweep, todo: list, options: dict, record) -> None:
-    """Submit one task per variant and record each result as it completes."""
+def _run_on_dask(client, sweep, todo: list, options: dict, record, *, window: int = 0) -> None:
+    """Keep up to ``window`` variants in flight (default: 8 per worker, at least 64), record
+    each result as it completes and submit the next, so the client and the scheduler hold a
+    bounded number of tasks however large the sweep."""
     from distributed import as_completed
 
     from compas_ccu.explore.evaluate import evaluate_variant
 
+    workers = len(client.scheduler_info().get("workers", {})) or 1
+    window = window or max(64, 8 * workers)
+    queue = iter(todo)
     pending = {}
-    for v in todo:
+
+    def submit(v):
         future = client.submit(
             evaluate_variant,
             sweep.document_for(v),
@@ -384,8 +394,12 @@ def _run_on_dask(client, sweep, todo: list, options: dict, record) -> None:
             **options,
         )
         pending[future] = v
+        return future
+
+    first = [submit(v) for v in itertools.islice(queue, window)]
+    flow = as_completed(first)
     try:
-        for future in as_completed(list(pending)):
+        for future in flow:
             v = pending.pop(future)
             if future.status == "finished":
                 row = future.result()
@@ -397,6 +411,9 @@ def _run_on_dask(client, sweep, todo: list, options: dict, record) -> None:
                 row = _cluster_failure(exc, options)
             future.release()
             record(v, row)
+            nxt = next(queue, None)
+            if nxt is not None:
+                flow.add(submit(nxt))
     finally:
         for future in pending:  # interrupted: forget the rest on the cluster
             future.cancel()
