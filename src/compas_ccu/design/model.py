@@ -8,7 +8,7 @@ from pathlib import Path
 from compas_ccu.design.schema import validate
 from compas_ccu.errors import DesignError
 
-__all__ = ["Design", "load_design"]
+__all__ = ["Design", "load_design", "read_toml"]
 
 
 def _toml_loads(text: str) -> dict:
@@ -65,6 +65,19 @@ class Design:
         return CCUModel(self)
 
 
+def read_toml(path, *, error=DesignError, what: str = "design") -> dict:
+    """Parse a TOML file; a missing file or bad TOML becomes ``error`` naming the path."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise error(f"cannot read {what} file {str(path)!r}: {exc.strerror}") from exc
+    try:
+        return _toml_loads(text)
+    except Exception as exc:  # tomllib.TOMLDecodeError
+        raise error(f"{path}: not valid TOML: {exc}") from exc
+
+
 def load_design(path) -> Design:
     """Load and validate a design TOML file.
 
@@ -74,11 +87,8 @@ def load_design(path) -> Design:
         The file is missing, not TOML, or not a valid design (the message names the key).
     """
     path = Path(path)
+    document = read_toml(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise DesignError(f"cannot read design file {str(path)!r}: {exc.strerror}") from exc
-    try:
-        return Design.from_toml(text, name=path.stem)
+        return Design(document, name=path.stem)
     except DesignError as exc:
         raise DesignError(f"{path}: {exc}") from exc

@@ -547,17 +547,10 @@ def load_sweep(path) -> Sweep:
     SweepError
         The file is missing, not TOML, or not a valid sweep (the message names the key).
     """
-    from compas_ccu.design.model import _toml_loads
+    from compas_ccu.design.model import read_toml
 
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise SweepError(f"cannot read sweep file {str(path)!r}: {exc.strerror}") from exc
-    try:
-        document = _toml_loads(text)
-    except Exception as exc:
-        raise SweepError(f"{path}: not valid TOML: {exc}") from exc
+    document = read_toml(path, error=SweepError, what="sweep")
     try:
         return Sweep(document, base_dir=path.parent, name=path.stem)
     except SweepError as exc:
