@@ -422,7 +422,7 @@ def _cmd_explore(args) -> int:
 
     from compas_ccu.explore import load_sweep, run_sweep
 
-    needed = ["pyarrow"] + ([] if args.in_process else ["distributed"])
+    needed = ["pyarrow", "tqdm"] + ([] if args.in_process else ["distributed"])
     needed += ["bokeh"] if args.dashboard else []
     missing = [m for m in needed if importlib.util.find_spec(m) is None]
     if missing:

@@ -76,8 +76,9 @@ def feasible(rows: list, constraints: dict) -> np.ndarray:
     return out
 
 
-def objective_matrix(rows: list, objectives: dict) -> np.ndarray:
-    """(n, m) float objective values (NaN where missing)."""
+def objective_matrix(rows: list, objectives) -> np.ndarray:
+    """(n, m) float values of the metrics ``objectives`` (names, or a dict keyed by them) in
+    ``rows`` (NaN where missing)."""
     return np.array(
         [[np.nan if r.get(k) is None else float(r[k]) for k in objectives] for r in rows],
         dtype=float,

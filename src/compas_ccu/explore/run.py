@@ -419,24 +419,9 @@ def _run_on_dask(client, sweep, todo: list, options: dict, record, *, window: in
             future.cancel()
 
 
-class _Silent:
-    def update(self, n=1):
-        pass
-
-    def set_postfix(self, **kw):
-        pass
-
-    def close(self):
-        pass
-
-
 def _progress(sweep, initial: int, show: bool):
-    if not show:
-        return _Silent()
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover - tqdm comes with the explore extra
-        return _Silent()
+    from tqdm import tqdm  # the explore extra
+
     return tqdm(
         total=len(sweep.variants),
         initial=initial,
@@ -445,4 +430,5 @@ def _progress(sweep, initial: int, show: bool):
         file=sys.stderr,
         mininterval=0.5,
         dynamic_ncols=True,
+        disable=not show,
     )

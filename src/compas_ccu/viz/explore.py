@@ -32,7 +32,9 @@ def _varies(values: np.ndarray) -> bool:
 
 
 def _metric(rows: list, name: str) -> np.ndarray:
-    return np.array([np.nan if r.get(name) is None else float(r[name]) for r in rows])
+    from compas_ccu.explore.pareto import objective_matrix
+
+    return objective_matrix(rows, [name])[:, 0]
 
 
 def plot_design_space(rows: list, parameters: list, *, sweep=None, metrics=None, title=None):
