@@ -44,6 +44,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 from compas_ccu.design import Design  # noqa: E402
+from compas_ccu.model import CCUModel
 
 PLATES = 10
 SEGMENTS_FULL = (4, 16, 64, 200, 500, 1000, 5000, 20000, 50000)
@@ -80,7 +81,7 @@ def build_model(segments: int, plates: int = PLATES):
             "layout": {"type": "parallel", "plates": plates, "spacing": 0.12},
         }
     )
-    return design.build()
+    return CCUModel(design)
 
 
 def measure(calls, *, target=TARGET_S, min_repeats=5, max_repeats=MAX_REPEATS):

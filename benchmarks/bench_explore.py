@@ -38,6 +38,7 @@ import numpy as np
 
 from compas_ccu.explore import evaluate_variant, load_sweep, run_sweep
 from compas_ccu.explore.evaluate import STAGES
+from compas_ccu.model import CCUModel
 
 ROOT = Path(__file__).resolve().parents[1]
 SWEEP = ROOT / "examples" / "sweeps" / "vault.toml"
@@ -69,14 +70,14 @@ def timed_run(sweep, **options) -> dict:
 
 def stage_call(stage: str, document: dict, options: dict):
     """A zero-argument call that runs only ``stage`` of one variant (the rest prepared)."""
-    from compas_ccu.design.model import Design
+    from compas_ccu.design.document import Design
     from compas_ccu.explore import metrics as mx
     from compas_ccu.thickness import ThickModel
 
     alphas = np.linspace(0.0, document["deployment"]["alpha"], options["path_states"])
     if stage == "model":
-        return lambda: mx.shape_metrics(*(lambda m: (m, m.deploy()))(Design(document).build()))
-    model = Design(document).build()
+        return lambda: mx.shape_metrics(*(lambda m: (m, m.deploy()))(CCUModel(Design(document))))
+    model = CCUModel(Design(document))
     if stage == "path":
         return lambda: mx.path_metrics(model, alphas)
     if stage == "thickness":

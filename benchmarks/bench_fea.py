@@ -18,12 +18,12 @@ import argparse
 import json
 import time
 
-from compas_ccu.design import load_design
 from compas_ccu.fea.validation import validate
+from compas_ccu.model import load_model
 
 
 def run(design: str, engines, sizes, steps: int) -> list:
-    model = load_design(design).build()
+    model = load_model(design)
     rows = []
     for engine in engines:
         for size in sizes:

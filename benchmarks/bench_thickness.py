@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from compas_ccu.design import load_design
+from compas_ccu.model import load_model
 from compas_ccu.thickness import ThickModel
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -29,7 +29,7 @@ def best_of(fn, repeats: int = 5) -> float:
 
 def bench_design(name: str) -> tuple:
     """One table row: timings of the thickness model of ``examples/<name>``."""
-    model = load_design(ROOT / "examples" / name).build()
+    model = load_model(ROOT / "examples" / name)
     thick = ThickModel(model)
     path = np.linspace(0.0, model.alpha_design, 41)
     verts = len(model.plate_ids) * (2 * model.segments + 2)

@@ -7,7 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from compas_ccu.design import Design, load_design
+from compas_ccu.design import Design
+from compas_ccu.model import load_model
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -39,7 +40,7 @@ def wavy_strip(n: int, seed: int = 0):
 
 @pytest.fixture(scope="session")
 def vault_model():
-    return load_design(EXAMPLES / "vault.toml").build()
+    return load_model(EXAMPLES / "vault.toml")
 
 
 @pytest.fixture(scope="session")
@@ -52,12 +53,12 @@ def vault_fab_data(vault_model):
 
 @pytest.fixture(scope="session")
 def cone_model():
-    return load_design(EXAMPLES / "cone.toml").build()
+    return load_model(EXAMPLES / "cone.toml")
 
 
 @pytest.fixture(scope="session")
 def quadrants_model():
-    return load_design(EXAMPLES / "quadrants.toml").build()
+    return load_model(EXAMPLES / "quadrants.toml")
 
 
 def make_design(**sections) -> Design:

@@ -7,6 +7,7 @@ import pytest
 from compas_ccu.design import Design, load_design
 from compas_ccu.design.schema import SCHEMA, schema_markdown
 from compas_ccu.errors import DesignError
+from compas_ccu.model import CCUModel, load_model
 from conftest import EXAMPLES, make_design
 
 BASE = {
@@ -59,19 +60,23 @@ def test_unknown_section_and_missing_keys():
 
 def test_build_time_errors_name_the_key():
     with pytest.raises(DesignError, match=r"layout\.width: required for layout type 'single'"):
-        Design({**BASE, "layout": {}}).build()
+        CCUModel(Design({**BASE, "layout": {}}))
     with pytest.raises(DesignError, match=r"rulings\.direction: required for type"):
-        make_design(rulings={"type": "cylindrical"}).build()
+        CCUModel(make_design(rulings={"type": "cylindrical"}))
     with pytest.raises(DesignError, match=r"layout\.spacing: needs one value per plate \(3\)"):
-        make_design(layout={"type": "parallel", "plates": 3, "spacing": [0.1, 0.1]}).build()
+        CCUModel(make_design(layout={"type": "parallel", "plates": 3, "spacing": [0.1, 0.1]}))
     with pytest.raises(DesignError, match=r"crease\.state: layout 'parallel' needs"):
-        make_design(
-            crease={"state": "flat"}, layout={"type": "parallel", "plates": 2, "spacing": 0.1}
-        ).build()
+        CCUModel(
+            make_design(
+                crease={"state": "flat"}, layout={"type": "parallel", "plates": 2, "spacing": 0.1}
+            )
+        )
     with pytest.raises(DesignError, match=r"layout\.leading: must be a plane with a plate"):
-        make_design(layout={"type": "parallel", "plates": 2, "spacing": 0.1, "leading": 2}).build()
+        CCUModel(
+            make_design(layout={"type": "parallel", "plates": 2, "spacing": 0.1, "leading": 2})
+        )
     with pytest.raises(DesignError, match=r"plane\.yaxis: must not be parallel"):
-        make_design(plane={"xaxis": [1.0, 0.0, 0.0], "yaxis": [2.0, 0.0, 0.0]}).build()
+        CCUModel(make_design(plane={"xaxis": [1.0, 0.0, 0.0], "yaxis": [2.0, 0.0, 0.0]}))
 
 
 def test_files_errors(tmp_path: Path):
@@ -85,7 +90,7 @@ def test_files_errors(tmp_path: Path):
 
 @pytest.mark.parametrize("name", ["vault", "cone", "quadrants"])
 def test_examples_load_and_build(name):
-    model = load_design(EXAMPLES / f"{name}.toml").build()
+    model = load_model(EXAMPLES / f"{name}.toml")
     assert model.design.name == name
     assert model.deploy().max_invariant_error < 1e-12
 

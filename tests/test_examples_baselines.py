@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from compas_ccu.design import load_design
+from compas_ccu.model import load_model
 from conftest import EXAMPLES
 
 BASELINES = Path(__file__).resolve().parent / "baselines"
@@ -21,7 +21,7 @@ ALPHAS = [0.0, 10.0, 20.0, 30.0, 40.0]
 
 
 def summary(name: str) -> dict:
-    model = load_design(EXAMPLES / f"{name}.toml").build()
+    model = load_model(EXAMPLES / f"{name}.toml")
     out = {
         "alpha_limit": model.alpha_limit,
         "overlap_alpha": model.overlap_alpha,

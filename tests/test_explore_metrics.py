@@ -12,6 +12,7 @@ from compas_ccu.design import load_design
 from compas_ccu.explore import METRICS, evaluate_variant, metric_names
 from compas_ccu.explore.evaluate import STAGES, row_template
 from compas_ccu.explore.metrics import collision_metrics, metrics_markdown
+from compas_ccu.model import load_model
 from compas_ccu.thickness import ThickModel
 from conftest import EXAMPLES
 
@@ -58,7 +59,7 @@ def test_cone_pattern_area_stack_and_mass_are_exact(cone_row):
 
 
 def test_cone_bending_is_the_thick_model_check_over_the_path(cone_row):
-    model = load_design(EXAMPLES / "cone.toml").build()
+    model = load_model(EXAMPLES / "cone.toml")
     bend = ThickModel(model).bending(np.linspace(0.0, 40.0, 9))
     assert cone_row["bending_utilisation"] == bend.max
     assert cone_row["bending_curvature"] == float(np.abs(bend.curvature).max())
@@ -88,7 +89,7 @@ def test_collision_metrics_of_the_vault():
 
 def test_a_collision_is_reported_with_its_angle():
     """The Fig. 12c funnel closes on itself beyond 70 deg (docs/thickness.md)."""
-    model = load_design(EXAMPLES / "catalog" / "fig12c-funnel.toml").build()
+    model = load_model(EXAMPLES / "catalog" / "fig12c-funnel.toml")
     m = collision_metrics(ThickModel(model), np.linspace(70.0, 77.0, 8))
     assert m["collision_free"] is False
     assert 70.0 <= m["collision_alpha"] <= 77.0 and m["max_penetration"] > 0.0

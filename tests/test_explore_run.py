@@ -20,6 +20,7 @@ from compas_ccu.errors import SweepError
 from compas_ccu.explore import load_sweep, run_sweep
 from compas_ccu.explore.results import Journal, read_table
 from compas_ccu.explore.run import local_cluster
+from compas_ccu.model import CCUModel
 from conftest import EXAMPLES
 from imagecheck import assert_picture, load_rgb
 
@@ -152,7 +153,7 @@ def test_the_summary_files(on_cluster, small):
         folder = Path(b["folder"])
         design = load_design(folder / "design.toml")
         row = rows[b["variant"]]
-        structure = design.build().deploy()
+        structure = CCUModel(design).deploy()
         assert structure.metrics["rise"] == row["rise"]  # the file reproduces the variant
         from compas_ccu.io import read_structure_json
 

@@ -6,8 +6,9 @@ import math
 
 import numpy as np
 
+from compas_ccu.geometry import fit_planes
 from compas_ccu.kinematics.leading import LeadingStrip
-from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink, fit_planes
+from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.strips.frames import crease_frames
 from compas_ccu.strips.intrinsics import strip_intrinsics
 from compas_ccu.strips.rulings import orthogonal_rulings

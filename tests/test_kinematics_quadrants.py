@@ -15,7 +15,7 @@ def test_four_quadrants_kinds_sector_angles_and_gamma(quadrants_model, alpha):
     assert kinds == {(0, 1): "synclastic", (0, 2): "ccf", (2, 3): "anticlastic", (1, 3): "ccf"}
     states = quadrants_model.mechanism.deploy(math.radians(alpha))
     for ci, crease in enumerate(quadrants_model.mechanism.creases):
-        rel = quadrants_model._relations(states, 0, ci)
+        rel = quadrants_model.relations(states, 0, ci)
         b = rel.sector_angles[1:-1]
         sums = rel.sum_beta[1:-1]
         if crease.relation == "ccf":  # developable: one sheet folded

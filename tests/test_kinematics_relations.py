@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from compas_ccu.model import CCUModel
 from conftest import make_design
 
 RULINGS = {
@@ -19,9 +20,9 @@ def relations_at(n, rulings, alpha=30.0, side="inside"):
         crease={"profile": "catenary", "span": 2.0, "rise": 0.7, "segments": n},
         rulings={**rulings, "side": side},
     )
-    m = d.build()
+    m = CCUModel(d)
     states = m.mechanism.deploy(math.radians(alpha))
-    return m._relations(states, 0, 0)
+    return m.relations(states, 0, 0)
 
 
 @pytest.mark.parametrize("kind", sorted(RULINGS))

@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from compas_ccu.design import Design, load_design
+from compas_ccu.design import Design
 from compas_ccu.errors import CCUError, GeometryError
 from compas_ccu.kinematics.relaxation import (
     Relaxation,
@@ -18,38 +18,41 @@ from compas_ccu.kinematics.relaxation import (
     relax,
     relax_states,
 )
+from compas_ccu.model import CCUModel, load_model
 from conftest import EXAMPLES
 
 
 @pytest.fixture(scope="module")
 def vault():
-    model = load_design(EXAMPLES / "vault.toml").build()
+    model = load_model(EXAMPLES / "vault.toml")
     return model, links_from_mechanism(model.mechanism)
 
 
 def inclined_model(segments=64, plates=6):
     """Crease planes inclined perpendicular to the actuation axis (paper Fig. 12a): planar at
     the design state (alpha = 30 deg), not planar in between."""
-    return Design(
-        {
-            "crease": {
-                "profile": "arc",
-                "span": 2.5,
-                "rise": 1.0,
-                "segments": segments,
-                "state": "deployed",
-            },
-            "rulings": {"type": "orthogonal", "side": "inside"},
-            "deployment": {"alpha": 30.0},
-            "layout": {
-                "type": "inclined",
-                "plates": plates,
-                "spacing": 0.12,
-                "spacing_start": 0.10,
-                "spacing_end": 0.14,
-            },
-        }
-    ).build()
+    return CCUModel(
+        Design(
+            {
+                "crease": {
+                    "profile": "arc",
+                    "span": 2.5,
+                    "rise": 1.0,
+                    "segments": segments,
+                    "state": "deployed",
+                },
+                "rulings": {"type": "orthogonal", "side": "inside"},
+                "deployment": {"alpha": 30.0},
+                "layout": {
+                    "type": "inclined",
+                    "plates": plates,
+                    "spacing": 0.12,
+                    "spacing_start": 0.10,
+                    "spacing_end": 0.14,
+                },
+            }
+        )
+    )
 
 
 def shared_consistent(near, far, links):
@@ -70,7 +73,7 @@ def test_links_from_mechanism_follow_the_plates(vault):
 def test_an_exact_state_is_left_unchanged(vault, k):
     model, links = vault
     st = model.mechanism.deploy(np.radians([10.0, 30.0]))
-    r = relax(st.near[k], st.far[k], model._reference_lengths, links)
+    r = relax(st.near[k], st.far[k], model.reference_lengths, links)
     assert isinstance(r, Relaxation)
     assert r.converged and r.status > 0
     assert r.displacement < 1e-12
@@ -91,7 +94,7 @@ def test_a_perturbed_state_with_an_exact_solution_is_recovered(vault):
     rng = np.random.default_rng(7)
     far[1:] += rng.normal(0.0, 1e-3, far[1:].shape)
     near, far = shared_consistent(near, far, links)
-    r = relax(near, far, model._reference_lengths, links)
+    r = relax(near, far, model.reference_lengths, links)
     assert r.converged
     assert r.initial_max_strain > 1e-2  # the guess is far from isometric (short quads)
     assert r.initial_quad_planarity > 1e-4
@@ -114,7 +117,7 @@ def test_an_inconsistent_guess_hinge_takes_the_parent_vertices(vault):
     st = model.mechanism.deploy(np.radians([20.0]))
     near = st.near[0].copy()
     near[2, 10] += [0.0, 2e-3, 0.0]  # plate 2's crease vertex off plate 1's far boundary
-    r = relax(near, st.far[0], model._reference_lengths, links)
+    r = relax(near, st.far[0], model.reference_lengths, links)
     assert abs(r.initial_hinge_gap - 2e-3) < 1e-15
     assert r.initial_max_strain < 1e-13  # the start uses the parent's vertex: exact again
     assert r.max_strain < 1e-13
@@ -127,7 +130,7 @@ def test_conflicting_lengths_on_a_shared_crease_split_the_strain(vault):
     segments: no exact solution; least squares splits the conflict into about +-0.1 %."""
     model, links = vault
     st = model.mechanism.deploy(np.radians([20.0]))
-    ref = model._reference_lengths.copy()
+    ref = model.reference_lengths.copy()
     ref[3, :, 2] *= 1.002
     r = relax(st.near[0], st.far[0], ref, links)
     assert r.converged
@@ -150,7 +153,7 @@ def test_a_leaf_plate_with_longer_far_edges_reshapes_almost_isometrically(vault)
     nearly fits (a trapezoid's diagonals change by far less), the residual is small but not 0."""
     model, links = vault
     st = model.mechanism.deploy(np.radians([20.0]))
-    ref = model._reference_lengths.copy()
+    ref = model.reference_lengths.copy()
     ref[9, :, 2] *= 1.002
     r = relax(st.near[0], st.far[0], ref, links)
     assert r.converged
@@ -174,7 +177,7 @@ def inclined():
 def test_relax_states_on_non_planar_creases(inclined):
     model, st, links = inclined
     assert st.planarity[[1, 2]].max() > 1e-4  # the creases leave their planes in between
-    rs = relax_states(st.near, st.far, model._reference_lengths, links)
+    rs = relax_states(st.near, st.far, model.reference_lengths, links)
     assert len(rs) == 4
     for k in (0, 3):  # flat and design state: exact
         assert rs[k].displacement < 1e-12 and rs[k].max_strain < 1e-13
@@ -194,7 +197,7 @@ def test_relax_states_on_non_planar_creases(inclined):
 
 def test_planarity_weight_trades_planarity_for_strain(inclined):
     model, st, links = inclined
-    ref = model._reference_lengths
+    ref = model.reference_lengths
     soft = relax(st.near[2], st.far[2], ref, links, planarity_weight=1.0)
     stiff = relax(st.near[2], st.far[2], ref, links, planarity_weight=10.0)
     assert stiff.converged and soft.converged
@@ -204,7 +207,7 @@ def test_planarity_weight_trades_planarity_for_strain(inclined):
 
 def test_holding_more_plates_only_adds_constraints(inclined):
     model, st, links = inclined
-    ref = model._reference_lengths
+    ref = model.reference_lengths
     one = relax(st.near[2], st.far[2], ref, links)
     two = relax(st.near[2], st.far[2], ref, links, fixed=(0, 3))
     assert two.fixed == (0, 3)
@@ -217,7 +220,7 @@ def test_dense_and_sparse_subproblem_solvers_agree():
     model = inclined_model(segments=12, plates=4)
     st = model.mechanism.deploy(np.radians([15.0]))
     links = links_from_mechanism(model.mechanism)
-    args = (st.near[0], st.far[0], model._reference_lengths, links)
+    args = (st.near[0], st.far[0], model.reference_lengths, links)
     exact = relax(*args, tr_solver="exact")
     lsmr = relax(*args, tr_solver="lsmr")
     auto = relax(*args)  # 3 * 3 * 13 = 117 unknowns: dense
@@ -247,7 +250,7 @@ def test_analytic_jacobian_matches_finite_differences(weight):
     st = model.mechanism.deploy(np.radians([15.0]))
     links = links_from_mechanism(model.mechanism)
     p, m = st.near.shape[1], st.near.shape[2]
-    problem = _Problem(p, m - 1, model._reference_lengths, links, (0,), weight)
+    problem = _Problem(p, m - 1, model.reference_lengths, links, (0,), weight)
     rng = np.random.default_rng(3)
     pos = problem.start(st.near[0], st.far[0]) + rng.normal(0.0, 5e-3, (problem.node_rep.size, 3))
     jac = problem.jacobian(pos)
@@ -269,7 +272,7 @@ def test_analytic_jacobian_matches_finite_differences(weight):
 def test_summary_is_plain_json(vault):
     model, links = vault
     st = model.mechanism.deploy(np.radians([20.0]))
-    ref = model._reference_lengths.copy()
+    ref = model.reference_lengths.copy()
     ref[9, :, 2] *= 1.002
     s = relax(st.near[0], st.far[0], ref, links).summary()
     back = json.loads(json.dumps(s))
@@ -284,7 +287,7 @@ def test_summary_is_plain_json(vault):
 def small():
     model = inclined_model(segments=6, plates=3)
     st = model.mechanism.deploy(np.radians([20.0]))
-    return st.near[0], st.far[0], model._reference_lengths, links_from_mechanism(model.mechanism)
+    return st.near[0], st.far[0], model.reference_lengths, links_from_mechanism(model.mechanism)
 
 
 @pytest.mark.parametrize(

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from compas_ccu.errors import DeploymentLimitError, SelfIntersectionError
+from compas_ccu.model import CCUModel
 from conftest import make_design
 
 TOL = 1e-9  # SPEC §5, relative to the structure size
@@ -48,7 +49,7 @@ def test_vault_alternates_synclastic_and_anticlastic(vault_model):
 
 
 def test_vault_design_state_round_trip(vault_model):
-    b = vault_model.built
+    b = vault_model.geometry
     st = vault_model.mechanism.deploy(b.design_alpha)
     scale = vault_model.size
     assert np.abs(st.near[0] - b.design_near).max() < 1e-13 * scale
@@ -94,11 +95,13 @@ def test_cone_example_radius_is_R_cos_alpha(cone_model):
 
 
 def cylindrical_vault(**layout):
-    return make_design(
-        crease={"profile": "catenary", "span": 2.4, "rise": 0.9, "segments": 40},
-        rulings={"type": "cylindrical", "direction": [0.0, -1.0], "side": "inside"},
-        layout={"type": "parallel", "plates": 6, "spacing": 0.1, **layout},
-    ).build()
+    return CCUModel(
+        make_design(
+            crease={"profile": "catenary", "span": 2.4, "rise": 0.9, "segments": 40},
+            rulings={"type": "cylindrical", "direction": [0.0, -1.0], "side": "inside"},
+            layout={"type": "parallel", "plates": 6, "spacing": 0.1, **layout},
+        )
+    )
 
 
 def test_parallel_planes_with_cylindrical_strips_stay_planar():
@@ -114,11 +117,13 @@ def test_parallel_planes_keep_every_crease_planar_for_any_ruling_field():
     """Not only cylinders and cones: by (K1) the height of a ruling point above the leading
     plane is t * sin(beta) * s0 * c_j, proportional to s0, so a crease that is parallel to the
     leading plane at the design state stays parallel in every state (paper §5.1, Fig. 6a)."""
-    model = make_design(
-        crease={"profile": "catenary", "span": 2.0, "rise": 0.7, "segments": 40},
-        rulings={"type": "angle", "gamma": [[0.0, 60.0], [1.0, 110.0]]},
-        layout={"type": "parallel", "plates": 4, "spacing": 0.1, "leading": 1},
-    ).build()
+    model = CCUModel(
+        make_design(
+            crease={"profile": "catenary", "span": 2.0, "rise": 0.7, "segments": 40},
+            rulings={"type": "angle", "gamma": [[0.0, 60.0], [1.0, 110.0]]},
+            layout={"type": "parallel", "plates": 4, "spacing": 0.1, "leading": 1},
+        )
+    )
     for s in model.path(np.linspace(0.0, 45.0, 10)):
         assert_invariants(s)
         assert s.metrics["crease_planarity_max_relative"] < 1e-14
@@ -190,14 +195,16 @@ def test_cone_overlaps_exactly_when_its_3d_angle_closes_a_full_turn(cone_model):
 
 def test_inflected_spline_crease_changes_kind_along_it():
     """A freeform crease with an inflection: Q4 (anticlastic) turns into Q2 (synclastic)."""
-    model = make_design(
-        crease={
-            "profile": "spline",
-            "segments": 60,
-            "points": [[-1.2, 0.0], [-0.6, 0.5], [0.0, 0.3], [0.6, 0.1], [1.2, 0.5]],
-        },
-        rulings={"type": "orthogonal", "side": "left"},
-    ).build()
+    model = CCUModel(
+        make_design(
+            crease={
+                "profile": "spline",
+                "segments": 60,
+                "points": [[-1.2, 0.0], [-0.6, 0.5], [0.0, 0.3], [0.6, 0.1], [1.2, 0.5]],
+            },
+            rulings={"type": "orthogonal", "side": "left"},
+        )
+    )
     s = model.deploy(25.0)
     crease = s.creases[0]
     assert crease["kind"] == "mixed"
@@ -220,11 +227,13 @@ def test_inflected_spline_crease_changes_kind_along_it():
     ],
 )
 def test_other_profiles_deploy_exactly(crease):
-    model = make_design(
-        crease=crease,
-        rulings={"type": "conical", "apex": [0.1, -0.5]},
-        layout={"type": "parallel", "plates": 4, "spacing": 0.08},
-    ).build()
+    model = CCUModel(
+        make_design(
+            crease=crease,
+            rulings={"type": "conical", "apex": [0.1, -0.5]},
+            layout={"type": "parallel", "plates": 4, "spacing": 0.08},
+        )
+    )
     for s in model.path([0.0, 10.0, 30.0]):
         assert_invariants(s)
         assert s.metrics["crease_planarity_max_relative"] < 1e-14
@@ -234,6 +243,8 @@ def test_profile_errors_are_design_errors_naming_the_section():
     from compas_ccu.errors import DesignError
 
     with pytest.raises(DesignError, match=r"\[crease\]: unknown key 'span'"):
-        make_design(
-            crease={"profile": "spline", "span": 2.0, "points": [[0, 0], [1, 1], [2, 0]]}
-        ).build()
+        CCUModel(
+            make_design(
+                crease={"profile": "spline", "span": 2.0, "points": [[0, 0], [1, 1], [2, 0]]}
+            )
+        )

@@ -15,8 +15,9 @@ from compas_ccu.analysis.planarity import planarity_along_path
 from compas_ccu.catalog import FAMILIES, catalog_design, catalog_metrics, family, write_examples
 from compas_ccu.cli import main
 from compas_ccu.design import Design, load_design
-from compas_ccu.design.inverse import design_from_crease, flat_design, round_trip
+from compas_ccu.design.inverse import design_from_crease
 from compas_ccu.errors import DesignError, GeometryError
+from compas_ccu.model import CCUModel, flat_design, load_model, round_trip
 from conftest import EXAMPLES
 
 VAULT = {
@@ -30,7 +31,7 @@ def vault(layout, **sections):
     doc = copy.deepcopy(VAULT)
     doc["layout"] = layout
     doc.update(copy.deepcopy(sections))
-    return Design(doc).build()
+    return CCUModel(Design(doc))
 
 
 def path_planarity(model, steps=24):
@@ -88,7 +89,7 @@ def test_inclined_layout_places_planes_at_the_given_distances():
         }
     )
     planes = model.planes
-    local = model.built.profile_points * [1.0, model.flip]
+    local = model.geometry.profile_points * [1.0, model.flip]
     controls = local[[0, model.reference, -1]]
     for k in range(1, 5):
         heights = planes.height(k, controls) - planes.height(k - 1, controls)
@@ -102,7 +103,7 @@ def test_inclined_layout_places_planes_at_the_given_distances():
 
 
 def test_radial_layout_turns_every_plane_about_the_axis():
-    model = catalog_design("fig12b-dome").build()
+    model = CCUModel(catalog_design("fig12b-dome"))
     normals = model.planes.normals
     turn = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", normals[:-1], normals[1:]), -1, 1)))
     np.testing.assert_allclose(turn, 8.0, atol=1e-9)
@@ -154,7 +155,7 @@ def test_planes_too_far_apart_for_the_crease_curvature_are_refused():
 
 
 def test_relaxation_reports_bounded_residuals_where_the_kinematics_is_not_exact():
-    model = catalog_design("fig12a-asymmetric").build()
+    model = CCUModel(catalog_design("fig12a-asymmetric"))
     kinematic = model.deploy(15.0)
     relaxed, result = model.relax(15.0)
     assert result.converged
@@ -178,7 +179,7 @@ def test_relaxation_reports_bounded_residuals_where_the_kinematics_is_not_exact(
 def catalog_rows():
     rows = {}
     for entry in FAMILIES:
-        model = catalog_design(entry["name"]).build()
+        model = CCUModel(catalog_design(entry["name"]))
         rows[entry["name"]] = catalog_metrics(model, steps=6, relax=False)
     return rows
 
@@ -230,7 +231,7 @@ def test_global_curvature_of_analytic_surfaces():
 
 
 def test_freeform_crease_changes_kind_along_it_per_vertex():
-    s = catalog_design("fig09e-freeform").build().deploy()
+    s = CCUModel(catalog_design("fig09e-freeform")).deploy()
     crease = s.creases[0]
     assert crease["kind"] == "mixed"
     kinds = [k for k in crease["vertex_kinds"] if k in ("synclastic", "anticlastic")]
@@ -255,7 +256,7 @@ def test_impossible_freeform_is_refused_before_deployment():
     with pytest.raises(
         GeometryError, match=r"the rulings of plate 0 cross between crease vertices"
     ):
-        Design(doc).build()
+        CCUModel(Design(doc))
 
 
 def test_flat_pattern_beyond_its_limit_is_refused_at_build():
@@ -265,13 +266,13 @@ def test_flat_pattern_beyond_its_limit_is_refused_at_build():
     doc = copy.deepcopy(pattern.document)
     doc["deployment"]["alpha"] = 89.9
     with pytest.raises(DeploymentLimitError, match=r"the design alpha 89.9 deg cannot be reached"):
-        Design(doc).build()
+        CCUModel(Design(doc))
 
 
 def test_funicular_crease_from_a_design_file_has_a_vertex_at_every_load():
     design = catalog_design("fig09d-funicular")
-    model = design.build()
-    crease = model.built.profile_points
+    model = CCUModel(design)
+    crease = model.geometry.profile_points
     assert np.min(np.abs(crease[:, 0] - 0.5)) < 1e-12  # the point load's kink is a vertex
     assert abs(crease[:, 1].max() - 1.0) < 1e-3
     bad = copy.deepcopy(design.document)
@@ -280,7 +281,7 @@ def test_funicular_crease_from_a_design_file_has_a_vertex_at_every_load():
         Design(bad)
     bad["crease"]["point_loads"] = [[3.0, 1.0]]
     with pytest.raises(DesignError, match=r"\[crease\]"):
-        Design(bad).build()
+        CCUModel(Design(bad))
 
 
 # -- inverse design ---------------------------------------------------------------------------
@@ -321,7 +322,7 @@ def test_design_from_a_3d_target_polyline_and_its_errors():
     tilt = np.array([[1.0, 0.0, 0.0], [0.0, 0.8, 0.6], [0.0, -0.6, 0.8]])  # a tilted plane
     target = np.c_[1.5 * np.cos(t), np.zeros_like(t), 0.9 * np.sin(t)] @ tilt.T + [3, 1, 0.5]
     design = design_from_crease(target, alpha=25.0, width=0.3)
-    structure = design.build().deploy()
+    structure = CCUModel(design).deploy()
     crease = np.asarray(structure.deployed)[0, :41]
     assert np.abs(crease - target).max() < 1e-12  # the crease IS the target, in place
     assert round_trip(design)["max_relative"] < 1e-9
@@ -340,24 +341,24 @@ def test_flat_design_is_a_cut_pattern_with_explicit_rulings(tmp_path):
     from compas_ccu.design.inverse import write_design
 
     write_design(pattern, tmp_path / "p.toml")
-    again = load_design(tmp_path / "p.toml").build().deploy()
-    first = pattern.build().deploy()
+    again = load_model(tmp_path / "p.toml").deploy()
+    first = CCUModel(pattern).deploy()
     assert np.abs(np.asarray(again.deployed) - np.asarray(first.deployed)).max() < 1e-15
     doc = copy.deepcopy(pattern.document)
     doc["crease"]["state"] = "deployed"
     with pytest.raises(DesignError, match=r"rulings\.points: explicit rulings describe a cut"):
-        Design(doc).build()
+        CCUModel(Design(doc))
     doc = copy.deepcopy(pattern.document)
     doc["rulings"]["points"] = doc["rulings"]["points"][:-1]
     with pytest.raises(DesignError, match=r"rulings\.points: needs one point per crease vertex"):
-        Design(doc).build()
+        CCUModel(Design(doc))
     with pytest.raises(DesignError, match=r"layout\.type: flat_design needs a single-crease"):
         flat_design(load_design(EXAMPLES / "vault.toml"))
 
 
 def _ridge_targets(model):
     """Apex (d, profile y) and support (d, profile x) of every plane of the leading parity."""
-    b = model.built
+    b = model.geometry
     states = model.mechanism.deploy(np.radians([model.alpha_design]))
     curves = model.plane_curves(states)[0]  # world
     rel = curves - model.origin
@@ -386,11 +387,11 @@ def test_target_curves_round_trip_to_the_layout_that_made_them():
         for k in (0, 2, 5, 7):  # plates that reach a solved plane: their distances are unused
             guess[key][k] = 0.2
     fitted = vault(guess, target={"apex": apex, "support": start, "support_end": end})
-    fit = fitted.built.target_fit
+    fit = fitted.geometry.target_fit
     assert fit.planes == [0, 2, 6, 8]
     assert fit.max_residual == 0.0
     span = 2.5
-    err = np.abs(fitted.built.design_far - original.built.design_far).max()
+    err = np.abs(fitted.geometry.design_far - original.geometry.design_far).max()
     assert err <= 1e-9 * span
     np.testing.assert_allclose(
         fit.distances,
@@ -404,7 +405,7 @@ def test_target_curves_that_the_rulings_cannot_reach_report_the_remaining_error(
         {"type": "parallel", "plates": 6, "spacing": 0.12},
         target={"apex": [[-1.0, 1.0], [0.2, 1.0]]},  # ends before plane 5 (d = 0.24)
     )
-    fit = model.built.target_fit
+    fit = model.geometry.target_fit
     assert fit.planes == [1, 5]
     assert fit.residuals[1][1] == 0.0
     assert 1e-4 < fit.residuals[5][1] < 0.05 and fit.max_residual == fit.residuals[5][1]

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from compas_ccu.design import Design
+from compas_ccu.model import CCUModel
 from compas_ccu.strips.curvature import plate_curvature
 
 
@@ -55,7 +56,7 @@ def test_cone_curvature_is_tan_alpha_over_the_distance_to_the_apex():
                 "layout": {"type": "single", "width": 0.4},
             }
         )
-        s = d.build().deploy()
+        s = CCUModel(d).deploy()
         k = np.abs(plate_curvature(s.deployed))[0]
         t = math.tan(math.radians(40.0))
         err = max(

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from compas_ccu.errors import DesignError, DevelopabilityError, GeometryError
+from compas_ccu.model import CCUModel
 from compas_ccu.strips import rulings as rf
 from compas_ccu.strips.frames import crease_frames
 from conftest import make_design
@@ -105,14 +106,18 @@ def test_constant_alpha_with_gamma_not_90_is_refused():
 
 def test_constant_alpha_request_in_a_design_is_refused():
     with pytest.raises(DevelopabilityError, match="not developable"):
-        make_design(rulings={"type": "angle", "gamma": 70.0, "alpha_field": "constant"}).build()
+        CCUModel(make_design(rulings={"type": "angle", "gamma": 70.0, "alpha_field": "constant"}))
     with pytest.raises(DesignError, match="rulings.alpha_field.*gamma = 90"):
-        make_design(
-            crease={"state": "flat"},
-            rulings={"type": "angle", "gamma": 70.0, "alpha_field": "constant"},
-        ).build()
+        CCUModel(
+            make_design(
+                crease={"state": "flat"},
+                rulings={"type": "angle", "gamma": 70.0, "alpha_field": "constant"},
+            )
+        )
     # gamma = 90 with a constant alpha is the ultra-special case: accepted
-    model = make_design(rulings={"type": "angle", "gamma": 90.0, "alpha_field": "constant"}).build()
+    model = CCUModel(
+        make_design(rulings={"type": "angle", "gamma": 90.0, "alpha_field": "constant"})
+    )
     assert model.deploy().max_invariant_error < 1e-12
 
 

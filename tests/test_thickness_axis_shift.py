@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from compas_ccu.design import load_design
 from compas_ccu.errors import DesignError, GeometryError
 from compas_ccu.materials import MaterialError
+from compas_ccu.model import CCUModel, load_model
 from compas_ccu.thickness import ThickModel, vertex_offsets
 from conftest import EXAMPLES, make_design
 
@@ -24,7 +24,7 @@ def thick_vault(vault_model):
 @pytest.fixture(scope="module")
 def leaning():
     """Rulings at 70° to the crease: alpha varies along it, offset creases are not planar."""
-    model = make_design(rulings={"type": "angle", "gamma": 70.0}).build()
+    model = CCUModel(make_design(rulings={"type": "angle", "gamma": 70.0}))
     return ThickModel(model, thickness=T)
 
 
@@ -142,7 +142,7 @@ def test_bad_plates_section_refused(plates, key):
 
 
 def test_design_plates_section_is_used():
-    model = load_design(EXAMPLES / "vault.toml").build()
+    model = load_model(EXAMPLES / "vault.toml")
     values = model.design.values["plates"]
     thick = ThickModel(model)
     assert thick.thickness == values["thickness"]

@@ -8,6 +8,7 @@ import pytest
 pytest.importorskip("matplotlib")
 
 from compas_ccu.design import load_design  # noqa: E402
+from compas_ccu.model import load_model
 from compas_ccu.viz import colors as C  # noqa: E402
 from compas_ccu.viz.export import save_figure  # noqa: E402
 from compas_ccu.viz.patterns import pattern_layout, plate_outline, plot_cut_patterns  # noqa: E402
@@ -159,7 +160,7 @@ def test_planarity_plot_reads_the_mechanism(vault_model, tmp_path):
 
 
 def test_contact_sheet_has_one_panel_per_design(vault, tmp_path):
-    others = [load_design(EXAMPLES / f"{n}.toml").build().deploy() for n in ("cone", "quadrants")]
+    others = [load_model(EXAMPLES / f"{n}.toml").deploy() for n in ("cone", "quadrants")]
     fig = plot_contact_sheet([vault, *others], title="examples")
     assert [ax.get_title() for ax in fig.axes] == ["vault", "cone", "quadrants"]
     assert_picture(png(fig, tmp_path), size=expected_size(fig), min_ink=0.08)

@@ -1,4 +1,4 @@
-"""Writers for deployed structures: ``structure.json`` (SPEC §4), OBJ and COMPAS JSON."""
+"""Writers of deployed structures: ``structure.json`` (docs/structure-json.md), OBJ, COMPAS JSON."""
 
 from __future__ import annotations
 
@@ -6,7 +6,10 @@ import csv
 import json
 from pathlib import Path
 
+import compas
 import numpy as np
+
+from compas_ccu.structure import Structure
 
 __all__ = [
     "write_structure_json",
@@ -18,23 +21,21 @@ __all__ = [
 
 
 def write_structure_json(structure, path) -> Path:
-    """Write the SPEC §4 contract (``format = "ccu.structure"``, version 1)."""
+    """Write the ``ccu.structure`` v1 contract (docs/structure-json.md)."""
     path = Path(path)
     path.write_text(json.dumps(structure.to_contract(), indent=1), encoding="utf-8")
     return path
 
 
-def read_structure_json(path):
+def read_structure_json(path) -> Structure:
     """Read a ``structure.json`` back into a :class:`compas_ccu.structure.Structure`."""
-    from compas_ccu.structure import Structure
-
     return Structure.from_contract(json.loads(Path(path).read_text(encoding="utf-8")))
 
 
 def write_obj(structure, path, *, state: str = "deployed") -> Path:
     """Write the plates as one OBJ with a group per plate (quads, metres)."""
     path = Path(path)
-    points = structure.deployed if state == "deployed" else structure.flat
+    points = structure.points(state)
     lines = [f"# compas_ccu structure, alpha = {structure.alpha:.12g} deg, units m"]
     offset = 1
     for pid, xyz, faces in zip(structure.plate_ids, points, structure.faces):
@@ -48,8 +49,6 @@ def write_obj(structure, path, *, state: str = "deployed") -> Path:
 
 def write_compas_json(structure, path) -> Path:
     """Write the deployed plates as a list of COMPAS meshes (``compas.json_load`` reads it)."""
-    import compas
-
     path = Path(path)
     path.write_text(compas.json_dumps(structure.to_meshes()), encoding="utf-8")
     return path

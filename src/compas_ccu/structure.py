@@ -1,4 +1,4 @@
-"""One deployed state of a CCU structure, in the SPEC §4 contract (``ccu.structure`` v1).
+"""One deployed state of a CCU structure: the ``ccu.structure`` contract (docs/structure-json.md).
 
 :class:`Structure` is a :class:`compas.data.Data`, so it serialises with ``compas.json_dump`` and
 shows up in COMPAS / Rhino; :meth:`Structure.to_contract` gives the plain ``structure.json``
@@ -10,14 +10,19 @@ from __future__ import annotations
 
 import numpy as np
 from compas.data import Data
+from compas.datastructures import Mesh
 
-__all__ = ["Structure", "FORMAT", "VERSION"]
+__all__ = ["Structure", "FORMAT", "VERSION", "STATES"]
 
 FORMAT = "ccu.structure"
 VERSION = 1
 
 
-def _round_list(a: np.ndarray) -> list:
+#: The two states of a structure's plates: the deployed geometry and the cut pattern.
+STATES = ("deployed", "flat")
+
+
+def _as_lists(a: np.ndarray) -> list:
     return np.asarray(a, dtype=float).tolist()
 
 
@@ -33,7 +38,7 @@ class Structure(Data):
     flat, deployed : (p, v, 3) float
         Cut patterns (z = 0) and deployed vertices of every plate, same vertex order.
     creases : list of dict
-        SPEC §4 crease records (id, plates, vertices, kind, plane, ...).
+        crease records (docs/structure-json.md) (id, plates, vertices, kind, plane, ...).
     metrics : dict
         Invariant errors and key figures.
     plate_ids : list of int, optional
@@ -59,9 +64,9 @@ class Structure(Data):
         return cls.from_contract(data)
 
     def to_contract(self) -> dict:
-        """The ``structure.json`` dictionary of SPEC §4."""
+        """The ``structure.json`` dictionary (docs/structure-json.md)."""
         plates = [
-            {"id": pid, "faces": fc.tolist(), "flat": _round_list(f), "deployed": _round_list(d)}
+            {"id": pid, "faces": fc.tolist(), "flat": _as_lists(f), "deployed": _as_lists(d)}
             for pid, fc, f, d in zip(self.plate_ids, self.faces, self.flat, self.deployed)
         ]
         return {
@@ -93,74 +98,6 @@ class Structure(Data):
             [p["id"] for p in plates],
         )
 
-    # -- construction from a model state ---------------------------------------------------
-    @classmethod
-    def from_model(
-        cls, model, states, k: int, alpha: float, invariants: dict, kinds: list, flat: np.ndarray
-    ) -> Structure:
-        """Structure of state ``k`` of a :class:`compas_ccu.model.CCUModel` placement."""
-        n = model.segments
-        deployed = model.state_vertices(states, k)
-        creases = []
-        for ci, crease in enumerate(model.mechanism.creases):
-            pa = model._mech_to_out[crease.plate_a]
-            pb = model._mech_to_out[crease.plate_b]
-            ia = (
-                list(range(n + 1)) if crease.boundary_a == "near" else list(range(n + 1, 2 * n + 2))
-            )
-            rel = model._relations(states, k, ci)
-            kind, vertex_kinds, sectors = kinds[ci]
-            origin = model._to_world(states.plane_origins[k, ci][None])[0]
-            normal = model._vector_to_world(states.plane_normals[k, ci][None])[0]
-            record = {
-                "id": ci,
-                "plates": [pa, pb],
-                "vertices": [ia, list(range(n + 1))],
-                "kind": kind,
-                "plane": {"origin": origin.tolist(), "normal": normal.tolist()},
-                "planarity": float(invariants["crease_planarity"][k, ci]),
-                "alpha": np.degrees(rel.alpha).tolist(),
-                "sum_beta": np.degrees(rel.sum_beta[1:-1]).tolist(),
-            }
-            if kind == "mixed":
-                record["vertex_kinds"] = vertex_kinds
-            creases.append(record)
-        lead_near = states.near[k, 0]
-        chord = lead_near[-1, :2] - lead_near[0, :2]
-        span = float(np.linalg.norm(chord))
-        normal2d = np.array([-chord[1], chord[0]]) / max(span, 1e-300)
-        rise = float(np.abs((lead_near[:, :2] - lead_near[0, :2]) @ normal2d).max())
-        bbox = np.ptp(deployed.reshape(-1, 3), axis=0)
-        size = model.size
-        metrics = {
-            "alpha_limit": model.alpha_limit,
-            "reference_vertex": model.reference,
-            "segments": n,
-            "span": span,
-            "rise": rise,
-            "bounding_box": bbox.tolist(),
-            "size": size,
-            "alpha_leading": np.degrees(
-                crease_alpha_local(states.near[k, 0], states.far[k, 0] - states.near[k, 0])
-            ).tolist(),
-        }
-        for key in ("isometry", "quad_planarity", "hinge_gap", "mirror_error", "leading_in_plane"):
-            metrics[key] = float(invariants[key][k])
-            metrics[key + "_relative"] = float(invariants[key][k]) / size
-        cp = invariants["crease_planarity"][k]
-        metrics["crease_planarity_max"] = float(cp.max()) if cp.size else 0.0
-        metrics["crease_planarity_max_relative"] = metrics["crease_planarity_max"] / size
-        return cls(
-            alpha,
-            model.faces,
-            flat,
-            deployed,
-            creases,
-            metrics,
-            model.plate_ids,
-            name=model.design.name,
-        )
-
     # -- key figures -------------------------------------------------------------------------
     @property
     def max_invariant_error(self) -> float:
@@ -180,11 +117,21 @@ class Structure(Data):
             counts[c["kind"]] = counts.get(c["kind"], 0) + 1
         return counts
 
+    def points(self, state: str = "deployed") -> np.ndarray:
+        """(p, v, 3) plate vertices of ``state``: ``"deployed"`` or ``"flat"`` (cut patterns).
+
+        Raises
+        ------
+        ValueError
+            ``state`` is neither.
+        """
+        if state not in STATES:
+            raise ValueError(f"state must be one of {', '.join(map(repr, STATES))}, got {state!r}")
+        return self.deployed if state == "deployed" else self.flat
+
     def to_meshes(self, *, state: str = "deployed") -> list:
         """One :class:`compas.datastructures.Mesh` per plate (``state``: deployed or flat)."""
-        from compas.datastructures import Mesh
-
-        points = self.deployed if state == "deployed" else self.flat
+        points = self.points(state)
         meshes = []
         for pid, xyz, faces in zip(self.plate_ids, points, self.faces):
             mesh = Mesh.from_vertices_and_faces(xyz.tolist(), faces.tolist())
@@ -199,10 +146,3 @@ class Structure(Data):
             f"Structure(alpha={self.alpha:g} deg, plates={len(self.flat)}, "
             f"creases={len(self.creases)})"
         )
-
-
-def crease_alpha_local(near: np.ndarray, rulings: np.ndarray) -> np.ndarray:
-    """Reflection angle at the vertices of the leading crease (local frame, radians)."""
-    from compas_ccu.strips.rulings import vertex_reflection_angles
-
-    return vertex_reflection_angles(near[:, :2], rulings / np.linalg.norm(rulings, axis=1)[:, None])

@@ -96,7 +96,7 @@ def planarity_along_path(model, alphas=None, *, steps: int = 32, relax: bool = F
     Examples
     --------
     >>> from compas_ccu.design import load_design
-    >>> model = load_design("examples/vault.toml").build()
+    >>> model = load_model("examples/vault.toml")
     >>> report = planarity_along_path(model, steps=8)
     >>> report.exact, len(report.creases)
     (True, 9)
@@ -109,16 +109,13 @@ def planarity_along_path(model, alphas=None, *, steps: int = 32, relax: bool = F
     kinds = model.crease_kinds()
     size = model.size
     creases = []
-    for ci, crease in enumerate(model.mechanism.creases):
+    for ci in range(len(model.mechanism.creases)):
         column = deviation[:, ci]
         worst = int(np.argmax(column))
         creases.append(
             {
                 "id": ci,
-                "plates": [
-                    model._mech_to_out[crease.plate_a],
-                    model._mech_to_out[crease.plate_b],
-                ],
+                "plates": list(model.plates.crease_ids(ci)),
                 "kind": kinds[ci][0],
                 "max": float(column[worst]),
                 "max_relative": float(column[worst]) / size,

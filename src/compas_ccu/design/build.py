@@ -5,9 +5,9 @@ Everything here works in the local frame of the leading crease plane (see
 crease, rising towards ``+z``. A plate on the right of the profile is handled by mirroring the
 profile's y coordinate (``flip = -1``) in and out of the local frame.
 
-Multi-crease construction (SPEC §2, paper §5.1): the rulings of a plate are trimmed at the next
-crease plane, and the next plate is the mirror image of those ruling lines across that plane,
-trimmed at the plane after it. At the design state every crease is planar by construction.
+Multi-crease construction (docs/kinematics.md, paper §5.1): the rulings of a plate are trimmed at
+the next crease plane, and the next plate is the mirror image of those ruling lines across that
+plane, trimmed at the plane after it. At the design state every crease is planar by construction.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from compas_ccu.curves import profile_from_dict
 from compas_ccu.design.layouts import (
     PlaneLayout,
     check_plane_gaps,
@@ -26,13 +27,15 @@ from compas_ccu.design.layouts import (
 )
 from compas_ccu.design.targets import TargetFit, solve_plane, targets_from_values
 from compas_ccu.errors import DesignError, GeometryError, ProfileError
+from compas_ccu.geometry import reflect, unit
 from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.strips import rulings as ruling_fields
 from compas_ccu.strips.frames import crease_frames
 from compas_ccu.strips.intrinsics import strip_intrinsics
+from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_ANGLE, ZERO_LENGTH
 
-__all__ = ["BuiltDesign", "build"]
+__all__ = ["DesignGeometry", "build", "PROFILE_KEYS"]
 
 #: [crease] keys passed to the profile factory.
 PROFILE_KEYS = (
@@ -48,8 +51,8 @@ PROFILE_KEYS = (
 
 
 @dataclass
-class BuiltDesign:
-    """Geometry and kinematics of a design.
+class DesignGeometry:
+    """The geometry of a design at its design state, and the mechanism that deploys it.
 
     Attributes
     ----------
@@ -98,7 +101,7 @@ def _side_flip(points: np.ndarray, side: str, reference: int) -> float:
     if reference in (0, len(points) - 1):
         reference = 1 if reference == 0 else len(points) - 2
     t = turn[reference]
-    if abs(t) < 1e-12:
+    if abs(t) < ZERO_LENGTH:
         raise DesignError(
             f"the crease is straight at the reference vertex {reference}, so '{side}' is "
             "undefined; use side = 'left' or 'right'",
@@ -108,17 +111,9 @@ def _side_flip(points: np.ndarray, side: str, reference: int) -> float:
     return 1.0 if centre_left == (side == "inside") else -1.0
 
 
-def _explicit_side(values: dict, points: np.ndarray, state: str, layout: dict) -> float:
+def _explicit_side(rulings, points: np.ndarray) -> float:
     """+1 / -1: the side of the crease on which explicitly given ruling ends lie."""
-    spec = values["rulings"]
-    _need(spec, "points", "rulings", "explicit")
-    if state != "flat" or layout["type"] != "single":
-        raise DesignError(
-            "explicit rulings describe a cut pattern: they need crease.state = 'flat' and "
-            f"layout type 'single', got state {state!r} and layout {layout['type']!r}",
-            key="rulings.points",
-        )
-    ends = np.asarray(spec["points"], dtype=float)
+    ends = np.asarray(rulings.points, dtype=float)
     if len(ends) != len(points):
         raise DesignError(
             f"needs one point per crease vertex ({len(points)}), got {len(ends)}",
@@ -144,72 +139,65 @@ def _gamma_field(value, s_fraction: np.ndarray) -> np.ndarray:
     return np.radians(np.interp(s_fraction, table[:, 0], table[:, 1]))
 
 
-def _rulings_3d(values: dict, local: np.ndarray, alpha: float, reference: int, flip: float):
-    spec = values["rulings"]
-    kind = spec["type"]
+def _rulings_3d(rulings, local: np.ndarray, alpha: float, reference: int, flip: float):
+    kind = rulings.type
     flip2 = np.array([1.0, flip])
     if kind == "orthogonal":
         return ruling_fields.orthogonal_rulings(local, alpha=alpha, reference=reference)
     if kind == "cylindrical":
-        _need(spec, "direction", "rulings", kind)
         return ruling_fields.cylindrical_rulings(
             local,
-            direction=np.asarray(spec["direction"]) * flip2,
+            direction=np.asarray(rulings.direction) * flip2,
             alpha=alpha,
             reference=reference,
         )
     if kind == "conical":
-        _need(spec, "apex", "rulings", kind)
         return ruling_fields.conical_rulings(
-            local, apex=np.asarray(spec["apex"]) * flip2, alpha=alpha, reference=reference
+            local, apex=np.asarray(rulings.apex) * flip2, alpha=alpha, reference=reference
         )
-    _need(spec, "gamma", "rulings", kind)
     f = crease_frames(local)
     s = np.r_[0.0, np.cumsum(f.lengths)]
-    gamma = _gamma_field(spec["gamma"], s / s[-1])
-    if spec["alpha_field"] == "constant":
+    gamma = _gamma_field(rulings.gamma, s / s[-1])
+    if rulings.alpha_field == "constant":
         ruling_fields.check_alpha_field(local, gamma, np.full(len(local), alpha))
     r, _ = ruling_fields.ruling_angle_rulings(local, gamma=gamma, alpha=alpha, reference=reference)
     return r
 
 
-def _rulings_2d(values: dict, local: np.ndarray, flip: float) -> np.ndarray:
+def _rulings_2d(rulings, local: np.ndarray, flip: float) -> np.ndarray:
     """Unit ruling directions in the cut pattern (flat state), plate on the left."""
-    spec = values["rulings"]
-    kind = spec["type"]
+    kind = rulings.type
     f = crease_frames(local)
     if kind == "orthogonal":
         r = f.normals.copy()
     elif kind == "cylindrical":
-        _need(spec, "direction", "rulings", kind)
-        d = np.asarray(spec["direction"]) * [1.0, flip]
+        d = np.asarray(rulings.direction) * [1.0, flip]
         d = d / np.linalg.norm(d)
         r = np.tile(d if f.normals[0] @ d > 0 else -d, (len(local), 1))
     elif kind == "explicit":
-        to_end = np.asarray(spec["points"]) * [1.0, flip] - local
+        to_end = np.asarray(rulings.points) * [1.0, flip] - local
         r = to_end / np.linalg.norm(to_end, axis=1)[:, None]
     elif kind == "conical":
-        _need(spec, "apex", "rulings", kind)
-        to_apex = np.asarray(spec["apex"]) * [1.0, flip] - local
+        to_apex = np.asarray(rulings.apex) * [1.0, flip] - local
         r = to_apex / np.linalg.norm(to_apex, axis=1)[:, None]
         if np.einsum("ij,ij->i", r, f.normals)[0] < 0.0:
             r = -r
     else:
-        _need(spec, "gamma", "rulings", kind)
         s = np.r_[0.0, np.cumsum(f.lengths)]
-        gamma = _gamma_field(spec["gamma"], s / s[-1])
-        if spec["alpha_field"] == "constant" and np.any(np.abs(gamma - np.pi / 2) > 1e-12):
-            i = int(np.flatnonzero(np.abs(gamma - np.pi / 2) > 1e-12)[0])
+        gamma = _gamma_field(rulings.gamma, s / s[-1])
+        off = np.abs(gamma - np.pi / 2) > ZERO_ANGLE
+        if rulings.alpha_field == "constant" and np.any(off):
+            i = int(np.flatnonzero(off)[0])
             raise DesignError(
                 "a constant reflection angle along a planar crease requires gamma = 90 deg "
-                f"everywhere (SPEC §1, ultra-special case); gamma = "
+                f"everywhere (docs/kinematics.md, ultra-special case); gamma = "
                 f"{math.degrees(gamma[i]):.6g} deg at crease vertex {i} is not developable "
                 "with a constant alpha (alpha' = cot(gamma) kappa_2D tan(alpha) != 0)",
                 key="rulings.alpha_field",
             )
         r = np.cos(gamma)[:, None] * f.tangents + np.sin(gamma)[:, None] * f.normals
     into = np.einsum("ij,ij->i", r, f.normals)
-    bad = np.flatnonzero(into <= 1e-9)
+    bad = np.flatnonzero(into <= EXACT_RELATIVE)
     if bad.size:
         raise DesignError(
             f"the {kind} rulings do not point into the plate at crease vertex {int(bad[0])}: "
@@ -217,11 +205,6 @@ def _rulings_2d(values: dict, local: np.ndarray, flip: float) -> np.ndarray:
             key="rulings.type",
         )
     return np.c_[r, np.zeros(len(r))]
-
-
-def _need(section: dict, name: str, section_name: str, kind: str) -> None:
-    if section.get(name) is None:
-        raise DesignError(f"required for type '{kind}'", key=f"{section_name}.{name}")
 
 
 def _trim(near, direction, normal, offset, plane: int, plate: int):
@@ -242,68 +225,59 @@ def _reflect_z(v: np.ndarray) -> np.ndarray:
     return v * np.array([1.0, 1.0, -1.0])
 
 
-def _reflect(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
-    """Directions ``v`` (m, 3) mirrored in a plane with unit normal ``normal``."""
-    return v - 2.0 * (v @ normal)[:, None] * normal
+def build(design) -> DesignGeometry:
+    """Build the design state and the mechanism of a validated design.
 
+    Parameters
+    ----------
+    design : compas_ccu.design.Design
+        A validated design (its schema rules, :data:`compas_ccu.design.schema.RULES`, hold).
 
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=1)[:, None]
-
-
-def build(values: dict) -> BuiltDesign:
-    """Build the design state and the mechanism of a validated design (see ``schema``)."""
-    from compas_ccu.curves import profile_from_dict
-
-    crease = values["crease"]
-    layout = values["layout"]
-    spec = {k: v for k, v in crease.items() if v is not None and k in PROFILE_KEYS}
+    Raises
+    ------
+    DesignError
+        The profile cannot be built, the rulings do not point into the plate, a layout is
+        impossible for this crease (the message names the key).
+    """
+    crease, rulings, layout = design.crease, design.rulings, design.layout
+    spec = {k: getattr(crease, k) for k in PROFILE_KEYS if getattr(crease, k) is not None}
     try:
         profile = profile_from_dict(spec)
     except ProfileError as exc:
         raise DesignError(str(exc), key="[crease]") from exc
-    n = crease["segments"]
-    if crease["profile"] == "polyline" and len(crease["points"]) == n + 1:
-        points = np.asarray(crease["points"], dtype=float)  # the vertices as given
+    n = crease.segments
+    if crease.profile == "polyline" and len(crease.points) == n + 1:
+        points = np.asarray(crease.points, dtype=float)  # the vertices as given
     else:
         points = np.asarray(profile.sample(n), dtype=float)
-    reference = int(round(crease["reference"] * n))
-    state = crease["state"]
-    if values["rulings"]["type"] == "explicit":
-        flip = _explicit_side(values, points, state, layout)
+    reference = int(round(crease.reference * n))
+    state = crease.state
+    if rulings.type == "explicit":
+        flip = _explicit_side(rulings, points)
     else:
-        flip = _side_flip(points, values["rulings"]["side"], reference)
+        flip = _side_flip(points, rulings.side, reference)
     local = points * np.array([1.0, flip])
-    alpha = math.radians(values["deployment"]["alpha"])
-    state = crease["state"]
+    alpha = math.radians(design.alpha)
     near0 = np.c_[local, np.zeros(len(local))]
 
     planes, fit = None, None
-    if values.get("target") and any(v is not None for v in values["target"].values()):
-        if layout["type"] not in ("parallel", "inclined"):
-            raise DesignError(
-                f"target curves need layout type 'parallel' or 'inclined', got {layout['type']!r}",
-                key="[target]",
-            )
-    if layout["type"] == "single":
-        if values["rulings"]["type"] == "explicit":
-            ends = np.asarray(values["rulings"]["points"]) * np.array([1.0, flip])
+    if layout.type == "single":
+        if rulings.type == "explicit":
+            ends = np.asarray(rulings.points) * np.array([1.0, flip])
             width = np.linalg.norm(ends - local, axis=1)[:, None]
-            r = _rulings_2d(values, local, flip)
-        elif layout["width"] is None:
-            raise DesignError("required for layout type 'single'", key="layout.width")
+            r = _rulings_2d(rulings, local, flip)
         elif state == "deployed":
-            width = layout["width"]
-            r = _rulings_3d(values, local, alpha, reference, flip)
+            width = layout.width
+            r = _rulings_3d(rulings, local, alpha, reference, flip)
         else:
-            width = layout["width"]
-            r = _rulings_2d(values, local, flip)
-        ccf_width = layout["ccf_width"] or width
+            width = layout.width
+            r = _rulings_2d(rulings, local, flip)
+        ccf_width = layout.ccf_width or width
         nears = [near0, near0]
         fars = [near0 + width * r, _reflect_z(near0 + width * r)]
         links = [(None, "near", "ccu", None), (0, "near", "ccu", 0)]
         creases = [CreaseLink(0, "near", 1, "ccu", True, (0.0, 0.0, 1.0))]
-        if layout["quadrants"]:
+        if layout.quadrants:
             cont = -_reflect_z(r)  # collinear with the leading rulings in the pattern
             nears += [near0, near0]
             fars += [near0 + ccf_width * cont, _reflect_z(near0 + ccf_width * cont)]
@@ -315,18 +289,13 @@ def build(values: dict) -> BuiltDesign:
             ]
         plate_ids = list(range(len(nears)))
     else:
-        if state != "deployed":
-            raise DesignError(
-                f"layout '{layout['type']}' needs crease.state = 'deployed': the crease planes "
-                "are placed at the design state",
-                key="crease.state",
-            )
-        r = _rulings_3d(values, local, alpha, reference, flip)
-        targets = targets_from_values(values.get("target"), flip=flip)
+        layout_values = layout.to_dict()
+        r = _rulings_3d(rulings, local, alpha, reference, flip)
+        targets = targets_from_values(design.target.to_dict(), flip=flip)
         if targets:
-            chain, planes, fit = _fit_targets(layout, targets, local, reference, near0, r)
+            chain, planes, fit = _fit_targets(layout_values, targets, local, reference, near0, r)
         else:
-            planes = plane_layout(layout, local, reference)
+            planes = plane_layout(layout_values, local, reference)
             chain = _plate_chain(
                 near0,
                 r,
@@ -353,7 +322,7 @@ def build(values: dict) -> BuiltDesign:
     mechanism = Mechanism(leading, plates, creases)
     if state == "deployed" and alpha > mechanism.alpha_limit:  # pragma: no cover - guard
         raise GeometryError("design alpha beyond the deployment limit of its own pattern")
-    return BuiltDesign(
+    return DesignGeometry(
         mechanism,
         plate_ids,
         design_near,
@@ -369,7 +338,7 @@ def build(values: dict) -> BuiltDesign:
 
 
 def _plate_chain(near0, r, m: int, k0: int, plane_at):
-    """Trim-and-reflect construction of ``m`` plates from the leading plate (SPEC §2).
+    """Trim-and-reflect construction of ``m`` plates from the leading plate (docs/kinematics.md).
 
     ``plane_at(q, near, direction)`` returns the unit normal and offset of crease plane ``q``
     when the ruling lines ``near + t direction`` of the plate that reaches it are known
@@ -394,7 +363,7 @@ def _plate_chain(near0, r, m: int, k0: int, plane_at):
             )
             crease_index = len(creases) - 1
             parent = len(nears) - 1
-            direction = _reflect(_unit(near - far), normal)
+            direction = reflect(unit(near - far), normal)
             near = far
     # the plates before the leading plane, mirrored across it
     parent, boundary = 0, "near"
@@ -409,7 +378,7 @@ def _plate_chain(near0, r, m: int, k0: int, plane_at):
         plate_ids.append(k)
         links.append((parent, boundary, "ccu", len(creases) - 1))
         parent, boundary = len(nears) - 1, "far"
-        direction = _reflect(_unit(near - far), normal)
+        direction = reflect(unit(near - far), normal)
         near, upper = far, normal
     return nears, fars, links, creases, plate_ids
 

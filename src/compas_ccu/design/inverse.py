@@ -1,15 +1,15 @@
-"""Inverse design (paper §5.4, SPEC §2): from a 3D target crease to the cut pattern, and back.
+"""Inverse design (paper §5.4, docs/shape-control.md): from a 3D target crease to a design.
 
 A design with ``crease.state = "deployed"`` *is* an inverse design: its profile is the 3D crease
 at the design reflection angle and the cut pattern is computed so that the deployment reaches it
 (Eq. 8 on every vertex, exact isometry of planar quads). This module adds
 
 * :func:`design_from_crease` -- a design from a 3D target polyline anywhere in space (its plane
-  is fitted and refused if the polyline is not planar: a CCU crease is planar, SPEC §1);
-* :func:`flat_design` -- the forward design of the computed cut pattern: ``state = "flat"``
-  with the pattern's crease polyline and explicit ruling ends, i.e. what a workshop cuts;
-* :func:`round_trip` -- target -> pattern -> deploy -> compare: the pattern design is deployed
-  to the design angle and compared with the target after a best rigid alignment.
+  is fitted and refused if the polyline is not planar: a CCU crease is planar, docs/kinematics.md);
+* :func:`write_design` -- a design back to a TOML file.
+
+The forward design of a computed cut pattern and the round trip target -> pattern -> target
+need the deployable model: :mod:`compas_ccu.model.inverse`.
 
 Inverse design of the plane layout from apex and support curves is the ``[target]`` table of a
 design file (:mod:`compas_ccu.design.targets`).
@@ -17,15 +17,13 @@ design file (:mod:`compas_ccu.design.targets`).
 
 from __future__ import annotations
 
-import copy
 import math
 
 import numpy as np
 
-from compas_ccu.analysis.alignment import rigid_align
 from compas_ccu.errors import DesignError
 
-__all__ = ["design_from_crease", "flat_design", "round_trip", "write_design"]
+__all__ = ["design_from_crease", "write_design"]
 
 
 def design_from_crease(
@@ -125,82 +123,6 @@ def design_from_crease(
             "plane": {"origin": origin.tolist(), "xaxis": x.tolist(), "yaxis": y.tolist()},
         }
     )
-
-
-def flat_design(design, *, name: str | None = None):
-    """The cut-pattern (forward) design of a single-crease design.
-
-    Parameters
-    ----------
-    design : compas_ccu.design.Design
-        A single-crease design (``layout.type = "single"``, no quadrants).
-
-    Returns
-    -------
-    compas_ccu.design.Design
-        ``crease.state = "flat"``, the pattern's crease as a polyline kept vertex by vertex,
-        ``rulings.type = "explicit"`` with the pattern's ruling ends, the same reference vertex,
-        design angle and plane placement.
-    """
-    from compas_ccu.design import Design
-
-    layout = design.values["layout"]
-    if layout["type"] != "single" or layout["quadrants"]:
-        raise DesignError(
-            "flat_design needs a single-crease design without quadrants; multi-crease crease "
-            "planes are defined at the deployed state",
-            key="layout.type",
-        )
-    model = design.build()
-    flat = model.flat()[0]  # the leading plate's cut pattern, plane coordinates
-    n = model.segments
-    doc = copy.deepcopy(design.document)
-    doc.setdefault("design", {})["name"] = name or f"{design.name}-pattern"
-    doc["crease"] = {
-        "profile": "polyline",
-        "points": flat[: n + 1, :2].tolist(),
-        "segments": n,
-        "reference": model.reference / n,
-        "state": "flat",
-    }
-    doc["rulings"] = {"type": "explicit", "points": flat[n + 1 :, :2].tolist()}
-    doc["layout"] = {"type": "single"}
-    return Design(doc)
-
-
-def round_trip(design) -> dict:
-    """Target -> cut pattern -> deploy -> target, for a deployed-state single-crease design.
-
-    Returns
-    -------
-    dict
-        ``max`` (m) and ``max_relative`` (to the span) distance between the deployed pattern
-        design and the target at the design angle, over the crease (``crease_max``) and over
-        every plate vertex (``max``); ``alpha`` (degrees); ``span`` (m).
-    """
-    if design.values["crease"]["state"] != "deployed":
-        raise DesignError("round_trip starts from a 3D target (crease.state = 'deployed')")
-    target = design.build().deploy()
-    pattern = flat_design(design).build().deploy(design.alpha)
-    a = np.asarray(pattern.deployed).reshape(-1, 3)
-    b = np.asarray(target.deployed).reshape(-1, 3)
-    moved = rigid_align(a, b).reshape(np.shape(target.deployed))
-    dist = np.linalg.norm(moved - np.asarray(target.deployed), axis=-1)
-    n = pattern.metrics["segments"]
-    span = float(target.metrics["span"])
-    return {
-        "alpha": design.alpha,
-        "span": span,
-        "max": float(dist.max()),
-        "max_relative": float(dist.max()) / span,
-        "crease_max": float(dist[0, : n + 1].max()),
-        "alpha_error": float(
-            np.abs(
-                np.asarray(pattern.metrics["alpha_leading"])
-                - np.asarray(target.metrics["alpha_leading"])
-            ).max()
-        ),
-    }
 
 
 def write_design(design, path, *, header: str | None = None) -> None:

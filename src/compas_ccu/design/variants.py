@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import copy
 
+from compas_ccu.design.document import Design
+
 __all__ = ["quadrant_design"]
 
 
@@ -27,18 +29,16 @@ def quadrant_design(design, *, width: float | None = None):
     Examples
     --------
     >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import CCUModel
     >>> q = quadrant_design(load_design("examples/vault.toml"))
-    >>> q.values["layout"]["quadrants"], len(q.build().plate_ids)
+    >>> q.layout.quadrants, len(CCUModel(q).plate_ids)
     (True, 4)
     """
-    from compas_ccu.design.model import Design
-
     doc = copy.deepcopy(design.document)
-    layout = design.values["layout"]
     if width is None:
-        width = layout.get("width")
+        width = design.layout.width
     if width is None:
-        span = design.values["crease"].get("span")
+        span = design.crease.span
         width = 0.2 * span if span else 0.3
     doc["layout"] = {"type": "single", "width": float(width), "quadrants": True}
     doc.setdefault("design", {})["name"] = f"{design.name} (four quadrants)"

@@ -16,6 +16,8 @@ import time
 
 import numpy as np
 
+from compas_ccu.model import CCUModel
+
 __all__ = ["evaluate_variant", "STAGES", "row_template"]
 
 #: Stages of an evaluation, in order; each is timed in the column ``t_<stage>`` (seconds).
@@ -78,10 +80,10 @@ def evaluate_variant(
     start = time.perf_counter()
     stage = "model"
     try:
-        from compas_ccu.design.model import Design
+        from compas_ccu.design.document import Design
 
         t = time.perf_counter()
-        model = Design(document).build()
+        model = CCUModel(Design(document))
         structure = model.deploy()
         row.update(mx.shape_metrics(model, structure))
         row["t_model"] = time.perf_counter() - t

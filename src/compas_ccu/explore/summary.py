@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.model import CCUModel
+
 __all__ = ["summarise", "write_best"]
 
 
@@ -25,7 +27,7 @@ def write_best(sweep, picks: list, out) -> list:
     """
     import tomli_w
 
-    from compas_ccu.design.model import Design
+    from compas_ccu.design.document import Design
     from compas_ccu.io import write_obj, write_structure_json
 
     files = []
@@ -39,7 +41,7 @@ def write_best(sweep, picks: list, out) -> list:
             + "".join(f"#   {k} = {v!r}\n" for k, v in variant.params.items())
         )
         (folder / "design.toml").write_text(header + text, encoding="utf-8")
-        structure = Design(document).build().deploy()
+        structure = CCUModel(Design(document)).deploy()
         files += [
             folder / "design.toml",
             write_structure_json(structure, folder / "structure.json"),

@@ -237,7 +237,7 @@ class Sweep:
                 "missing: the base design file, e.g. base = 'vault.toml'", key="sweep.base"
             )
         self.base_path = (Path(base_dir) / str(head["base"])).resolve()
-        from compas_ccu.design.model import load_design
+        from compas_ccu.design.document import load_design
 
         try:
             base = load_design(self.base_path)
@@ -547,7 +547,7 @@ def load_sweep(path) -> Sweep:
     SweepError
         The file is missing, not TOML, or not a valid sweep (the message names the key).
     """
-    from compas_ccu.design.model import read_toml
+    from compas_ccu.design.document import read_toml
 
     path = Path(path)
     document = read_toml(path, error=SweepError, what="sweep")

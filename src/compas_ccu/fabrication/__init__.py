@@ -11,6 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.fabrication.data import FabricationData
+from compas_ccu.fabrication.hinges import check_hinge_width
+from compas_ccu.thickness import ThickModel
 
 __all__ = ["FabricationData", "fabrication_data"]
 
@@ -36,25 +38,14 @@ def fabrication_data(
         The cut patterns include the crease corrections of the design state (paper §5.3): the
         thick plates cut from them meet exactly along planar hinges at the design angle.
     """
-    from compas_ccu.fabrication.hinges import check_hinge_width
-    from compas_ccu.thickness import ThickModel
-
     if thick is None:
         thick = ThickModel(model, thickness=thickness, material=material, grain=grain)
-    plates = model.design.values.get("plates") or {}
     if hinge_width is None:
-        hinge_width = plates.get("hinge_width", 0.05)
+        hinge_width = model.design.plates.hinge_width
     width = check_hinge_width(hinge_width)
     design = thick.deploy()
     stack = thick.flat_stack()
-    n = model.segments
-    flat = model.flat()[:, :, :2].copy()
-    near, far = flat[:, : n + 1], flat[:, n + 1 :]
-    ruling = (far - near) / np.linalg.norm(far - near, axis=-1, keepdims=True)
-    shift_near = thick._shift_near[model.order]
-    shift_far = thick._shift_far[model.order]
-    flat[:, : n + 1] = near + shift_near[..., None] * ruling
-    flat[:, n + 1 :] = far - shift_far[..., None] * ruling
+    flat = thick.cut_patterns()
     structure = model.deploy()
     creases = []
     for c in structure.creases:

@@ -190,7 +190,7 @@ def hinge_strips(data, *, width: float | None = None) -> list:
     --------
     >>> from compas_ccu.design import load_design
     >>> from compas_ccu.fabrication import fabrication_data
-    >>> data = fabrication_data(load_design("examples/vault.toml").build(), hinge_width=0.05)
+    >>> data = fabrication_data(load_model("examples/vault.toml"), hinge_width=0.05)
     >>> strips = hinge_strips(data)
     >>> [(s.crease_id, s.plates) for s in strips][:2]
     [(0, (5, 6)), (1, (6, 7))]

@@ -25,10 +25,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from compas_ccu.geometry import dot, fit_planes, reflect_points
 from compas_ccu.kinematics.leading import LeadingStrip
+from compas_ccu.kinematics.plates import boundary_rows, hinge_and_rulings
 from compas_ccu.strips.intrinsics import StripIntrinsics
 
-__all__ = ["PlateLink", "CreaseLink", "Mechanism", "MechanismStates"]
+__all__ = ["PlateLink", "CreaseLink", "CreasePlanes", "Mechanism", "MechanismStates"]
 
 
 @dataclass(frozen=True)
@@ -95,24 +97,39 @@ class MechanismStates(NamedTuple):
     tilts: np.ndarray
 
 
-def fit_planes(points: np.ndarray, orient: np.ndarray):
-    """Least-squares planes of ``(k, m, 3)`` point sets.
+class CreasePlanes:
+    """The plane each crease is mirrored in while the mechanism is placed (the default strategy).
 
-    Returns origins ``(k, 3)``, unit normals ``(k, 3)`` with ``normal @ orient >= 0`` and the
-    largest point-plane distance ``(k,)``.
+    The leading crease plane is fixed (local ``z = 0``); every other crease plane is the
+    least-squares plane of the crease, oriented like the design normal. The child plate's crease
+    row is the parent's row itself (the hinge is shared exactly).
+
+    A strategy is any object with these methods and the attribute ``mirror_rows``;
+    :class:`compas_ccu.thickness.axis_shift.HingePlanes` is the one of thick plates.
     """
-    origin = points.mean(axis=1)
-    centred = points - origin[:, None, :]
-    cov = np.einsum("kni,knj->kij", centred, centred)
-    _, vectors = np.linalg.eigh(cov)
-    normal = vectors[:, :, 0]
-    normal *= np.where(normal @ orient < 0.0, -1.0, 1.0)[:, None]
-    deviation = np.abs(np.einsum("kni,ki->kn", centred, normal)).max(axis=1)
-    return origin, normal, deviation
 
+    #: False: a child plate shares its parent's crease row; True: it gets the row's mirror image.
+    mirror_rows = False
 
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+    def begin(self, states: int, creases: int, vertices: int) -> None:
+        """Called once before a placement of ``states`` states (for strategies that record)."""
+
+    def plane(self, mechanism: Mechanism, crease: int, near: np.ndarray, far: np.ndarray):
+        """Origins, unit normals (k, 3) and planarity deviation (k,) of ``crease``'s plane.
+
+        Parameters
+        ----------
+        near, far : (k, p, n + 1, 3) float
+            The placed plates so far (plate ``a`` of ``crease`` is placed).
+        """
+        link = mechanism.creases[crease]
+        row = boundary_rows(near[:, link.plate_a], far[:, link.plate_a], link.boundary_a)[0]
+        if link.fixed:
+            k = len(row)
+            normal = np.zeros((k, 3))
+            normal[:, 2] = 1.0
+            return np.zeros((k, 3)), normal, np.abs(row[:, :, 2]).max(axis=1)
+        return fit_planes(row, np.asarray(link.design_normal))
 
 
 class Mechanism:
@@ -142,8 +159,17 @@ class Mechanism:
     def segments(self) -> int:
         return self.leading.n
 
-    def place(self, s0) -> MechanismStates:
-        """Place every plate for values of the degree of freedom ``s0`` (see LeadingStrip)."""
+    def place(self, s0, *, planes: CreasePlanes | None = None) -> MechanismStates:
+        """Place every plate for values of the degree of freedom ``s0`` (see LeadingStrip).
+
+        Parameters
+        ----------
+        s0 : float or (k,) float
+        planes : CreasePlanes, optional
+            The strategy that gives the plane of every crease from the placed parent plate
+            (default: the fixed leading plane and the best-fit planes of the other creases).
+        """
+        planes = _DEFAULT_PLANES if planes is None else planes
         lead = self.leading.place(s0)
         k, m = lead.near.shape[0], lead.near.shape[1]
         p, c = len(self.plates), len(self.creases)
@@ -154,51 +180,46 @@ class Mechanism:
         normals = np.zeros((k, c, 3))
         planarity = np.zeros((k, c))
         placed = np.zeros(c, dtype=bool)
+        planes.begin(k, c, m)
         for i, plate in enumerate(self.plates[1:], start=1):
-            j = plate.parent
-            if plate.boundary == "near":
-                hinge, away = near[:, j], _unit(far[:, j] - near[:, j])
-            else:
-                hinge, away = far[:, j], _unit(near[:, j] - far[:, j])
+            j, ci = plate.parent, plate.crease
+            hinge, away = hinge_and_rulings(near[:, j], far[:, j], plate.boundary)
             # the parent is placed, so the crease (its boundary) is known
-            origin, normal, dev = self._crease_plane(plate.crease, near, far)
-            origins[:, plate.crease], planarity[:, plate.crease] = origin, dev
-            normals[:, plate.crease] = normal
-            mirrored = (
-                away
-                - 2.0 * np.einsum("kmi,ki->km", away, normal)[:, :, None] * (normal[:, None, :])
-            )
+            origin, normal, planarity[:, ci] = planes.plane(self, ci, near, far)
+            origins[:, ci], normals[:, ci] = origin, normal
+            mirrored = away - 2.0 * dot(away, normal[:, None])[..., None] * normal[:, None]
             if plate.relation == "ccf":
                 mirrored = -mirrored
+            if planes.mirror_rows:
+                hinge = reflect_points(hinge, origin, normal)
             near[:, i] = hinge
             far[:, i] = hinge + self._ruling_lengths[i][None, :, None] * mirrored
-            placed[plate.crease] = True
+            placed[ci] = True
         for ci in np.flatnonzero(~placed):  # creases that attach no plate (closing a loop)
-            origins[:, ci], normals[:, ci], planarity[:, ci] = self._crease_plane(ci, near, far)
+            origins[:, ci], normals[:, ci], planarity[:, ci] = planes.plane(self, ci, near, far)
         return MechanismStates(near, far, origins, normals, planarity, lead.tilts)
 
-    def _crease_plane(self, ci: int, near: np.ndarray, far: np.ndarray):
-        """Plane of crease ``ci`` in ``k`` states: origins, normals (k, 3), planarity (k,)."""
-        crease = self.creases[ci]
-        hinge = (near if crease.boundary_a == "near" else far)[:, crease.plate_a]
-        if crease.fixed:
-            k = len(hinge)
-            normal = np.zeros((k, 3))
-            normal[:, 2] = 1.0
-            return np.zeros((k, 3)), normal, np.abs(hinge[:, :, 2]).max(axis=1)
-        return fit_planes(hinge, np.asarray(crease.design_normal))
+    def crease_planes(self, near: np.ndarray, far: np.ndarray):
+        """Planes of every crease of placed plates ``near, far`` (k, p, n + 1, 3).
 
-    def refit(self, states: MechanismStates, near: np.ndarray, far: np.ndarray) -> MechanismStates:
-        """States with plates replaced by ``near, far`` (k, p, n + 1, 3) and planes refitted.
-
-        Used for geometry that did not come from :meth:`place`, e.g. a relaxation.
+        Returns origins, normals (k, c, 3) and the planarity deviation (k, c).
         """
         k, c = near.shape[0], len(self.creases)
         origins = np.zeros((k, c, 3))
         normals = np.zeros((k, c, 3))
         planarity = np.zeros((k, c))
         for ci in range(c):
-            origins[:, ci], normals[:, ci], planarity[:, ci] = self._crease_plane(ci, near, far)
+            origins[:, ci], normals[:, ci], planarity[:, ci] = _DEFAULT_PLANES.plane(
+                self, ci, near, far
+            )
+        return origins, normals, planarity
+
+    def refit(self, states: MechanismStates, near: np.ndarray, far: np.ndarray) -> MechanismStates:
+        """States with plates replaced by ``near, far`` (k, p, n + 1, 3) and planes refitted.
+
+        Used for geometry that did not come from :meth:`place`, e.g. a relaxation.
+        """
+        origins, normals, planarity = self.crease_planes(near, far)
         return MechanismStates(near, far, origins, normals, planarity, states.tilts)
 
     def deploy(self, alpha) -> MechanismStates:
@@ -215,3 +236,6 @@ class Mechanism:
     def alpha_limit(self) -> float:
         """Largest reachable reference reflection angle, radians."""
         return self.leading.alpha_limit
+
+
+_DEFAULT_PLANES = CreasePlanes()

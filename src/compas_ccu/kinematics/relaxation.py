@@ -40,9 +40,9 @@ Examples
 >>> import numpy as np
 >>> from compas_ccu.design import load_design
 >>> from compas_ccu.kinematics.relaxation import links_from_mechanism, relax
->>> model = load_design("examples/vault.toml").build()
+>>> model = load_model("examples/vault.toml")
 >>> states = model.mechanism.deploy(np.radians([20.0]))
->>> ref = model._reference_lengths.copy()
+>>> ref = model.reference_lengths.copy()
 >>> ref[3, :, 2] *= 1.002  # plate 3's far edges 0.2 % longer than plate 4's near edges
 >>> result = relax(states.near[0], states.far[0], ref, links_from_mechanism(model.mechanism))
 >>> result.converged

@@ -37,23 +37,19 @@ from typing import NamedTuple
 import numpy as np
 
 from compas_ccu.errors import GeometryError
-from compas_ccu.kinematics.mechanism import Mechanism, MechanismStates, fit_planes
+from compas_ccu.geometry import dot, unit
+from compas_ccu.kinematics.mechanism import CreasePlanes, Mechanism, MechanismStates
+from compas_ccu.kinematics.plates import hinge_and_rulings
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
     "vertex_offsets",
     "crease_sides",
     "ThickStates",
+    "HingePlanes",
     "place_thick",
     "solid_faces",
 ]
-
-
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
-
-
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("...i,...i", a, b)
 
 
 def quad_normals(near: np.ndarray, far: np.ndarray) -> np.ndarray:
@@ -63,7 +59,7 @@ def quad_normals(near: np.ndarray, far: np.ndarray) -> np.ndarray:
     :func:`compas_ccu.strips.curvature.plate_curvature`).
     """
     a, b, c, d = near[..., :-1, :], near[..., 1:, :], far[..., 1:, :], far[..., :-1, :]
-    return _unit(np.cross(c - a, d - b))
+    return unit(np.cross(c - a, d - b))
 
 
 def vertex_offsets(near: np.ndarray, far: np.ndarray) -> np.ndarray:
@@ -92,12 +88,12 @@ def vertex_offsets(near: np.ndarray, far: np.ndarray) -> np.ndarray:
     normals = quad_normals(near, far)
     if normals.shape[-2] == 1:
         return np.concatenate([normals, normals], axis=-2)
-    ruling = _unit(far - near)
+    ruling = unit(far - near)
     n0, n1 = normals[..., :-1, :], normals[..., 1:, :]
-    interior = (n0 + n1) / (1.0 + _dot(n0, n1))[..., None]
+    interior = (n0 + n1) / (1.0 + dot(n0, n1))[..., None]
     # end rulings: continue the strip past its end with the fold angle of the neighbouring
     # ruling (exact for the uniform cone, so its offset creases stay planar to round-off)
-    fold = np.arctan2(_dot(np.cross(n0, n1), ruling[..., 1:-1, :]), _dot(n0, n1))
+    fold = np.arctan2(dot(np.cross(n0, n1), ruling[..., 1:-1, :]), dot(n0, n1))
     ends = []
     for quad, r, angle in (
         (normals[..., 0, :], ruling[..., 0, :], -fold[..., 0]),
@@ -106,15 +102,6 @@ def vertex_offsets(near: np.ndarray, far: np.ndarray) -> np.ndarray:
         beyond = quad * np.cos(angle)[..., None] + np.cross(r, quad) * np.sin(angle)[..., None]
         ends.append(((quad + beyond) / (1.0 + np.cos(angle))[..., None])[..., None, :])
     return np.concatenate([ends[0], interior, ends[1]], axis=-2)
-
-
-def _boundary(states_near, states_far, plate: int, boundary: str):
-    """Hinge row and unit ruling directions away from it of one plate: (k, n + 1, 3) each."""
-    if boundary == "near":
-        row, other = states_near[:, plate], states_far[:, plate]
-    else:
-        row, other = states_far[:, plate], states_near[:, plate]
-    return row, _unit(other - row)
 
 
 def crease_sides(mechanism: Mechanism, probe: MechanismStates) -> np.ndarray:
@@ -137,18 +124,17 @@ def crease_sides(mechanism: Mechanism, probe: MechanismStates) -> np.ndarray:
                 f"crease {ci} is a curved-crease-folding (CCF) continuation: the axis-shift "
                 "thickness model of CCU (paper Fig. 8c) needs mirror (CCU) creases only"
             )
-        row, away_a = _boundary(near, far, crease.plate_a, crease.boundary_a)
         nu_a = vertex_offsets(near[:, crease.plate_a], far[:, crease.plate_a])
-        away_b = _unit(far[:, crease.plate_b] - near[:, crease.plate_b])
+        away_b = unit(far[:, crease.plate_b] - near[:, crease.plate_b])
         nu_b = vertex_offsets(near[:, crease.plate_b], far[:, crease.plate_b])
-        towards = _dot(nu_a, away_b)[0]
+        towards = dot(nu_a, away_b)[0]
         sa = np.sign(np.sum(towards))
         if sa == 0.0:
             raise GeometryError(f"crease {ci}: the probe state is flat, its sides are undefined")
         facing_a = sa * nu_a[0]
         normal = probe.plane_normals[0, ci]
-        mirrored = facing_a - 2.0 * _dot(facing_a, normal)[:, None] * normal
-        sb = np.sign(np.sum(_dot(nu_b[0], mirrored)))
+        mirrored = facing_a - 2.0 * dot(facing_a, normal)[:, None] * normal
+        sb = np.sign(np.sum(dot(nu_b[0], mirrored)))
         sides[ci] = sa, sb
     return sides
 
@@ -185,12 +171,62 @@ class ThickStates(NamedTuple):
     tilts: np.ndarray
 
 
+class HingePlanes(CreasePlanes):
+    """The crease-plane strategy of thick plates: mirror across the hinge plane P.
+
+    For :meth:`Mechanism.place <compas_ccu.kinematics.mechanism.Mechanism.place>`: the plane of
+    a crease is the hinge plane P of its facing face (module docstring), and a child plate's
+    crease row is the mirror image of its parent's mid-surface row. While placing, it records per
+    crease the mid-surface planarity, the offset-crease planarity and the corrections.
+
+    Parameters
+    ----------
+    thickness : float
+        Plate thickness t, m.
+    sides : (c, 2) float
+        From :func:`crease_sides`.
+    """
+
+    mirror_rows = True
+
+    def __init__(self, thickness: float, sides: np.ndarray):
+        self.half = 0.5 * float(thickness)
+        self.sides = np.asarray(sides, dtype=float)
+        self.mid_planarity = None
+        self.offset_planarity = None
+        self.corrections = None
+
+    def begin(self, states: int, creases: int, vertices: int) -> None:
+        self.mid_planarity = np.zeros((states, creases))
+        self.offset_planarity = np.zeros((states, creases))
+        self.corrections = np.zeros((states, creases, vertices))
+
+    def plane(self, mechanism: Mechanism, crease: int, near: np.ndarray, far: np.ndarray):
+        link = mechanism.creases[crease]
+        a = link.plate_a
+        row, away = hinge_and_rulings(near[:, a], far[:, a], link.boundary_a)
+        facing = row + self.sides[crease, 0] * self.half * vertex_offsets(near[:, a], far[:, a])
+        origin, normal, self.mid_planarity[:, crease] = super().plane(mechanism, crease, near, far)
+        # the offset plane by the mean offset (paper: "offset plane by cos_mean")
+        shift = dot(facing - origin[:, None], normal[:, None]).mean(axis=1)
+        origin = origin + shift[:, None] * normal
+        dist = dot(facing - origin[:, None], normal[:, None])
+        self.offset_planarity[:, crease] = np.abs(dist).max(axis=1)
+        slope = dot(away, normal[:, None])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            along = -dist / slope
+        # rulings in the plane (the flat stack): the offset crease lies in P, nothing to correct
+        self.corrections[:, crease] = np.where(np.abs(slope) > EXACT_RELATIVE, along, 0.0)
+        return origin, normal, self.offset_planarity[:, crease]
+
+
 def place_thick(mechanism: Mechanism, s0, thickness: float, sides: np.ndarray) -> ThickStates:
     """Place the thick plates of ``mechanism`` for values of its degree of freedom ``s0``.
 
     The leading plate follows the exact closed form (its mid crease stays in O); every other
     plate is the mirror image of its parent's mid-surface ruling lines across the hinge plane of
-    the shared crease (module docstring), with the ruling lengths of its own cut pattern.
+    the shared crease (module docstring, :class:`HingePlanes`), with the ruling lengths of its
+    own cut pattern.
 
     Parameters
     ----------
@@ -206,67 +242,18 @@ def place_thick(mechanism: Mechanism, s0, thickness: float, sides: np.ndarray) -
     -------
     ThickStates
     """
-    half = 0.5 * thickness
-    lead = mechanism.leading.place(s0)
-    k, m = lead.near.shape[0], lead.near.shape[1]
-    p, c = len(mechanism.plates), len(mechanism.creases)
-    near = np.empty((k, p, m, 3))
-    far = np.empty((k, p, m, 3))
-    near[:, 0], far[:, 0] = lead.near, lead.far
-    origins = np.zeros((k, c, 3))
-    normals = np.zeros((k, c, 3))
-    offset_planarity = np.zeros((k, c))
-    mid_planarity = np.zeros((k, c))
-    corrections = np.zeros((k, c, m))
-    lengths = [plate.intrinsics.ruling_lengths for plate in mechanism.plates]
-    done = np.zeros(c, dtype=bool)
-
-    def hinge(ci: int):
-        crease = mechanism.creases[ci]
-        a = crease.plate_a
-        row, away = _boundary(near, far, a, crease.boundary_a)
-        facing = row + sides[ci, 0] * half * vertex_offsets(near[:, a], far[:, a])
-        if crease.fixed:  # the leading plane O: z = 0, the mid crease lies in it exactly
-            normal = np.zeros((k, 3))
-            normal[:, 2] = 1.0
-            origin = np.zeros((k, 3))
-            mid_planarity[:, ci] = np.abs(row[:, :, 2]).max(axis=1)
-        else:
-            origin, normal, mid_planarity[:, ci] = fit_planes(row, np.asarray(crease.design_normal))
-        # the offset plane by the mean offset (paper: "offset plane by cos_mean")
-        shift = _dot(facing - origin[:, None], normal[:, None]).mean(axis=1)
-        origin = origin + shift[:, None] * normal
-        dist = _dot(facing - origin[:, None], normal[:, None])
-        offset_planarity[:, ci] = np.abs(dist).max(axis=1)
-        slope = _dot(away, normal[:, None])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            along = -dist / slope
-        # rulings in the plane (the flat stack): the offset crease lies in P, nothing to correct
-        corrections[:, ci] = np.where(np.abs(slope) > 1e-9, along, 0.0)
-        origins[:, ci], normals[:, ci] = origin, normal
-        done[ci] = True
-        return row, away, origin, normal
-
-    for i, plate in enumerate(mechanism.plates[1:], start=1):
-        row, away, origin, normal = hinge(plate.crease)
-        dist = _dot(row - origin[:, None], normal[:, None])
-        mirrored_row = row - 2.0 * dist[..., None] * normal[:, None]
-        mirrored = away - 2.0 * _dot(away, normal[:, None])[..., None] * normal[:, None]
-        near[:, i] = mirrored_row
-        far[:, i] = mirrored_row + lengths[i][None, :, None] * mirrored
-    for ci in np.flatnonzero(~done):  # creases that attach no plate (closing a loop)
-        hinge(ci)
-    offsets = vertex_offsets(near, far)
+    planes = HingePlanes(thickness, sides)
+    st = mechanism.place(s0, planes=planes)
     return ThickStates(
-        near,
-        far,
-        offsets,
-        origins,
-        normals,
-        offset_planarity,
-        corrections,
-        mid_planarity,
-        lead.tilts,
+        st.near,
+        st.far,
+        vertex_offsets(st.near, st.far),
+        st.plane_origins,
+        st.plane_normals,
+        planes.offset_planarity,
+        planes.corrections,
+        planes.mid_planarity,
+        st.tilts,
     )
 
 
@@ -295,7 +282,7 @@ def solid_faces(
         ``[..., 0]`` the face at ``-t/2 ν`` ("lower"), ``[..., 1]`` at ``+t/2 ν`` ("upper"), in
         the plate vertex order (near row, then far row).
     """
-    ruling = _unit(far - near)
+    ruling = unit(far - near)
     mid_near = near + shifts_near[..., None] * ruling
     mid_far = far - shifts_far[..., None] * ruling
     mid = np.concatenate([mid_near, mid_far], axis=-2)

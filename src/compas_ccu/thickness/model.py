@@ -1,7 +1,7 @@
 """Thick plates of a built design: :class:`ThickModel` (axis shift, collisions, bending).
 
->>> from compas_ccu.design import load_design
->>> thick = ThickModel(load_design("examples/vault.toml").build(), thickness=0.008)
+>>> from compas_ccu.model import load_model
+>>> thick = ThickModel(load_model("examples/vault.toml"), thickness=0.008)
 >>> round(thick.stack_height * 1000, 9)   # ten 8 mm plates, folded closed
 80.0
 """
@@ -14,9 +14,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from compas_ccu.errors import GeometryError, SelfIntersectionError
+from compas_ccu.geometry import unit
 from compas_ccu.kinematics.mechanism import MechanismStates
+from compas_ccu.kinematics.plates import stack_rows
 from compas_ccu.materials import MaterialError
 from compas_ccu.materials import material as get_material
+from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thick, solid_faces
 from compas_ccu.thickness.bending import BendingCheck, bending_check
 from compas_ccu.thickness.collision import plate_contacts
@@ -135,10 +138,10 @@ class ThickModel:
     """
 
     def __init__(self, model, *, thickness=None, material=None, grain=None):
-        plates = model.design.values.get("plates") or {}
-        thickness = plates.get("thickness", 0.008) if thickness is None else thickness
-        material = plates.get("material", "plywood") if material is None else material
-        grain = plates.get("grain", 0.0) if grain is None else grain
+        plates = model.design.plates
+        thickness = plates.thickness if thickness is None else thickness
+        material = plates.material if material is None else material
+        grain = plates.grain if grain is None else grain
         if isinstance(thickness, bool) or not isinstance(thickness, (int, float)):
             raise GeometryError(f"thickness must be a number in metres, got {thickness!r}")
         if not (math.isfinite(thickness) and thickness > 0.0):
@@ -163,22 +166,21 @@ class ThickModel:
         self.sides = crease_sides(mech, probe)
         design = self.place([model.alpha_design])
         self.design_corrections = design.corrections[0]  # (c, n + 1)
-        n = model.segments
-        p = len(mech.plates)
-        self._shift_near = np.zeros((p, n + 1))
-        self._shift_far = np.zeros((p, n + 1))
-        for ci, crease in enumerate(mech.creases):
-            shift = self.design_corrections[ci]
-            (self._shift_near if crease.boundary_a == "near" else self._shift_far)[
-                crease.plate_a
-            ] = shift
-            self._shift_near[crease.plate_b] = shift
+        index = model.plates
+        # (p, 2n + 2) distance each vertex moves along its ruling into the plate: the crease
+        # corrections of the design state on both plates of every crease, 0 at free boundaries
+        self.shifts = np.zeros((index.count, index.vertex_count))
+        for ci, (a, b) in enumerate(index.crease_plates):
+            rows_a, rows_b = index.crease_rows(ci)
+            self.shifts[a, rows_a] = self.design_corrections[ci]
+            self.shifts[b, rows_b] = self.design_corrections[ci]
+        p = index.count
         flat = self.place([0.0])
         heights = flat.near[0, :, :, 2].mean(axis=1)  # local z of the mid-surfaces
         order = np.argsort(heights)
         position = np.empty(p, dtype=int)
         position[order] = np.arange(p)
-        self.stack_position = [int(position[i]) for i in model.order]  # by plate id
+        self.stack_position = index.to_output(position).tolist()  # by plate id
         self._pairs_neighbours = {tuple(sorted((c.plate_a, c.plate_b))) for c in mech.creases}
 
     # -- placement ----------------------------------------------------------------------------
@@ -188,25 +190,43 @@ class ThickModel:
         s0 = self.mechanism.leading.s0_for_alpha(np.radians(alphas))
         return place_thick(self.mechanism, s0, self.thickness, self.sides)
 
+    def _shift_rows(self):
+        """The shifts of the near and the far rows: (p, n + 1) each."""
+        index = self.model.plates
+        return self.shifts[:, index.near_rows], self.shifts[:, index.far_rows]
+
     def _faces_local(self, st: ThickStates) -> np.ndarray:
+        shift_near, shift_far = self._shift_rows()
         return solid_faces(
-            st.near,
-            st.far,
-            st.offsets,
-            self.thickness,
-            self._shift_near[None],
-            self._shift_far[None],
+            st.near, st.far, st.offsets, self.thickness, shift_near[None], shift_far[None]
         )
 
+    def cut_patterns(self) -> np.ndarray:
+        """(p, 2n + 2, 2) cut patterns of the thick plates, plates in id order, m.
+
+        The zero-thickness patterns (:meth:`CCUModel.flat`) with the crease corrections of the
+        design state (paper §5.3) applied along the rulings: the thick plates cut from them
+        meet exactly along planar hinges at the design angle.
+        """
+        index = self.model.plates
+        flat = self.model.flat()[:, :, :2].copy()
+        near, far = flat[:, index.near_rows], flat[:, index.far_rows]
+        ruling = unit(far - near)
+        shift_near, shift_far = (index.to_output(s) for s in self._shift_rows())
+        flat[:, index.near_rows] = near + shift_near[..., None] * ruling
+        flat[:, index.far_rows] = far - shift_far[..., None] * ruling
+        return flat
+
     def _world(self, local: np.ndarray) -> np.ndarray:
-        return self.model._to_world(local)
+        return self.model.to_world(local)
 
     def states(self, alphas) -> list:
         """:class:`ThickState` objects at reference angles ``alphas`` (degrees)."""
         alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
         st = self.place(alphas)
-        faces = self._faces_local(st)[:, self.model.order]
-        mid = np.concatenate([st.near, st.far], axis=2)[:, self.model.order]
+        index = self.model.plates
+        faces = index.to_output(self._faces_local(st), axis=1)
+        mid = index.to_output(stack_rows(st.near, st.far), axis=1)
         metrics = self.metrics(st)
         out = []
         for k, alpha in enumerate(alphas):
@@ -250,13 +270,13 @@ class ThickModel:
         )
         inv = self.model.invariants(mstates)
         faces = self._faces_local(st)
-        n = self.model.segments
+        index = self.model.plates
         gaps = []
-        for ci, crease in enumerate(self.mechanism.creases):
+        for ci, (a, b) in enumerate(index.crease_plates):
             sa, sb = self.sides[ci]
-            rows = slice(0, n + 1) if crease.boundary_a == "near" else slice(n + 1, 2 * n + 2)
-            fa = faces[:, crease.plate_a, int(sa > 0), rows]
-            fb = faces[:, crease.plate_b, int(sb > 0), : n + 1]
+            rows_a, rows_b = index.crease_rows(ci)
+            fa = faces[:, a, int(sa > 0), rows_a]
+            fb = faces[:, b, int(sb > 0), rows_b]
             gaps.append(np.linalg.norm(fa - fb, axis=-1).max(axis=1))
         k = st.near.shape[0]
         return {
@@ -276,16 +296,12 @@ class ThickModel:
         a crease pair the same kind. Measured at the design state on the crease vertices
         (positive curvature: the quad normal points to the convex side).
         """
-        from compas_ccu.strips.curvature import plate_curvature
-
         st = self.place([self.model.alpha_design])
-        verts = np.concatenate([st.near, st.far], axis=2)[0]
-        kappa = plate_curvature(verts)
-        n = self.model.segments
+        kappa = plate_curvature(stack_rows(st.near, st.far)[0])
+        index = self.model.plates
         out = []
-        for ci, crease in enumerate(self.mechanism.creases):
-            rows = slice(0, n + 1) if crease.boundary_a == "near" else slice(n + 1, 2 * n + 2)
-            k = np.median(self.sides[ci, 0] * kappa[crease.plate_a, rows])
+        for ci, (a, _) in enumerate(index.crease_plates):
+            k = np.median(self.sides[ci, 0] * kappa[a, index.crease_rows(ci)[0]])
             out.append("intrados" if k < 0 else ("extrados" if k > 0 else "flat"))
         return out
 
@@ -305,22 +321,22 @@ class ThickModel:
         alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
         st = self.place(alphas)
         faces = self._faces_local(st)
-        ruling = (st.far - st.near) / np.linalg.norm(st.far - st.near, axis=-1, keepdims=True)
-        mid_near = st.near + self._shift_near[None, :, :, None] * ruling
-        mid_far = st.far - self._shift_far[None, :, :, None] * ruling
-        p = len(self.mechanism.plates)
+        ruling = unit(st.far - st.near)
+        shift_near, shift_far = self._shift_rows()
+        mid_near = st.near + shift_near[None, :, :, None] * ruling
+        mid_far = st.far - shift_far[None, :, :, None] * ruling
+        index = self.model.plates
+        p = index.count
         pairs = [(a, b) for a in range(p) for b in range(p) if a != b]
-        n = self.model.segments
         rows = {}
-        for crease in self.mechanism.creases:
-            row_a = np.zeros(2 * n + 2, dtype=bool)
-            row_a[: n + 1] = crease.boundary_a == "near"
-            row_a[n + 1 :] = crease.boundary_a == "far"
-            row_b = np.zeros(2 * n + 2, dtype=bool)
-            row_b[: n + 1] = True
+        for ci, (a, b) in enumerate(index.crease_plates):
+            on_a = np.zeros(index.vertex_count, dtype=bool)
+            on_b = np.zeros(index.vertex_count, dtype=bool)
+            on_a[index.crease_rows(ci)[0]] = True
+            on_b[index.crease_rows(ci)[1]] = True
             # vertices of b on the hinge with a, and of a on the hinge with b (both faces)
-            rows[(crease.plate_a, crease.plate_b)] = np.concatenate([row_b, row_b])
-            rows[(crease.plate_b, crease.plate_a)] = np.concatenate([row_a, row_a])
+            rows[(a, b)] = np.concatenate([on_b, on_b])
+            rows[(b, a)] = np.concatenate([on_a, on_a])
         hinged = [rows.get(q) for q in pairs]
         depth, clear, crossing, where = plate_contacts(
             mid_near, mid_far, st.offsets, faces, self.thickness, pairs=pairs, hinged=hinged
@@ -329,8 +345,6 @@ class ThickModel:
         penetration = np.maximum(depth.max(axis=1), 0.0)
         others = clear[:, ~neighbours] if (~neighbours).any() else np.full((len(alphas), 1), np.inf)
         clearance = others.min(axis=1)
-        ids = self.model.plate_ids
-        to_id = {int(m): ids[int(np.flatnonzero(self.model.order == m)[0])] for m in range(p)}
 
         def where_(k, q, what, value):
             a, b = pairs[q]
@@ -338,7 +352,7 @@ class ThickModel:
             point = self._world(faces[k, b].reshape(-1, 3)[v][None])[0]
             return {
                 "alpha": float(alphas[k]),
-                "plates": [to_id[a], to_id[b]],
+                "plates": [index.output_id(a), index.output_id(b)],
                 "vertex": v,
                 "point": point.tolist(),
                 what: float(value),
@@ -388,7 +402,7 @@ class ThickModel:
             alphas = np.linspace(0.0, self.model.alpha_design, 21)
         alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
         st = self.place(alphas)
-        mid = np.concatenate([st.near, st.far], axis=2)[:, self.model.order]
+        mid = self.model.plates.to_output(stack_rows(st.near, st.far), axis=1)
         return bending_check(
             mid, self.model.flat(), self.thickness, self.material, grain=math.radians(self.grain)
         )

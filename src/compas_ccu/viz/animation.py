@@ -128,7 +128,7 @@ def write_animation(
     >>> import tempfile, pathlib
     >>> from PIL import Image
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "cone.gif"
-    >>> gif = write_animation(load_design("examples/cone.toml").build(), out, frames=5)
+    >>> gif = write_animation(load_model("examples/cone.toml"), out, frames=5)
     >>> Image.open(gif).n_frames
     5
     """

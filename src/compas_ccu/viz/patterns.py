@@ -72,7 +72,7 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
     Examples
     --------
     >>> from compas_ccu.design import load_design
-    >>> s = load_design("examples/vault.toml").build().deploy()
+    >>> s = load_model("examples/vault.toml").deploy()
     >>> fig = plot_cut_patterns(s)
     >>> fig.axes[0].get_title(loc="left")
     'vault: 10 cut patterns, 7.62 m² in all'

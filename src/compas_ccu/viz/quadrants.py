@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.model import CCUModel
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.render import draw_scene
 from compas_ccu.viz.scene import scene_from_structure
@@ -63,7 +64,7 @@ def plot_quadrants(design, *, alpha: float | None = None, width: float | None = 
 
     from compas_ccu.design.variants import quadrant_design
 
-    model = quadrant_design(design, width=width).build()
+    model = CCUModel(quadrant_design(design, width=width))
     deployed = model.deploy(alpha)
     flat = model.deploy(0.0)
     pairs = quadrant_pairs(deployed)

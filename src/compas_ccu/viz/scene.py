@@ -93,7 +93,7 @@ def scene_from_structure(structure, *, state: str = "deployed", ground: bool = F
     Examples
     --------
     >>> from compas_ccu.design import load_design
-    >>> s = load_design("examples/cone.toml").build().deploy()
+    >>> s = load_model("examples/cone.toml").deploy()
     >>> scene = scene_from_structure(s, ground=True)
     >>> scene.quads.shape[-2:], float(scene.bounds()[0, 2])
     ((4, 3), 0.0)

@@ -35,7 +35,7 @@ def plot_deployment_sequence(
     Examples
     --------
     >>> from compas_ccu.design import load_design
-    >>> fig = plot_deployment_sequence(load_design("examples/vault.toml").build(), count=4)
+    >>> fig = plot_deployment_sequence(load_model("examples/vault.toml"), count=4)
     >>> [ax.get_title() for ax in fig.axes]
     ['α = 0°', 'α = 10°', 'α = 20°', 'α = 30°']
     """

@@ -38,7 +38,7 @@ def plot_contact_sheet(
     Examples
     --------
     >>> from compas_ccu.design import load_design
-    >>> s = [load_design(f"examples/{n}.toml").build().deploy() for n in ("vault", "cone")]
+    >>> s = [load_model(f"examples/{n}.toml").deploy() for n in ("vault", "cone")]
     >>> fig = plot_contact_sheet(s)
     >>> [ax.get_title() for ax in fig.axes]
     ['vault', 'cone']

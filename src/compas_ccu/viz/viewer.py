@@ -358,7 +358,7 @@ def viewer_figure(
     Examples
     --------
     >>> from compas_ccu.design import load_design
-    >>> model = load_design("examples/cone.toml").build()
+    >>> model = load_model("examples/cone.toml")
     >>> fig = viewer_figure(model, steps=4)
     >>> len(fig.frames), fig.layout.sliders[0].active, fig.layout.sliders[0].steps[-1].label
     (5, 4, '40°')
@@ -709,7 +709,7 @@ def write_viewer(
     --------
     >>> import tempfile
     >>> from compas_ccu.design import load_design
-    >>> model = load_design("examples/vault.toml").build()
+    >>> model = load_model("examples/vault.toml")
     >>> out = write_viewer(model, tempfile.mkdtemp() + "/vault.html", steps=6)
     >>> out.stat().st_size > 4_000_000, "cdn.plot.ly/plotly" in out.read_text(encoding="utf-8")
     (True, False)

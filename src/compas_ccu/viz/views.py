@@ -57,7 +57,7 @@ def plot_views(
     Examples
     --------
     >>> from compas_ccu.design import load_design
-    >>> s = load_design("examples/vault.toml").build().deploy()
+    >>> s = load_model("examples/vault.toml").deploy()
     >>> fig = plot_views(s, color_by="curvature")
     >>> len(fig.axes)  # four views and a colour bar
     5

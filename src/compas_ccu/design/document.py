@@ -1,0 +1,138 @@
+"""Design files: read, validate and hold a design (the input of the deployable model)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from compas.data import Data
+
+from compas_ccu.design.schema import validate
+from compas_ccu.design.sections import DesignSections
+from compas_ccu.errors import DesignError
+
+__all__ = ["Design", "load_design", "read_toml", "parse_toml"]
+
+
+def parse_toml(text: str) -> dict:
+    """Parse TOML text (``tomllib`` on Python >= 3.11, ``tomli`` before)."""
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover - Python 3.9 / 3.10 (Rhino 8)
+        import tomli as tomllib
+    return tomllib.loads(text)
+
+
+class Design(Data):
+    """A validated design: the contents of a design TOML file, typed by section.
+
+    Parameters
+    ----------
+    document : dict
+        Parsed TOML, validated on construction (:func:`compas_ccu.design.schema.validate`).
+    name : str, optional
+        Fallback name when the document has no ``design.name``.
+
+    Attributes
+    ----------
+    document : dict
+        The document as given.
+    values : dict
+        ``{section: {key: value}}`` with defaults filled in.
+    sections : DesignSections
+        The same, typed: ``design.sections.crease.span``; the sections are also attributes
+        (``design.crease``, ``design.layout``, ...).
+
+    Examples
+    --------
+    >>> d = Design({"crease": {"profile": "arc", "span": 2.0, "rise": 0.5},
+    ...             "rulings": {"type": "orthogonal"}, "deployment": {"alpha": 30.0},
+    ...             "layout": {"width": 0.3}})
+    >>> d.crease.span, d.alpha, d.name
+    (2.0, 30.0, 'design')
+    """
+
+    def __init__(self, document: dict, *, name: str | None = None):
+        values = validate(document)
+        super().__init__(name=values["design"]["name"] or name or "design")
+        self.document = document
+        self.values = values
+        self.sections = DesignSections.from_values(values)
+
+    @property
+    def __data__(self) -> dict:
+        return {"document": self.document, "name": self.name}
+
+    @classmethod
+    def __from_data__(cls, data: dict) -> Design:
+        return cls(data["document"], name=data.get("name"))
+
+    # the sections, typed
+    @property
+    def crease(self):
+        return self.sections.crease
+
+    @property
+    def rulings(self):
+        return self.sections.rulings
+
+    @property
+    def deployment(self):
+        return self.sections.deployment
+
+    @property
+    def layout(self):
+        return self.sections.layout
+
+    @property
+    def target(self):
+        return self.sections.target
+
+    @property
+    def plates(self):
+        return self.sections.plates
+
+    @property
+    def plane(self):
+        return self.sections.plane
+
+    @property
+    def alpha(self) -> float:
+        """Design reflection angle at the reference vertex, degrees."""
+        return self.sections.deployment.alpha
+
+    def __repr__(self) -> str:
+        return (
+            f"Design({self.name!r}, profile={self.crease.profile!r}, layout={self.layout.type!r})"
+        )
+
+
+def read_toml(path, *, error=DesignError, what: str = "design") -> dict:
+    """Parse a TOML file; a missing file or bad TOML becomes ``error`` naming the path."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise error(f"cannot read {what} file {str(path)!r}: {exc.strerror}") from exc
+    try:
+        return parse_toml(text)
+    except Exception as exc:  # tomllib.TOMLDecodeError
+        raise error(f"{path}: not valid TOML: {exc}") from exc
+
+
+def load_design(path) -> Design:
+    """Load and validate a design TOML file.
+
+    Raises
+    ------
+    DesignError
+        The file is missing, not TOML, or not a valid design (the message names the key).
+    """
+    path = Path(path)
+    document = read_toml(path)
+    try:
+        return Design(document, name=path.stem)
+    except DesignError as exc:
+        error = DesignError(f"{path}: {exc}")
+        error.key = exc.key  # the message names the key already; keep it for callers
+        raise error from exc

@@ -1,0 +1,72 @@
+"""Typed design sections, generated from the schema: ``design.crease.span`` instead of dicts.
+
+Every section of :data:`compas_ccu.design.schema.SCHEMA` becomes a frozen dataclass with one
+field per key (the validated value, or None where unset and without default), so a misspelt key
+is an ``AttributeError`` at the line that misspells it rather than a silent ``None``.
+
+>>> from compas_ccu.design.schema import validate
+>>> values = validate({"crease": {"profile": "arc", "span": 2.0, "rise": 0.5},
+...                    "rulings": {"type": "orthogonal"}, "deployment": {"alpha": 30.0},
+...                    "layout": {"width": 0.3}})
+>>> sections = DesignSections.from_values(values)
+>>> sections.crease.span, sections.layout.type, sections.plates.material
+(2.0, 'single', 'plywood')
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields, make_dataclass
+
+from compas_ccu.design.schema import SCHEMA
+
+__all__ = ["SECTION_TYPES", "DesignSections"]
+
+
+def _section_type(section: str, keys: dict):
+    names = [name for name in keys if not name.startswith("_")]
+    cls = make_dataclass(
+        f"{section.capitalize()}Section",
+        [(name, object) for name in names],
+        frozen=True,
+        namespace={"to_dict": lambda self: asdict(self)},
+    )
+    cls.__module__ = __name__
+    cls.__doc__ = f"The [{section}] section of a design file. {keys['_doc']}"
+    return cls
+
+
+#: One frozen dataclass per design-file section, fields in schema order.
+SECTION_TYPES = {section: _section_type(section, keys) for section, keys in SCHEMA.items()}
+
+
+DesignSection = SECTION_TYPES["design"]
+CreaseSection = SECTION_TYPES["crease"]
+RulingsSection = SECTION_TYPES["rulings"]
+DeploymentSection = SECTION_TYPES["deployment"]
+LayoutSection = SECTION_TYPES["layout"]
+TargetSection = SECTION_TYPES["target"]
+PlatesSection = SECTION_TYPES["plates"]
+PlaneSection = SECTION_TYPES["plane"]
+
+
+@dataclass(frozen=True)
+class DesignSections:
+    """All sections of a validated design, typed (one field per section of the schema)."""
+
+    design: DesignSection
+    crease: CreaseSection
+    rulings: RulingsSection
+    deployment: DeploymentSection
+    layout: LayoutSection
+    target: TargetSection
+    plates: PlatesSection
+    plane: PlaneSection
+
+    @classmethod
+    def from_values(cls, values: dict) -> DesignSections:
+        """Typed sections from :func:`compas_ccu.design.schema.validate` output."""
+        return cls(**{f.name: SECTION_TYPES[f.name](**values[f.name]) for f in fields(cls)})
+
+    def to_values(self) -> dict:
+        """``{section: {key: value}}``, the form :func:`validate` returns."""
+        return {f.name: getattr(self, f.name).to_dict() for f in fields(self)}

@@ -1,0 +1,122 @@
+"""The shared geometry kernel: unit vectors, reflections, plane fits, frames and rigid alignment.
+
+Pure functions over NumPy arrays, broadcasting over leading axes. Every layer of the package uses
+these instead of writing its own (the curves, strips, kinematics, thickness, FE and fabrication
+layers all reflect in planes and fit planes).
+
+>>> import numpy as np
+>>> unit(np.array([3.0, 4.0, 0.0])).tolist()
+[0.6, 0.8, 0.0]
+>>> reflect(np.array([[1.0, 2.0, 3.0]]), np.array([0.0, 0.0, 1.0])).tolist()
+[[1.0, 2.0, -3.0]]
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from compas_ccu.errors import DesignError
+from compas_ccu.tolerances import ZERO_LENGTH
+
+__all__ = [
+    "unit",
+    "dot",
+    "reflect",
+    "reflect_points",
+    "fit_planes",
+    "plane_frame",
+    "rigid_align",
+]
+
+
+def unit(v: np.ndarray) -> np.ndarray:
+    """Unit vectors along the last axis of ``v`` (..., d)."""
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise dot products of (..., d) arrays: (...,)."""
+    return np.einsum("...i,...i", a, b)
+
+
+def reflect(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Directions ``v`` (m, 3) mirrored in a plane with unit ``normal`` (3,)."""
+    return v - 2.0 * (v @ normal)[:, None] * normal
+
+
+def reflect_points(points: np.ndarray, origin: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Points (k, m, 3) mirrored in the planes ``origin, normal`` (k, 3), one plane per state."""
+    distance = dot(points - origin[:, None], normal[:, None])
+    return points - 2.0 * distance[..., None] * normal[:, None]
+
+
+def fit_planes(points: np.ndarray, orient: np.ndarray):
+    """Least-squares planes of ``(k, m, 3)`` point sets.
+
+    Returns origins ``(k, 3)``, unit normals ``(k, 3)`` with ``normal @ orient >= 0`` and the
+    largest point-plane distance ``(k,)``.
+
+    >>> import numpy as np
+    >>> pts = np.array([[[0.0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]]])
+    >>> origin, normal, deviation = fit_planes(pts, np.array([0.0, 0, 1]))
+    >>> normal.round(12).tolist(), float(deviation[0])
+    ([[0.0, 0.0, 1.0]], 0.0)
+    """
+    origin = points.mean(axis=1)
+    centred = points - origin[:, None, :]
+    cov = np.einsum("kni,knj->kij", centred, centred)
+    _, vectors = np.linalg.eigh(cov)
+    normal = vectors[:, :, 0]
+    normal *= np.where(normal @ orient < 0.0, -1.0, 1.0)[:, None]
+    deviation = np.abs(np.einsum("kni,ki->kn", centred, normal)).max(axis=1)
+    return origin, normal, deviation
+
+
+def plane_frame(origin, xaxis, yaxis):
+    """World frame of a plane: origin (3,) and the rows x, y, normal (3, 3).
+
+    ``yaxis`` is made orthogonal to ``xaxis``.
+
+    Raises
+    ------
+    DesignError
+        ``yaxis`` is parallel to ``xaxis`` (names the design key ``plane.yaxis``).
+    """
+    x = unit(np.asarray(xaxis, dtype=float))
+    y = np.asarray(yaxis, dtype=float)
+    y = y - (y @ x) * x
+    if np.linalg.norm(y) < ZERO_LENGTH:
+        raise DesignError(
+            f"must not be parallel to plane.xaxis, got {list(yaxis)}", key="plane.yaxis"
+        )
+    y = unit(y)
+    return np.asarray(origin, dtype=float), np.array([x, y, np.cross(x, y)])
+
+
+def rigid_align(source: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """``source`` moved by the rotation and translation that best fit it to ``target`` (Kabsch).
+
+    Parameters
+    ----------
+    source, target : (m, 3) float
+        Corresponding points.
+
+    Returns
+    -------
+    (m, 3) float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = np.random.default_rng(0).normal(size=(10, 3))
+    >>> c, s = np.cos(0.3), np.sin(0.3)
+    >>> q = p @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]).T + [1.0, 2.0, 3.0]
+    >>> bool(np.allclose(rigid_align(p, q), q))
+    True
+    """
+    cs, ct = source.mean(axis=0), target.mean(axis=0)
+    h = (source - cs).T @ (target - ct)
+    u, _, vt = np.linalg.svd(h)
+    d = np.sign(np.linalg.det(vt.T @ u.T))
+    rot = vt.T @ np.diag([1.0, 1.0, d]) @ u.T
+    return (source - cs) @ rot.T + ct

@@ -1,0 +1,98 @@
+"""Invariant errors and validity of placed mechanism states (docs/kinematics.md, quality bars).
+
+An exact deployment keeps every quad congruent to its cut pattern (isometry) and planar, the two
+plates of a crease joined (hinge gap) and mirror images of each other across the crease plane
+(mirror error); the leading crease stays in its plane. :func:`invariant_errors` measures all of
+them on ``k`` placed states at once; :func:`overlapping_creases` finds creases that overlap
+themselves in their plane (the plates would pass through each other).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from compas_ccu.geometry import dot, unit
+from compas_ccu.kinematics.checks import self_intersecting
+from compas_ccu.kinematics.plates import boundary_rows
+from compas_ccu.strips.intrinsics import quad_lengths
+
+__all__ = ["invariant_errors", "overlapping_creases", "INVARIANT_KEYS"]
+
+#: The scalar invariant errors of a state, metres (each also reported relative to the size).
+INVARIANT_KEYS = ("isometry", "quad_planarity", "hinge_gap", "mirror_error", "leading_in_plane")
+
+
+def invariant_errors(mechanism, states, reference_lengths: np.ndarray) -> dict:
+    """Invariant errors of ``k`` placed states, metres.
+
+    Parameters
+    ----------
+    mechanism : compas_ccu.kinematics.mechanism.Mechanism
+    states : compas_ccu.kinematics.mechanism.MechanismStates
+    reference_lengths : (p, n, 6) float
+        Side and diagonal lengths of every quad at the design state
+        (:func:`compas_ccu.strips.intrinsics.quad_lengths`).
+
+    Returns
+    -------
+    dict of (k,) float
+        ``isometry`` (largest quad side / diagonal length change), ``quad_planarity``,
+        ``hinge_gap``, ``mirror_error``, ``leading_in_plane``, and ``crease_planarity`` (k, c).
+    """
+    near, far = states.near, states.far
+    lengths = quad_lengths(near, far)
+    isometry = np.abs(lengths - reference_lengths[None]).max(axis=(1, 2, 3))
+    a, b, c, d = near[..., :-1, :], near[..., 1:, :], far[..., 1:, :], far[..., :-1, :]
+    normal = unit(np.cross(b - a, d - a))
+    planarity = np.abs(dot(c - a, normal)).max(axis=(1, 2))
+    gaps, mirror = [], []
+    for ci, crease in enumerate(mechanism.creases):
+        pa, pb = crease.plate_a, crease.plate_b
+        hinge_a, other_a = boundary_rows(near[:, pa], far[:, pa], crease.boundary_a)
+        away_a = other_a - hinge_a
+        away_b = far[:, pb] - near[:, pb]
+        gaps.append(np.linalg.norm(near[:, pb] - hinge_a, axis=-1).max(axis=1))
+        # mirror symmetry: plate b's ruling points reflected in the crease plane land on
+        # plate a's ruling lines (CCF: on their continuation)
+        nrm = states.plane_normals[:, ci]
+        ta = np.linalg.norm(away_a, axis=-1)
+        tb = np.linalg.norm(away_b, axis=-1)
+        t = np.minimum(ta, tb)
+        pa_pts = hinge_a + away_a * (t / ta)[..., None]
+        pb_pts = near[:, pb] + away_b * (t / tb)[..., None]
+        if crease.relation == "ccf":
+            pb_pts = 2.0 * near[:, pb] - pb_pts
+        origin = states.plane_origins[:, ci]
+        dist = np.einsum("kmi,ki->km", pb_pts - origin[:, None], nrm)
+        reflected = pb_pts - 2.0 * dist[..., None] * nrm[:, None, :]
+        mirror.append(np.linalg.norm(reflected - pa_pts, axis=-1).max(axis=1))
+    zeros = np.zeros(near.shape[0])
+    return {
+        "isometry": isometry,
+        "quad_planarity": planarity,
+        "hinge_gap": np.max(gaps, axis=0) if gaps else zeros,
+        "mirror_error": np.max(mirror, axis=0) if mirror else zeros,
+        "crease_planarity": states.planarity,
+        "leading_in_plane": np.abs(near[:, 0, :, 2]).max(axis=1),
+    }
+
+
+def overlapping_creases(mechanism, states) -> np.ndarray:
+    """(k, 1 + c) bool: the leading crease, then every crease, overlapping itself in its plane.
+
+    Parameters
+    ----------
+    mechanism : compas_ccu.kinematics.mechanism.Mechanism
+    states : compas_ccu.kinematics.mechanism.MechanismStates
+    """
+    k = states.near.shape[0]
+    z = np.zeros((k, 3))
+    z[:, 2] = 1.0
+    cols = [self_intersecting(states.near[:, 0], np.zeros((k, 3)), z)]
+    for ci, crease in enumerate(mechanism.creases):
+        a = crease.plate_a
+        hinge = boundary_rows(states.near[:, a], states.far[:, a], crease.boundary_a)[0]
+        cols.append(
+            self_intersecting(hinge, states.plane_origins[:, ci], states.plane_normals[:, ci])
+        )
+    return np.stack(cols, axis=1)

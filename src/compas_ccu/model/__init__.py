@@ -1,0 +1,13 @@
+"""The deployable model: one object that carries a design through every layer above it.
+
+>>> from compas_ccu.model import load_model
+>>> load_model("examples/vault.toml").deploy().alpha
+30.0
+"""
+
+from __future__ import annotations
+
+from compas_ccu.model.ccu_model import CCUModel, PlaneFrame, load_model
+from compas_ccu.model.inverse import flat_design, round_trip
+
+__all__ = ["CCUModel", "PlaneFrame", "load_model", "flat_design", "round_trip"]

@@ -1,0 +1,570 @@
+"""The deployable model of a design: :class:`CCUModel`, the one object that carries a design.
+
+It owns the validated :class:`~compas_ccu.design.Design`, the design-state geometry and the
+mechanism (:func:`compas_ccu.design.build.build`), the plate index
+(:class:`~compas_ccu.kinematics.plates.PlateIndex`: ids, orders, vertex rows) and the world frame
+of the leading crease plane, and it builds the deployed states
+(:class:`~compas_ccu.structure.Structure`) with the output conventions of
+docs/structure-json.md (plate and crease ids, vertex order, world frame, units).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from compas.data import Data
+
+from compas_ccu.design import Design, load_design
+from compas_ccu.design.build import build
+from compas_ccu.errors import DeploymentLimitError, GeometryError, SelfIntersectionError
+from compas_ccu.geometry import plane_frame
+from compas_ccu.kinematics.invariants import (
+    INVARIANT_KEYS,
+    invariant_errors,
+    overlapping_creases,
+)
+from compas_ccu.kinematics.plates import PlateIndex, stack_rows
+from compas_ccu.kinematics.relations import crease_relations
+from compas_ccu.kinematics.relaxation import links_from_mechanism, relax
+from compas_ccu.strips.intrinsics import quad_lengths
+from compas_ccu.strips.rulings import vertex_reflection_angles
+from compas_ccu.structure import Structure
+from compas_ccu.tolerances import DIVISION_FLOOR
+
+__all__ = ["CCUModel", "PlaneFrame", "load_model"]
+
+
+@dataclass(frozen=True)
+class PlaneFrame:
+    """The world frame of the leading crease plane.
+
+    Local coordinates: profile x, profile y (times ``flip``), distance from the plane.
+
+    Attributes
+    ----------
+    origin : (3,) float
+    axes : (3, 3) float
+        Rows: x axis, y axis, plane normal (world).
+    flip : float
+        +1 if the leading plate lies left of the profile, -1 if right (the local frame mirrors
+        profile y then).
+    """
+
+    origin: np.ndarray
+    axes: np.ndarray
+    flip: float
+
+    def to_world(self, local: np.ndarray) -> np.ndarray:
+        """World points from local points (..., 3)."""
+        return self.origin + self.vector_to_world(local)
+
+    def vector_to_world(self, local: np.ndarray) -> np.ndarray:
+        """World vectors from local vectors (..., 3)."""
+        return (local * np.array([1.0, self.flip, 1.0])) @ self.axes
+
+
+class CCUModel(Data):
+    """A design, built: deploy it to any reflection angle.
+
+    Parameters
+    ----------
+    design : compas_ccu.design.Design
+
+    Attributes
+    ----------
+    design : compas_ccu.design.Design
+    geometry : compas_ccu.design.build.DesignGeometry
+        The design state and the profile, local frame, mechanism order.
+    mechanism : compas_ccu.kinematics.mechanism.Mechanism
+    plates : compas_ccu.kinematics.plates.PlateIndex
+        Plate ids, output order, vertex rows, crease boundaries.
+    frame : PlaneFrame
+        World frame of the leading crease plane.
+    reference_lengths : (p, n, 6) float
+        Side and diagonal lengths of every quad at the design state (mechanism order): the
+        reference of the isometry invariant.
+    size : float
+        Diagonal of the bounding box of the design state, m: the scale of relative invariants.
+
+    Raises
+    ------
+    GeometryError
+        The cut pattern folds over itself (rulings cross inside a plate).
+    DeploymentLimitError
+        A cut-pattern design whose design angle its pattern cannot reach.
+    SelfIntersectionError
+        A crease overlaps itself at the design state.
+
+    Examples
+    --------
+    >>> model = load_model("examples/cone.toml")
+    >>> structure = model.deploy(30.0)
+    >>> structure.alpha, len(structure.plate_ids), structure.max_invariant_error < 1e-12
+    (30.0, 2, True)
+    """
+
+    def __init__(self, design: Design):
+        super().__init__(name=design.name)
+        self.design = design
+        self.geometry = build(design)
+        self.mechanism = self.geometry.mechanism
+        self.plates = PlateIndex.from_mechanism(self.mechanism, self.geometry.plate_ids)
+        plane = design.plane
+        origin, axes = plane_frame(plane.origin, plane.xaxis, plane.yaxis)
+        self.frame = PlaneFrame(origin, axes, self.geometry.flip)
+        g = self.geometry
+        self.reference_lengths = quad_lengths(g.design_near[None], g.design_far[None])[0]
+        corners = self.frame.to_world(stack_rows(g.design_near, g.design_far))
+        self.size = float(np.linalg.norm(np.ptp(corners.reshape(-1, 3), axis=0)))
+        self._flat = None
+        self._kinds = None
+        self._overlap_alpha = None
+        self._faces = None
+        self._check_design()
+
+    # -- COMPAS data ---------------------------------------------------------------------------
+    @property
+    def __data__(self) -> dict:
+        return {"design": self.design.__data__}
+
+    @classmethod
+    def __from_data__(cls, data: dict) -> CCUModel:
+        return cls(Design.__from_data__(data["design"]))
+
+    def __repr__(self) -> str:
+        return (
+            f"CCUModel({self.name!r}, plates={self.plates.count}, segments={self.segments}, "
+            f"alpha={self.alpha_design:g} deg)"
+        )
+
+    # -- the design facts ----------------------------------------------------------------------
+    @property
+    def segments(self) -> int:
+        """``n``: quads per plate."""
+        return self.mechanism.segments
+
+    @property
+    def plate_ids(self) -> list:
+        """Plate ids in output order."""
+        return self.plates.output_ids
+
+    @property
+    def order(self) -> np.ndarray:
+        """(p,) int: the mechanism plate at every output position."""
+        return self.plates.order
+
+    @property
+    def origin(self) -> np.ndarray:
+        """(3,) float: world origin of the leading crease plane."""
+        return self.frame.origin
+
+    @property
+    def axes(self) -> np.ndarray:
+        """(3, 3) float: rows x, y, normal of the leading crease plane (world)."""
+        return self.frame.axes
+
+    @property
+    def flip(self) -> float:
+        """+1 if the leading plate lies left of the profile, -1 if right."""
+        return self.frame.flip
+
+    @property
+    def alpha_design(self) -> float:
+        """Design reflection angle, degrees."""
+        return self.design.alpha
+
+    @property
+    def alpha_limit(self) -> float:
+        """Deployment limit: largest reachable reference reflection angle, degrees."""
+        return math.degrees(self.mechanism.alpha_limit)
+
+    @property
+    def limit_vertex(self) -> int:
+        """Leading-crease segment that stands perpendicular to its plane at the limit."""
+        return self.mechanism.leading.limit_segment
+
+    @property
+    def reference(self) -> int:
+        """The reference crease vertex whose reflection angle names the actuation."""
+        return self.geometry.reference
+
+    @property
+    def planes(self):
+        """The crease planes of a multi-crease layout at the design state, or None.
+
+        :class:`compas_ccu.design.layouts.PlaneLayout` in the local frame of the leading plane.
+        """
+        return self.geometry.planes
+
+    @property
+    def target_fit(self):
+        """The planes solved for ``[target]`` curves and the remaining miss, or None."""
+        return self.geometry.target_fit
+
+    def to_world(self, local: np.ndarray) -> np.ndarray:
+        """World points from points (..., 3) in the local frame of the leading crease plane."""
+        return self.frame.to_world(local)
+
+    def flat(self) -> np.ndarray:
+        """(p, 2n + 2, 3) cut patterns in plane coordinates (z = 0): the flat-folded stack."""
+        if self._flat is None:
+            st = self.mechanism.place(0.0)
+            local = self.plates.to_output(stack_rows(st.near[0], st.far[0]))
+            self._flat = local * np.array([1.0, self.flip, 0.0])
+        return self._flat
+
+    @property
+    def faces(self) -> np.ndarray:
+        """(p, n, 4) quads of every plate, counter-clockwise in its cut pattern."""
+        if self._faces is None:
+            flat = self.flat()
+            q = self.plates.quads
+            a, b, d = flat[:, q[:, 0], :2], flat[:, q[:, 1], :2], flat[:, q[:, 3], :2]
+            area = ((b - a)[..., 0] * (d - a)[..., 1] - (b - a)[..., 1] * (d - a)[..., 0]).sum(1)
+            self._faces = np.where((area < 0.0)[:, None, None], q[:, ::-1], q[None])
+        return self._faces
+
+    def relations(self, states, k: int, crease: int):
+        """Sector angles, kinds and the smooth relations of ``crease`` in state ``k``.
+
+        Parameters
+        ----------
+        states : compas_ccu.kinematics.mechanism.MechanismStates
+        k : int
+        crease : int
+
+        Returns
+        -------
+        compas_ccu.kinematics.relations.CreaseRelations
+        """
+        link = self.mechanism.creases[crease]
+        hinge, other = self.plates.crease_boundary(crease, states.near[k], states.far[k])
+        rb = states.far[k, link.plate_b] - states.near[k, link.plate_b]
+        return crease_relations(
+            hinge, other - hinge, rb, states.plane_normals[k, crease], relation=link.relation
+        )
+
+    def crease_kinds(self) -> list:
+        """Per crease: (kind, per-vertex kinds, sector angles) from the design state."""
+        if self._kinds is None:
+            g = self.geometry
+            s0 = (
+                self.mechanism.leading.s0_for_alpha(g.design_alpha)
+                if g.state == "deployed"
+                else 0.0
+            )
+            st = self.mechanism.place(s0)
+            out = []
+            for ci in range(len(self.mechanism.creases)):
+                rel = self.relations(st, 0, ci)
+                kinds = {k for k in rel.kinds if k not in (None, "straight")}
+                kind = kinds.pop() if len(kinds) == 1 else ("mixed" if kinds else "straight")
+                out.append((kind, rel.kinds, rel.sector_angles))
+            self._kinds = out
+        return self._kinds
+
+    # -- checks --------------------------------------------------------------------------------
+    def _check_design(self) -> None:
+        """Refuse, before any deployment, designs whose pattern or design state is impossible.
+
+        * rulings that cross inside a plate (a quad of the cut pattern folds over: the crease
+          is curved too tightly for the plate's width there);
+        * a flat-state design whose design angle lies beyond the deployment limit;
+        * a crease that overlaps itself at the design state.
+        """
+        flat = self.flat()
+        q = self.plates.quads
+        a, b, c, d = (flat[:, q[:, i], :2] for i in range(4))
+        # rulings a-d and b-c of a quad must not meet: a + s (d - a) = b + t (c - b)
+        u, v, w = d - a, c - b, b - a
+
+        def cross(p, q):
+            return p[..., 0] * q[..., 1] - p[..., 1] * q[..., 0]
+
+        den = cross(u, v)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s_, t_ = cross(w, v) / den, cross(w, u) / den
+        bad = np.argwhere((den != 0.0) & (s_ > 0.0) & (s_ <= 1.0) & (t_ > 0.0) & (t_ <= 1.0))
+        if bad.size:
+            p, j = (int(v) for v in bad[0])
+            raise GeometryError(
+                f"the rulings of plate {self.plate_ids[p]} cross between crease vertices {j} and "
+                f"{j + 1}: its cut pattern folds over itself (the crease is curved too tightly "
+                "there for the plate's width or the plane spacing); reduce the width / "
+                "spacing, smooth the profile, or put the plate on the other side"
+            )
+        limit = self.alpha_limit
+        if self.alpha_design > limit:
+            raise DeploymentLimitError(
+                f"the design alpha {self.alpha_design:.6g} deg cannot be reached: this cut "
+                f"pattern unfolds at most to {limit:.6g} deg, where crease segment "
+                f"{self.limit_vertex} of the leading crease stands perpendicular to its plane",
+                alpha=self.alpha_design,
+                alpha_limit=limit,
+                vertex=self.limit_vertex,
+            )
+        self.deploy(check=True)  # raises SelfIntersectionError with the crease and the angle
+
+    def overlapping(self, states) -> np.ndarray:
+        """(k, 1 + c) bool: the leading crease, then every crease, overlapping itself."""
+        return overlapping_creases(self.mechanism, states)
+
+    @property
+    def overlap_alpha(self) -> float:
+        """Largest reference alpha (degrees) before a crease overlaps itself (or the limit)."""
+        if self._overlap_alpha is None:
+            limit = self.mechanism.alpha_limit
+            if not self.overlapping(self.mechanism.deploy(limit)).any():
+                self._overlap_alpha = math.degrees(limit)
+            else:
+                lo, hi = 0.0, limit
+                for _ in range(40):
+                    mid = 0.5 * (lo + hi)
+                    if self.overlapping(self.mechanism.deploy(mid)).any():
+                        hi = mid
+                    else:
+                        lo = mid
+                self._overlap_alpha = math.degrees(lo)
+        return self._overlap_alpha
+
+    def invariants(self, states) -> dict:
+        """Invariant errors of ``k`` placed states, metres (:func:`invariant_errors`)."""
+        return invariant_errors(self.mechanism, states, self.reference_lengths)
+
+    # -- deployment ----------------------------------------------------------------------------
+    def deploy(self, alpha: float | None = None, *, check: bool = True) -> Structure:
+        """Deploy to the reference reflection angle ``alpha`` (degrees; default: the design).
+
+        Returns
+        -------
+        compas_ccu.structure.Structure
+
+        Raises
+        ------
+        DeploymentLimitError
+            ``alpha`` is negative or beyond the deployment limit.
+        SelfIntersectionError
+            A crease overlaps itself at ``alpha`` (with ``check``).
+        """
+        alpha = self.alpha_design if alpha is None else float(alpha)
+        return self.path([alpha], check=check)[0]
+
+    def path(self, alphas, *, check: bool = True) -> list:
+        """Deploy to several reference angles (degrees) in one vectorised call.
+
+        Parameters
+        ----------
+        alphas : (k,) float
+            Reference reflection angles, degrees.
+        check : bool
+            Refuse states in which a crease overlaps itself (:class:`SelfIntersectionError`).
+
+        Returns
+        -------
+        list of compas_ccu.structure.Structure
+
+        Raises
+        ------
+        DeploymentLimitError, SelfIntersectionError
+        """
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        states = self.mechanism.deploy(np.radians(alphas))
+        if check:
+            bad = self.overlapping(states)
+            if bad.any():
+                k = int(np.flatnonzero(bad.any(axis=1))[0])
+                ci = int(np.flatnonzero(bad[k])[0])
+                what = "the leading crease" if ci == 0 else f"crease {ci - 1}"
+                raise SelfIntersectionError(
+                    f"self-intersection at alpha = {alphas[k]:.6g} deg: {what} overlaps itself "
+                    f"in its plane (the plates would pass through each other); the largest "
+                    f"alpha before any crease overlaps is {self.overlap_alpha:.6g} deg",
+                    alpha=float(alphas[k]),
+                    crease=None if ci == 0 else ci - 1,
+                )
+        invariants = self.invariants(states)
+        return [self.structure(states, k, float(a), invariants) for k, a in enumerate(alphas)]
+
+    def structure(self, states, k: int, alpha: float, invariants: dict | None = None) -> Structure:
+        """The :class:`Structure` of state ``k`` of placed mechanism ``states``.
+
+        Parameters
+        ----------
+        states : compas_ccu.kinematics.mechanism.MechanismStates
+        k : int
+        alpha : float
+            The state's reference reflection angle, degrees.
+        invariants : dict, optional
+            :meth:`invariants` of ``states`` (computed if not given).
+        """
+        if invariants is None:
+            invariants = self.invariants(states)
+        n = self.segments
+        kinds = self.crease_kinds()
+        creases = []
+        for ci in range(len(self.mechanism.creases)):
+            rows_a, rows_b = self.plates.crease_rows(ci)
+            rel = self.relations(states, k, ci)
+            kind, vertex_kinds, _ = kinds[ci]
+            origin = self.frame.to_world(states.plane_origins[k, ci])
+            normal = self.frame.vector_to_world(states.plane_normals[k, ci])
+            record = {
+                "id": ci,
+                "plates": list(self.plates.crease_ids(ci)),
+                "vertices": [rows_a.tolist(), rows_b.tolist()],
+                "kind": kind,
+                "plane": {"origin": origin.tolist(), "normal": normal.tolist()},
+                "planarity": float(invariants["crease_planarity"][k, ci]),
+                "alpha": np.degrees(rel.alpha).tolist(),
+                "sum_beta": np.degrees(rel.sum_beta[1:-1]).tolist(),
+            }
+            if kind == "mixed":
+                record["vertex_kinds"] = vertex_kinds
+            creases.append(record)
+        deployed = self.state_vertices(states, k)
+        lead_near, lead_far = states.near[k, 0], states.far[k, 0]
+        chord = lead_near[-1, :2] - lead_near[0, :2]
+        span = float(np.linalg.norm(chord))
+        normal2d = np.array([-chord[1], chord[0]]) / max(span, DIVISION_FLOOR)
+        rise = float(np.abs((lead_near[:, :2] - lead_near[0, :2]) @ normal2d).max())
+        rulings = lead_far - lead_near
+        metrics = {
+            "alpha_limit": self.alpha_limit,
+            "reference_vertex": self.reference,
+            "segments": n,
+            "span": span,
+            "rise": rise,
+            "bounding_box": np.ptp(deployed.reshape(-1, 3), axis=0).tolist(),
+            "size": self.size,
+            "alpha_leading": np.degrees(
+                vertex_reflection_angles(
+                    lead_near[:, :2], rulings / np.linalg.norm(rulings, axis=1)[:, None]
+                )
+            ).tolist(),
+        }
+        for key in INVARIANT_KEYS:
+            metrics[key] = float(invariants[key][k])
+            metrics[key + "_relative"] = float(invariants[key][k]) / self.size
+        cp = invariants["crease_planarity"][k]
+        metrics["crease_planarity_max"] = float(cp.max()) if cp.size else 0.0
+        metrics["crease_planarity_max_relative"] = metrics["crease_planarity_max"] / self.size
+        return Structure(
+            alpha,
+            self.faces,
+            self.flat(),
+            deployed,
+            creases,
+            metrics,
+            self.plate_ids,
+            name=self.design.name,
+        )
+
+    def vertices(self, alphas) -> np.ndarray:
+        """(k, p, 2n + 2, 3) world vertices of every plate at reference angles ``alphas`` (deg).
+
+        The plate vertices of :meth:`path` (same order as ``Structure.deployed``) without the
+        metrics, checks and objects: for callers that need many states' geometry only.
+        """
+        states = self.mechanism.deploy(np.radians(np.atleast_1d(np.asarray(alphas, float))))
+        return self.state_vertices(states)
+
+    def state_vertices(self, states, k: int | None = None) -> np.ndarray:
+        """World vertices of placed mechanism states in output plate order.
+
+        (k, p, 2n + 2, 3) for all states, or (p, 2n + 2, 3) for state ``k`` only.
+        """
+        if k is not None:
+            local = self.plates.to_output(stack_rows(states.near[k], states.far[k]))
+        else:
+            local = self.plates.to_output(stack_rows(states.near, states.far), axis=1)
+        return self.frame.to_world(local)
+
+    def plane_curves(self, states) -> np.ndarray:
+        """(k, m + 1, n + 1, 3) world coordinates of the curves on crease planes ``0 .. m``.
+
+        Curve ``i`` is the boundary of plate ``i`` (or of plate ``m - 1`` for ``i = m``) that
+        lies on plane ``i``: the creases in plane order with the two free boundaries at the
+        ends. Only for multi-crease layouts.
+
+        Parameters
+        ----------
+        states : compas_ccu.kinematics.MechanismStates
+
+        Raises
+        ------
+        GeometryError
+            A single-crease design.
+        """
+        planes = self.geometry.planes
+        if planes is None:
+            raise GeometryError("plane curves exist only for multi-crease layouts")
+        k0 = planes.leading
+        ids = np.asarray(self.plates.ids)
+        lower = np.where((ids >= k0)[None, :, None, None], states.near, states.far)
+        upper = np.where((ids >= k0)[None, :, None, None], states.far, states.near)
+        order = self.plates.order
+        curves = np.concatenate([lower[:, order], upper[:, order[-1:]]], axis=1)
+        return self.frame.to_world(curves)
+
+    def relax(self, alpha: float | None = None, *, planarity_weight: float = 1.0, **options):
+        """Deploy to ``alpha`` and relax the plates by least squares (docs/shape-control.md).
+
+        Where a crease leaves its plane, the mirror construction has no exact solution and the
+        kinematic state is not an isometry. The relaxation
+        (:func:`compas_ccu.kinematics.relaxation.relax`) holds the leading plate, keeps every
+        hinge closed and minimises the quads' relative side and diagonal length errors plus
+        their non-planarity, starting from the kinematic state. Where the kinematic state is
+        exact it is returned unchanged.
+
+        Returns
+        -------
+        structure : compas_ccu.structure.Structure
+            The relaxed state; ``metrics["relaxation"]`` holds the residuals (strain, quad
+            planarity, displacement from the kinematic state, convergence) and the invariants
+            are measured on the relaxed geometry.
+        relaxation : compas_ccu.kinematics.relaxation.Relaxation
+        """
+        alpha = self.alpha_design if alpha is None else float(alpha)
+        states = self.mechanism.deploy(np.radians([alpha]))
+        result = relax(
+            states.near[0],
+            states.far[0],
+            self.reference_lengths,
+            links_from_mechanism(self.mechanism),
+            planarity_weight=planarity_weight,
+            **options,
+        )
+        relaxed = self.mechanism.refit(states, result.near[None], result.far[None])
+        structure = self.structure(relaxed, 0, alpha)
+        summary = result.summary()
+        for key in ("max_strain_per_plate", "quad_planarity_per_plate", "displacement_per_plate"):
+            summary[key] = [summary[key][i] for i in self.order]  # by plate id
+        structure.metrics["relaxation"] = summary
+        return structure, result
+
+    def crease_planarity(self, alphas) -> np.ndarray:
+        """(k, c) largest distance (m) of each crease's vertices from its fitted plane.
+
+        Parameters
+        ----------
+        alphas : (k,) float
+            Reference reflection angles, degrees.
+        """
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        return self.mechanism.deploy(np.radians(alphas)).planarity
+
+
+def load_model(path) -> CCUModel:
+    """Load a design TOML file and build its model.
+
+    Raises
+    ------
+    DesignError
+        The file is missing, not TOML, or not a valid design (the message names the key).
+    GeometryError, DeploymentLimitError, SelfIntersectionError
+        The design cannot be built (see :class:`CCUModel`).
+    """
+    return CCUModel(load_design(Path(path)))
