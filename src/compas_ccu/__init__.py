@@ -6,8 +6,12 @@ curved creases (Scheder-Bieschin, Van Mele & Block 2023).
 Importing this package is cheap: it imports neither COMPAS nor SciPy. Subpackages are imported
 where used::
 
-    from compas_ccu.design import load_design
-    from compas_ccu.kinematics import deploy
+    from compas_ccu.model import load_model
+
+    model = load_model("examples/vault.toml")   # design file -> the deployable model
+    structure = model.deploy(30.0)               # reference reflection angle, degrees
+
+The layers and what flows between them: docs/architecture.md.
 """
 
 from __future__ import annotations

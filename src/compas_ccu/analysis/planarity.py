@@ -95,7 +95,7 @@ def planarity_along_path(model, alphas=None, *, steps: int = 32, relax: bool = F
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> model = load_model("examples/vault.toml")
     >>> report = planarity_along_path(model, steps=8)
     >>> report.exact, len(report.creases)

@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from compas_ccu.design import Design
 from compas_ccu.errors import DesignError
 
 __all__ = ["design_from_crease", "write_design"]
@@ -73,11 +74,11 @@ def design_from_crease(
     >>> t = np.linspace(0.0, np.pi, 33)
     >>> arch = np.c_[np.cos(t), np.full(33, 2.0), np.sin(t)]  # upright half circle at y = 2
     >>> d = design_from_crease(arch, alpha=30.0, width=0.3)
+    >>> from compas_ccu.model import round_trip
     >>> err = round_trip(d)
     >>> bool(err["max_relative"] < 1e-9)
     True
     """
-    from compas_ccu.design import Design
 
     p = np.asarray(points, dtype=float)
     if p.ndim != 2 or p.shape[1] != 3 or len(p) < 3:

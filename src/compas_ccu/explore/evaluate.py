@@ -16,7 +16,11 @@ import time
 
 import numpy as np
 
+from compas_ccu.design.document import Design
+from compas_ccu.explore import metrics as mx
+from compas_ccu.explore.metrics import metric_names
 from compas_ccu.model import CCUModel
+from compas_ccu.thickness import ThickModel
 
 __all__ = ["evaluate_variant", "STAGES", "row_template"]
 
@@ -26,7 +30,6 @@ STAGES = ("model", "path", "thickness", "collisions", "fe")
 
 def row_template(*, collisions: bool = False, fe: bool = False) -> dict:
     """A row with every column of an evaluation set to None (metrics, status, timings)."""
-    from compas_ccu.explore.metrics import metric_names
 
     row = {"status": None, "stage": None, "error_type": None, "error": None}
     row.update(dict.fromkeys(metric_names(collisions=collisions, fe=fe)))
@@ -73,15 +76,12 @@ def evaluate_variant(
     >>> bad["status"], bad["stage"], bad["error_type"]
     ('failed', 'model', 'DeploymentLimitError')
     """
-    from compas_ccu.explore import metrics as mx
 
     row = row_template(collisions=collisions, fe=fe is not None)
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     start = time.perf_counter()
     stage = "model"
     try:
-        from compas_ccu.design.document import Design
-
         t = time.perf_counter()
         model = CCUModel(Design(document))
         structure = model.deploy()
@@ -96,7 +96,6 @@ def evaluate_variant(
 
         stage = "thickness"
         t = time.perf_counter()
-        from compas_ccu.thickness import ThickModel
 
         thick = ThickModel(model)
         row.update(mx.thickness_metrics(thick, alphas, row["plate_area"]))

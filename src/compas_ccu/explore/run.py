@@ -20,7 +20,13 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import compas_ccu
+from compas_ccu import __version__
 from compas_ccu.errors import SweepError
+from compas_ccu.explore.evaluate import STAGES, evaluate_variant, row_template
+from compas_ccu.explore.metrics import metric, metric_names
+from compas_ccu.explore.results import Journal, write_table
+from compas_ccu.explore.summary import summarise
 
 __all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRORS", "WORKER_ENV"]
 
@@ -98,8 +104,6 @@ class SweepResult:
 
 def columns(sweep) -> tuple:
     """Column order and declared types of the results table of ``sweep``."""
-    from compas_ccu.explore.evaluate import STAGES
-    from compas_ccu.explore.metrics import metric, metric_names
 
     metrics = metric_names(collisions=sweep.collisions, fe=sweep.fe is not None)
     head = ["variant", "index", *sweep.parameter_names, "status", "stage", "error_type", "error"]
@@ -149,7 +153,6 @@ def _write_manifest(out: Path, sweep, runs: int) -> None:
 
 
 def _cluster_failure(exc: BaseException, options: dict) -> dict:
-    from compas_ccu.explore.evaluate import row_template
 
     row = row_template(collisions=options["collisions"], fe=options["fe"] is not None)
     name = type(exc).__name__
@@ -159,7 +162,6 @@ def _cluster_failure(exc: BaseException, options: dict) -> dict:
 
 
 def _worker_version():  # runs on every worker of a remote cluster
-    import compas_ccu
 
     return compas_ccu.__version__
 
@@ -191,7 +193,6 @@ def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: b
             raise SweepError(
                 f"no Dask worker joined the scheduler at {scheduler!r} in 60 s"
             ) from exc
-        from compas_ccu import __version__
 
         versions = client.run(_worker_version)
         wrong = {w: v for w, v in versions.items() if v != __version__}
@@ -279,8 +280,6 @@ def run_sweep(
         The folder belongs to another sweep, the scheduler cannot be reached, or its workers
         run another compas_ccu version.
     """
-    from compas_ccu.explore.evaluate import evaluate_variant
-    from compas_ccu.explore.results import Journal, write_table
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -366,8 +365,6 @@ def run_sweep(
         files=[out / MANIFEST, out / JOURNAL, table],
     )
     if summary and result.complete and not interrupted:
-        from compas_ccu.explore.summary import summarise
-
         result.summary = summarise(sweep, rows, out, run=result, plots=plots)
         result.files += [Path(f) for f in result.summary["files"]]
     return result
@@ -378,8 +375,6 @@ def _run_on_dask(client, sweep, todo: list, options: dict, record, *, window: in
     each result as it completes and submit the next, so the client and the scheduler hold a
     bounded number of tasks however large the sweep."""
     from distributed import as_completed
-
-    from compas_ccu.explore.evaluate import evaluate_variant
 
     workers = len(client.scheduler_info().get("workers", {})) or 1
     window = window or max(64, 8 * workers)

@@ -9,7 +9,13 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.design.document import Design
+from compas_ccu.explore.evaluate import STAGES
+from compas_ccu.explore.pareto import feasible, rank_best
+from compas_ccu.explore.plots import plot_design_space, plot_pareto
+from compas_ccu.io import write_obj, write_structure_json
 from compas_ccu.model import CCUModel
+from compas_ccu.viz.export import save_figure
 
 __all__ = ["summarise", "write_best"]
 
@@ -26,9 +32,6 @@ def write_best(sweep, picks: list, out) -> list:
         The sweep's output folder.
     """
     import tomli_w
-
-    from compas_ccu.design.document import Design
-    from compas_ccu.io import write_obj, write_structure_json
 
     files = []
     for rank, variant in picks:
@@ -56,7 +59,6 @@ def _counts(values) -> dict:
 
 
 def _stage_seconds(rows: list) -> dict:
-    from compas_ccu.explore.evaluate import STAGES
 
     out = {}
     for stage in STAGES:
@@ -90,7 +92,6 @@ def summarise(sweep, rows: list, out, *, run=None, plots: bool = True) -> dict:
     dict
         What ``summary.json`` holds, plus ``files``.
     """
-    from compas_ccu.explore.pareto import feasible, rank_best
 
     out = Path(out)
     ok = [r for r in rows if r.get("status") == "ok"]
@@ -142,9 +143,6 @@ def summarise(sweep, rows: list, out, *, run=None, plots: bool = True) -> dict:
             "scheduler": run.scheduler,
         }
     if plots:
-        from compas_ccu.viz.explore import plot_design_space, plot_pareto
-        from compas_ccu.viz.export import save_figure
-
         folder = out / "plots"
         folder.mkdir(exist_ok=True)
         fig = plot_design_space(rows, sweep.parameter_names, sweep=sweep)

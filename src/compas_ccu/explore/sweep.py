@@ -32,7 +32,11 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu import __version__
+from compas_ccu.design.document import load_design, read_toml
+from compas_ccu.design.schema import SCHEMA
 from compas_ccu.errors import DesignError, SweepError
+from compas_ccu.explore.metrics import metric_names
 
 __all__ = ["Parameter", "Variant", "Sweep", "load_sweep", "SAMPLINGS"]
 
@@ -198,7 +202,6 @@ class Sweep:
     """
 
     def __init__(self, document: dict, *, base_dir=".", name: str | None = None):
-        from compas_ccu.design.schema import SCHEMA
 
         if not isinstance(document, dict):
             raise SweepError(f"a sweep must be a table, got {type(document).__name__}")
@@ -237,7 +240,6 @@ class Sweep:
                 "missing: the base design file, e.g. base = 'vault.toml'", key="sweep.base"
             )
         self.base_path = (Path(base_dir) / str(head["base"])).resolve()
-        from compas_ccu.design.document import load_design
 
         try:
             base = load_design(self.base_path)
@@ -303,7 +305,6 @@ class Sweep:
         return out
 
     def _goals(self, document: dict, section: str, default: dict) -> dict:
-        from compas_ccu.explore.metrics import metric_names
 
         if section not in document:
             return dict(default)
@@ -523,7 +524,6 @@ class Sweep:
     def fingerprint(self) -> str:
         """Hash of what decides a variant's numbers besides its parameters: the base design,
         the evaluation options and the compas_ccu version."""
-        from compas_ccu import __version__
 
         text = json.dumps(
             {"base": self.base_document, "options": self.options, "version": __version__},
@@ -547,7 +547,6 @@ def load_sweep(path) -> Sweep:
     SweepError
         The file is missing, not TOML, or not a valid sweep (the message names the key).
     """
-    from compas_ccu.design.document import read_toml
 
     path = Path(path)
     document = read_toml(path, error=SweepError, what="sweep")

@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.kinematics.plates import plate_rulings
+
 __all__ = [
     "write_plate_dxf",
     "write_hinge_dxf",
@@ -213,8 +215,8 @@ def write_plate_dxf(data, i: int, path) -> Path:
         )
         e.set_placement(tuple(pts[m] + 1.5 * hs * nrm), align=TextEntityAlignment.MIDDLE_CENTER)
 
-    for j in range(1, n):
-        msp.add_line(tuple(flat[j]), tuple(flat[n + 1 + j]), dxfattribs={"layer": "RULING_SCORE"})
+    for a, b in plate_rulings(n)[1:-1]:
+        msp.add_line(tuple(flat[a]), tuple(flat[b]), dxfattribs={"layer": "RULING_SCORE"})
 
     pitch = [1.6 * r * h for _, r in lines]
     top = 0.5 * sum(pitch)

@@ -18,6 +18,16 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from compas_ccu.errors import SelfIntersectionError
+from compas_ccu.fabrication import fabrication_data
+from compas_ccu.fabrication.dxf import write_hinge_dxf, write_plate_dxf
+from compas_ccu.fabrication.fold import write_fold
+from compas_ccu.fabrication.hinges import hinge_strips
+from compas_ccu.fabrication.meshes import write_gltf, write_obj
+from compas_ccu.fabrication.rhino import write_3dm
+from compas_ccu.fabrication.sheet import write_assembly_sheet
+from compas_ccu.thickness import ThickModel
+
 __all__ = ["fabricate"]
 
 
@@ -55,15 +65,6 @@ def fabricate(
     GeometryError, MaterialError
         Impossible thickness, hinge width or material.
     """
-    from compas_ccu.errors import SelfIntersectionError
-    from compas_ccu.fabrication import fabrication_data
-    from compas_ccu.fabrication.dxf import write_hinge_dxf, write_plate_dxf
-    from compas_ccu.fabrication.fold import write_fold
-    from compas_ccu.fabrication.hinges import hinge_strips
-    from compas_ccu.fabrication.meshes import write_gltf, write_obj
-    from compas_ccu.fabrication.rhino import write_3dm
-    from compas_ccu.fabrication.sheet import write_assembly_sheet
-    from compas_ccu.thickness import ThickModel
 
     thick = ThickModel(model, thickness=thickness, material=material, grain=grain)
     summary = thick.summary()

@@ -188,7 +188,7 @@ def hinge_strips(data, *, width: float | None = None) -> list:
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> from compas_ccu.fabrication import fabrication_data
     >>> data = fabrication_data(load_model("examples/vault.toml"), hinge_width=0.05)
     >>> strips = hinge_strips(data)

@@ -17,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.kinematics.plates import plate_quads
+
 __all__ = [
     "boundary_loop",
     "crease_line",
@@ -38,12 +40,6 @@ def boundary_loop(n: int) -> np.ndarray:
     :meth:`FabricationData.outline <compas_ccu.fabrication.data.FabricationData.outline>`.
     """
     return np.r_[np.arange(n + 1), np.arange(2 * n + 1, n, -1)]
-
-
-def _quads(n: int) -> np.ndarray:
-    """(n, 4) int: the layout quads ``[j, j + 1, n + 2 + j, n + 1 + j]``."""
-    j = np.arange(n)
-    return np.stack([j, j + 1, n + 2 + j, n + 1 + j], axis=1)
 
 
 def _split(quads: np.ndarray) -> np.ndarray:
@@ -114,7 +110,7 @@ def solid_mesh(lower, upper) -> tuple:
     if v < 4 or v % 2:
         raise ValueError(f"a plate has 2n + 2 >= 4 vertices, got {v}")
     n = v // 2 - 1
-    quads = _quads(n)
+    quads = plate_quads(n)
     faces = np.concatenate([_split(quads), _split(quads[:, ::-1] + v)], axis=0)
     # side band: for every directed outline edge a -> b of the lower face (the lower quads run
     # along the outline in this order), the side quad [b, a, v + a, v + b] traverses it the

@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.fabrication.meshes import crease_line, layout_offsets, solid_mesh
+from compas_ccu.kinematics.plates import plate_rulings
 
 __all__ = ["LAYERS", "read_3dm_summary", "write_3dm"]
 
@@ -125,8 +126,8 @@ def write_3dm(data, path, *, gap: float = 0.1, version: int = 8) -> Path:
             _mesh(rhino3dm, mid[i], data.faces[i]),
             attributes("plates", f"plate {pid}", plate=pid, stack_position=data.stack_position[i]),
         )
-        for j in range(1, n):
-            line = rhino3dm.LineCurve(*_points(rhino3dm, mid[i, [j, n + 1 + j]]))
+        for j, ends in enumerate(plate_rulings(n)[1:-1], start=1):
+            line = rhino3dm.LineCurve(*_points(rhino3dm, mid[i, ends]))
             model.Objects.AddCurve(line, attributes("rulings", f"ruling {pid}.{j}", plate=pid))
         v, t = solid_mesh(solids[i, 0], solids[i, 1])
         model.Objects.AddMesh(

@@ -16,6 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.fabrication.dxf import label_frame
+from compas_ccu.viz import colors as C
+from compas_ccu.viz.patterns import pattern_layout
+
 __all__ = ["write_assembly_sheet", "SHEET_FORMATS"]
 
 #: File suffixes :func:`write_assembly_sheet` writes.
@@ -54,8 +58,6 @@ def _id_frame(outline: np.ndarray):
     """
     from shapely import Point, Polygon, box
 
-    from compas_ccu.fabrication.dxf import label_frame
-
     poly = Polygon(outline)
     if not poly.is_valid:
         poly = poly.buffer(0)
@@ -74,9 +76,6 @@ def _id_frame(outline: np.ndarray):
 
 def _draw_patterns(ax, data, order) -> None:
     from matplotlib.patches import Polygon as MplPolygon
-
-    from compas_ccu.viz import colors as C
-    from compas_ccu.viz.patterns import pattern_layout
 
     flat = np.asarray(data.flat, dtype=float)[order]
     box = ax.get_position()
@@ -189,8 +188,6 @@ def _draw_patterns(ax, data, order) -> None:
 def _draw_stack(ax, data, order) -> None:
     from matplotlib.patches import Rectangle
 
-    from compas_ccu.viz import colors as C
-
     t = float(data.thickness) * 1000.0
     n = data.segments
     p = len(order)
@@ -299,8 +296,6 @@ def _draw_stack(ax, data, order) -> None:
 
 def _legend(ax, data) -> None:
     from matplotlib.lines import Line2D
-
-    from compas_ccu.viz import colors as C
 
     kinds = sorted({c.get("kind", "") for c in data.creases})
     handles = [

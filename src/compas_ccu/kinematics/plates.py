@@ -28,7 +28,26 @@ import numpy as np
 
 from compas_ccu.geometry import unit
 
-__all__ = ["PlateIndex", "boundary_rows", "hinge_and_rulings", "stack_rows"]
+__all__ = [
+    "PlateIndex",
+    "boundary_rows",
+    "hinge_and_rulings",
+    "stack_rows",
+    "plate_quads",
+    "plate_rulings",
+]
+
+
+def plate_quads(n: int) -> np.ndarray:
+    """(n, 4) int: quad ``j`` of a plate of ``n`` quads is ``j, j + 1, n + 2 + j, n + 1 + j``."""
+    j = np.arange(n)
+    return np.c_[j, j + 1, n + 2 + j, n + 1 + j]
+
+
+def plate_rulings(n: int) -> np.ndarray:
+    """(n + 1, 2) int: ruling ``j`` of a plate of ``n`` quads joins ``j`` and ``n + 1 + j``."""
+    j = np.arange(n + 1)
+    return np.c_[j, n + 1 + j]
 
 
 def boundary_rows(near: np.ndarray, far: np.ndarray, boundary: str):
@@ -133,13 +152,12 @@ class PlateIndex:
     @property
     def quads(self) -> np.ndarray:
         """(n, 4) int: quad ``j`` is ``j, j + 1, n + 2 + j, n + 1 + j`` (not oriented)."""
-        j, n = np.arange(self.segments), self.segments
-        return np.c_[j, j + 1, n + 2 + j, n + 1 + j]
+        return plate_quads(self.segments)
 
     @property
     def rulings(self) -> np.ndarray:
         """(n + 1, 2) int: ruling ``j`` joins vertex ``j`` and vertex ``n + 1 + j``."""
-        return np.c_[self.near_rows, self.far_rows]
+        return plate_rulings(self.segments)
 
     # -- plate orders ----------------------------------------------------------------------------
     @property

@@ -38,7 +38,7 @@ developable shape) by that much.
 Examples
 --------
 >>> import numpy as np
->>> from compas_ccu.design import load_design
+>>> from compas_ccu.model import load_model
 >>> from compas_ccu.kinematics.relaxation import links_from_mechanism, relax
 >>> model = load_model("examples/vault.toml")
 >>> states = model.mechanism.deploy(np.radians([20.0]))
@@ -62,6 +62,7 @@ import scipy.sparse as sp
 from scipy.optimize import least_squares
 
 from compas_ccu.errors import CCUError, GeometryError
+from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import QUAD_LENGTH_PAIRS, quad_corners, quad_lengths
 
 __all__ = ["Relaxation", "relax", "relax_states", "links_from_mechanism"]
@@ -238,8 +239,8 @@ class _Problem:
             seen.add(plate)
             parents[plate] = parent
             self.boundary_of[plate] = boundary
-            cols = slice(0, m) if boundary == "near" else slice(m, 2 * m)
-            rep[plate, :m] = rep[parent, cols]
+            rows = boundary_rows(np.arange(m), np.arange(m, 2 * m), boundary)[0]
+            rep[plate, :m] = rep[parent, rows]
         missing = sorted(set(range(1, p)) - seen)
         if missing:
             raise GeometryError(
@@ -398,7 +399,7 @@ class _Problem:
         gap = 0.0
         for plate, boundary in self.boundary_of.items():
             parent = self.parents[plate]
-            hinge = near[parent] if boundary == "near" else far[parent]
+            hinge = boundary_rows(near[parent], far[parent], boundary)[0]
             gap = max(gap, float(np.linalg.norm(near[plate] - hinge, axis=-1).max()))
         init_near, init_far = self.plates(base)
         if self.nfree == 0:

@@ -7,6 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.viz.render import draw_scene, path_frames
+from compas_ccu.viz.views import kind_legend_handles
+
 __all__ = ["render_frames", "write_animation", "mp4_available", "ANIMATION_FORMATS"]
 
 ANIMATION_FORMATS = ("gif", "mp4")
@@ -57,9 +60,6 @@ def render_frames(
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
-
-    from compas_ccu.viz.render import draw_scene, path_frames
-    from compas_ccu.viz.views import kind_legend_handles
 
     path = path_frames(model, frames, alpha, view, what="frames")
     alphas, structures, scenes = path.alphas, path.structures, path.scenes
@@ -124,7 +124,7 @@ def write_animation(
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> import tempfile, pathlib
     >>> from PIL import Image
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "cone.gif"

@@ -6,7 +6,9 @@ import math
 
 import numpy as np
 
+from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.viz import colors as C
+from compas_ccu.viz.views import kind_legend_handles
 
 __all__ = ["plot_cut_patterns", "pattern_layout", "plate_outline"]
 
@@ -71,7 +73,7 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> s = load_model("examples/vault.toml").deploy()
     >>> fig = plot_cut_patterns(s)
     >>> fig.axes[0].get_title(loc="left")
@@ -79,8 +81,6 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
     """
     from matplotlib.collections import LineCollection, PolyCollection
     from matplotlib.figure import Figure
-
-    from compas_ccu.viz.views import kind_legend_handles
 
     flats = np.asarray(structure.flat, dtype=float)
     p = len(flats)
@@ -102,8 +102,7 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
         )
     )
     if rulings:
-        j = np.arange(1, n)
-        seg = np.stack([xy[:, j], xy[:, n + 1 + j]], axis=2).reshape(-1, 2, 2)
+        seg = xy[:, plate_rulings(n)[1:-1]].reshape(-1, 2, 2)
         ax.add_collection(
             LineCollection(seg, colors=C.RULING_COLOR, linewidths=0.5, linestyles=(0, (3, 2)))
         )

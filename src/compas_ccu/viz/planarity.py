@@ -29,7 +29,7 @@ def plot_planarity(model, *, steps: int = 60, alpha: float | None = None, title=
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> fig = plot_planarity(load_model("examples/vault.toml"), steps=10)
     >>> len(fig.axes[0].lines)  # 9 creases and the SPEC bar
     10

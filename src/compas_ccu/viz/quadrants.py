@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.design.variants import quadrant_design
 from compas_ccu.model import CCUModel
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.render import draw_scene
@@ -61,8 +62,6 @@ def plot_quadrants(design, *, alpha: float | None = None, width: float | None = 
     ['Q1', 'Q2', 'Q3', 'Q4']
     """
     from matplotlib.figure import Figure
-
-    from compas_ccu.design.variants import quadrant_design
 
     model = CCUModel(quadrant_design(design, width=width))
     deployed = model.deploy(alpha)

@@ -13,7 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.viz import colors as C
+from compas_ccu.viz.scene import scene_from_structure
 
 __all__ = [
     "Camera",
@@ -184,8 +186,6 @@ def draw_scene(
         if color_by not in COLOR_MODES:
             raise ValueError(f"color_by must be one of {COLOR_MODES} or an array, got {color_by!r}")
         if color_by == "curvature":
-            from compas_ccu.strips.curvature import plate_curvature
-
             values = _face_values(np.abs(plate_curvature(scene.vertices)), scene)
             cmap = cmap or C.SEQUENTIAL_CMAP
         elif color_by == "alpha":
@@ -304,7 +304,6 @@ def path_frames(model, count, alpha=None, view="perspective", *, what="count") -
 
     Raises ValueError naming ``what`` for a count below 2 and for ``alpha <= 0``.
     """
-    from compas_ccu.viz.scene import scene_from_structure
 
     if int(count) != count or count < 2:
         raise ValueError(f"{what} must be an integer >= 2, got {count!r}")

@@ -11,6 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from compas_ccu.kinematics.plates import plate_rulings
+
 __all__ = ["Scene", "scene_from_structure", "ground_offset"]
 
 
@@ -92,7 +94,7 @@ def scene_from_structure(structure, *, state: str = "deployed", ground: bool = F
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> s = load_model("examples/cone.toml").deploy()
     >>> scene = scene_from_structure(s, ground=True)
     >>> scene.quads.shape[-2:], float(scene.bounds()[0, 2])
@@ -107,8 +109,7 @@ def scene_from_structure(structure, *, state: str = "deployed", ground: bool = F
     p = vertices.shape[0]
     quads = vertices[np.arange(p)[:, None, None], faces]
     n = faces.shape[1]
-    j = np.arange(n + 1)
-    rulings = np.stack([vertices[:, j], vertices[:, n + 1 + j]], axis=2)
+    rulings = vertices[:, plate_rulings(n)]
     index = {pid: i for i, pid in enumerate(structure.plate_ids)}
     creases, alphas = [], []
     for c in structure.creases:

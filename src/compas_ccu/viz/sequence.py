@@ -34,7 +34,7 @@ def plot_deployment_sequence(
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> fig = plot_deployment_sequence(load_model("examples/vault.toml"), count=4)
     >>> [ax.get_title() for ax in fig.axes]
     ['α = 0°', 'α = 10°', 'α = 20°', 'α = 30°']

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import math
 
+from compas_ccu.viz.render import draw_scene
+from compas_ccu.viz.scene import scene_from_structure
+
 __all__ = ["plot_contact_sheet"]
 
 
@@ -37,16 +40,13 @@ def plot_contact_sheet(
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> s = [load_model(f"examples/{n}.toml").deploy() for n in ("vault", "cone")]
     >>> fig = plot_contact_sheet(s)
     >>> [ax.get_title() for ax in fig.axes]
     ['vault', 'cone']
     """
     from matplotlib.figure import Figure
-
-    from compas_ccu.viz.render import draw_scene
-    from compas_ccu.viz.scene import scene_from_structure
 
     structures = list(structures)
     if not structures:

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.viz.colors import (
     EDGE_COLOR,
     KIND_COLORS,
@@ -221,7 +222,7 @@ def _edge_index(structure, n: int) -> np.ndarray:
     p = len(structure.plate_ids)
     v = 2 * n + 2
     index = {pid: i for i, pid in enumerate(structure.plate_ids)}
-    near, far = np.arange(n + 1), np.arange(n + 1, 2 * n + 2)
+    near, far = plate_rulings(n).T
     creased = set()
     for c in structure.creases:
         for plate, verts in zip(c["plates"], c["vertices"]):
@@ -357,7 +358,7 @@ def viewer_figure(
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> model = load_model("examples/cone.toml")
     >>> fig = viewer_figure(model, steps=4)
     >>> len(fig.frames), fig.layout.sliders[0].active, fig.layout.sliders[0].steps[-1].label
@@ -490,8 +491,9 @@ def viewer_figure(
                 legend=False,
             )
         )
-    prul = np.stack([pattern[:, rulings_at], pattern[:, n + 1 + rulings_at]], axis=2)
-    mid = 0.5 * (pattern[:, n // 2] + pattern[:, n + 1 + n // 2])
+    ends = plate_rulings(n)
+    prul = pattern[:, ends[rulings_at]]
+    mid = 0.5 * (pattern[:, ends[n // 2, 0]] + pattern[:, ends[n // 2, 1]])
     cut += [
         _line_trace(
             _polylines(prul.reshape(-1, 2, 3)),
@@ -708,7 +710,7 @@ def write_viewer(
     Examples
     --------
     >>> import tempfile
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> model = load_model("examples/vault.toml")
     >>> out = write_viewer(model, tempfile.mkdtemp() + "/vault.html", steps=6)
     >>> out.stat().st_size > 4_000_000, "cdn.plot.ly/plotly" in out.read_text(encoding="utf-8")

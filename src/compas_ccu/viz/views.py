@@ -56,7 +56,7 @@ def plot_views(
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> s = load_model("examples/vault.toml").deploy()
     >>> fig = plot_views(s, color_by="curvature")
     >>> len(fig.axes)  # four views and a colour bar

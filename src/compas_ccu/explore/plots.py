@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.explore.pareto import feasible, objective_matrix, pareto_mask
+
 __all__ = ["plot_design_space", "plot_pareto"]
 
 FEASIBLE = "#1f77b4"
@@ -32,7 +34,6 @@ def _varies(values: np.ndarray) -> bool:
 
 
 def _metric(rows: list, name: str) -> np.ndarray:
-    from compas_ccu.explore.pareto import objective_matrix
 
     return objective_matrix(rows, [name])[:, 0]
 
@@ -67,8 +68,6 @@ def plot_design_space(rows: list, parameters: list, *, sweep=None, metrics=None,
     2
     """
     from matplotlib.figure import Figure
-
-    from compas_ccu.explore.pareto import feasible
 
     if metrics is None:
         metrics = list(sweep.objectives) if sweep is not None else ["rise"]
@@ -165,8 +164,6 @@ def plot_pareto(rows: list, objectives: dict, front, best, feasible_mask, *, tit
         two-objective front of the panel as a step line, the best variants numbered.
     """
     from matplotlib.figure import Figure
-
-    from compas_ccu.explore.pareto import pareto_mask
 
     names = list(objectives)
     front = np.asarray(front, dtype=bool)
