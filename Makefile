@@ -48,7 +48,7 @@ demo: setup
 	@echo "Demo finished. Open the report to see the vault deploy:"
 	@echo "  $(OUT)/vault-report/index.html      (viewer, figures, animation, key figures, all files)"
 	@echo "Other files written:"
-	@echo "  $(OUT)/vault/structure.json        (the deployed vault, SPEC section 4 contract)"
+	@echo "  $(OUT)/vault/structure.json        (the deployed vault, docs/structure-json.md contract)"
 	@echo "  $(OUT)/vault/structure.obj         (deployed plates, OBJ)"
 	@echo "  $(OUT)/vault/structure.compas.json (COMPAS meshes)"
 	@echo "  $(OUT)/vault-path/path.csv         (alpha, span, rise, crease planarity per state)"

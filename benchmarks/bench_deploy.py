@@ -19,10 +19,10 @@ one second, fewer for the largest sizes) of
 3. ``model.deploy(alpha)``: the core plus invariant metrics, the self-intersection check and the
    :class:`~compas_ccu.structure.Structure` object (only up to ~1e5 vertices).
 
-It also splits the "10 plates x 200 segments" case (the SPEC bar: redeploy well under 10 ms on
-one core) into the alpha -> s0 inversion, the closed-form leading strip and the per-plate
-reflection loop, and fits the scaling exponent (log-log least squares of time against vertex
-count over the rows with at least 1e4 vertices).
+It also splits the "10 plates x 200 segments" case (the speed bar of docs/geometry.md §3: redeploy
+well under 10 ms on one core) into the alpha -> s0 inversion, the closed-form leading strip and the
+per-plate reflection loop, and fits the scaling exponent (log-log least squares of time against
+vertex count over the rows with at least 1e4 vertices).
 
 BLAS/OpenMP are pinned to one thread (set below, before NumPy is imported).
 """
@@ -272,7 +272,7 @@ def main(argv=None) -> int:
     verdict = "PASS" if spec_ms < SPEC_BAR_MS else "FAIL"
     print()
     print(
-        f"SPEC bar: {SPEC_LABEL} redeploys in {spec_ms:.3f} ms median "
+        f"speed bar: {SPEC_LABEL} redeploys in {spec_ms:.3f} ms median "
         f"(bar {SPEC_BAR_MS:g} ms, {spec_ms / SPEC_BAR_MS:.1%} of it): {verdict}"
     )
     parts = ("invert_alpha_ms", "leading_place_ms", "reflection_loop_ms")

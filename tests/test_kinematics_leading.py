@@ -14,7 +14,7 @@ from conftest import arc_strip, wavy_strip
 
 
 def sequential_march(near2d, far2d, psi0):
-    """Independent reference: SPEC §2's sequential construction, one quad at a time.
+    """Independent reference: docs/geometry.md §2's sequential construction, one quad at a time.
 
     Quad 0 is tilted by psi0 about its crease edge; every next quad is rotated about the shared
     ruling until its next crease vertex returns to z = 0 (circle-plane intersection, root

@@ -1,4 +1,4 @@
-"""The four quadrants of one planar crease (paper Fig. 2 / Fig. 3, SPEC §1)."""
+"""The four quadrants of one planar crease (paper Fig. 2 / Fig. 3, docs/geometry.md §1)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""Least-squares relaxation of the placed plates (SPEC §2: the fallback where creases leave
-their plane): exact states stay put, exact solutions are recovered, the residual of impossible
+"""Least-squares relaxation of the placed plates (docs/geometry.md §2: the fallback where creases
+leave their plane): exact states stay put, exact solutions are recovered, the residual of impossible
 problems is bounded and reported, the analytic Jacobian is right, bad input is refused."""
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ from compas_ccu.errors import DeploymentLimitError, SelfIntersectionError
 from compas_ccu.model import CCUModel
 from conftest import make_design
 
-TOL = 1e-9  # SPEC §5, relative to the structure size
+TOL = 1e-9  # docs/geometry.md §3, relative to the structure size
 
 
 def assert_invariants(structure, tol=TOL):

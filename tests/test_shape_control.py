@@ -61,7 +61,7 @@ def test_layouts_the_theory_calls_planar_stay_planar_along_the_whole_path(layout
     report = planarity_along_path(model, steps=24)
     assert report.exact and report.max < 1e-13 * model.size
     states = model.path(np.linspace(1.0, model.alpha_design, 6))
-    for s in states:  # SPEC §5 invariants at every state
+    for s in states:  # docs/geometry.md §3 invariants at every state
         assert s.max_invariant_error < 1e-12 * model.size
 
 

@@ -27,7 +27,7 @@ class ProfileError(CCUError):
 
 
 class DevelopabilityError(CCUError):
-    """A requested ruling field / reflection-angle field is not developable (SPEC §1)."""
+    """A requested ruling or reflection-angle field is not developable (docs/geometry.md §1)."""
 
 
 class GeometryError(CCUError):

@@ -21,6 +21,7 @@ import math
 from dataclasses import asdict, dataclass, replace
 
 from compas_ccu.errors import CCUError
+from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = ["Material", "MATERIALS", "material", "MaterialError"]
 
@@ -65,7 +66,9 @@ class Material:
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
                 raise MaterialError(f"material {self.name!r}: {key} must be > 0, got {value!r}")
         # positive definite plane-stress compliance: nu12^2 < E1 / E2
-        if not (-1.0 < self.nu12 and self.nu12**2 < self.E1 / self.E2 and self.nu12 < 0.5 + 1e-12):
+        if not (
+            -1.0 < self.nu12 and self.nu12**2 < self.E1 / self.E2 and self.nu12 < 0.5 + ZERO_LENGTH
+        ):
             raise MaterialError(
                 f"material {self.name!r}: nu12 = {self.nu12!r} gives no positive definite "
                 "stiffness (need -1 < nu12 < 0.5 and nu12^2 < E1/E2)"
@@ -81,7 +84,7 @@ class Material:
         return (
             self.E1 == self.E2
             and self.f1 == self.f2
-            and abs(self.G12 - self.E1 / (2.0 * (1.0 + self.nu12))) <= 1e-9 * self.E1
+            and abs(self.G12 - self.E1 / (2.0 * (1.0 + self.nu12))) <= EXACT_RELATIVE * self.E1
         )
 
     @property

@@ -1,4 +1,4 @@
-"""Crease planarity along the whole deployment path (paper §5.1, Fig. 6d; SPEC §2).
+"""Crease planarity along the whole deployment path (paper §5.1, Fig. 6d; docs/geometry.md §2).
 
 At the design state every crease is planar by construction. During deployment a subsequent
 crease stays planar exactly for parallel planes (any ruling field) and for planes inclined about
@@ -14,10 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["PlanarityReport", "planarity_along_path", "EXACT_RELATIVE"]
+from compas_ccu.tolerances import EXACT_RELATIVE
 
-#: SPEC §5 bar: a crease is exactly planar when it deviates by at most this fraction of the size.
-EXACT_RELATIVE = 1e-9
+__all__ = ["PlanarityReport", "planarity_along_path"]
 
 
 @dataclass

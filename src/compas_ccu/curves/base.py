@@ -13,6 +13,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 
 from compas_ccu.errors import ProfileError
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = ["Profile"]
 
@@ -97,7 +98,7 @@ def require_points(points: object, *, name: str = "points", min_points: int = 3)
         )
     edge_lengths = np.linalg.norm(np.diff(coordinates, axis=0), axis=1)
     extent = float(np.ptp(coordinates, axis=0).max())
-    repeated = edge_lengths <= 1e-12 * extent
+    repeated = edge_lengths <= ZERO_LENGTH * extent
     if repeated.any():
         index = int(np.flatnonzero(repeated)[0])
         raise ProfileError(

@@ -15,6 +15,7 @@ from compas_ccu.curves.base import (
     require_segments,
 )
 from compas_ccu.errors import ProfileError
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = ["FunicularProfile"]
 
@@ -24,7 +25,7 @@ _QUADRATURE_TOLERANCE = 1e-14
 _NEWTON_TOLERANCE = 1e-14
 _NEWTON_MAX_ITERATIONS = 60
 #: Kinks closer than this fraction of the length (to each other or to an end) share a sample.
-_KINK_TOLERANCE = 1e-12
+_KINK_TOLERANCE = ZERO_LENGTH
 
 
 @functools.lru_cache(maxsize=1)

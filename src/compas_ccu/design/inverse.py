@@ -23,6 +23,7 @@ import numpy as np
 
 from compas_ccu.design import Design
 from compas_ccu.errors import DesignError
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["design_from_crease", "write_design"]
 
@@ -36,7 +37,7 @@ def design_from_crease(
     reference: float = 0.5,
     name: str = "target",
     up=(0.0, 0.0, 1.0),
-    tolerance: float = 1e-9,
+    tolerance: float = EXACT_RELATIVE,
 ):
     """A single-crease design whose crease reaches the 3D target ``points`` at ``alpha``.
 
@@ -94,14 +95,15 @@ def design_from_crease(
     if off.max() > tolerance * span:
         i = int(np.argmax(off))
         raise DesignError(
-            f"a CCU crease must be planar (SPEC §1), but target point {i} lies {off[i]:.3g} m "
+            f"a CCU crease must be planar (docs/geometry.md §1), but target point {i} lies "
+            f"{off[i]:.3g} m "
             f"from the best-fit plane ({off[i] / span:.3g} of the chord; tolerance {tolerance:g})"
         )
     x = chord - (chord @ normal) * normal
     x /= np.linalg.norm(x)
     y = np.cross(normal, x)
     u = np.asarray(up, dtype=float)
-    sign = np.sign(u @ y) if abs(u @ y) > 1e-9 * np.linalg.norm(u) else 0.0
+    sign = np.sign(u @ y) if abs(u @ y) > EXACT_RELATIVE * np.linalg.norm(u) else 0.0
     if sign == 0.0:
         bulge = (p - p[0]) @ y
         sign = 1.0 if bulge[np.argmax(np.abs(bulge))] >= 0.0 else -1.0

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.errors import DesignError
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = [
     "PlaneLayout",
@@ -74,7 +75,7 @@ class PlaneLayout:
         """
         n = self.normals
         with np.errstate(divide="ignore", invalid="ignore"):
-            slope_y = np.where(np.abs(n[:, 2]) > 1e-12, -n[:, 1] / n[:, 2], 0.0)
+            slope_y = np.where(np.abs(n[:, 2]) > ZERO_LENGTH, -n[:, 1] / n[:, 2], 0.0)
         about_x = np.degrees(np.arctan(np.diff(slope_y)))
         about_y = np.degrees(np.diff(np.arctan2(-n[:, 0], n[:, 2])))
         return np.c_[about_x, about_y]
@@ -130,7 +131,7 @@ def increments_through(local: np.ndarray, reference: int, distances: np.ndarray)
     start, reference and end vertex."""
     controls = local[[0, reference, -1]]
     design = np.c_[np.ones(3), controls]  # z = c0 + c1 x + c2 y through three points
-    if abs(np.linalg.det(design)) < 1e-12 * float(np.ptp(local, axis=0).max()) ** 2:
+    if abs(np.linalg.det(design)) < ZERO_LENGTH * float(np.ptp(local, axis=0).max()) ** 2:
         raise DesignError(
             "the crease's start, reference and end vertices are collinear, so distances at "
             "them do not define a plane; use layout type 'parallel' or move crease.reference",

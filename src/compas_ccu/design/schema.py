@@ -132,8 +132,8 @@ SCHEMA: dict = {
         ),
     },
     "rulings": {
-        "_doc": "The developable type of the leading plate (SPEC §1, §3). Directions and points "
-        'are in the 2D coordinates of the leading crease plane; for state = "deployed" they '
+        "_doc": "The developable type of the leading plate (docs/geometry.md §1). Directions and "
+        'points are in the 2D coordinates of the leading crease plane; for state = "deployed" they '
         "are the projections of the 3D rulings, whose inclination follows from the design alpha.",
         "type": Key(
             "str",

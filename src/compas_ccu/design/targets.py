@@ -1,10 +1,10 @@
 """Inverse design of a plane layout from target curves along the apex and the supports.
 
-Paper §5.5: "The shape is generated to fit target curves along the apex and supports". Given
-the leading crease and the ruling field, the plates are built outwards from the leading plane by
-trimming and reflecting (SPEC §2). The planes of the leading crease's parity (``k0 +- 2``,
-``k0 +- 4``, ...) are *solved*: each must pass through three points, one on each of three ruling
-lines of the plate that reaches it,
+Paper §5.5: "The shape is generated to fit target curves along the apex and supports". Given the
+leading crease and the ruling field, the plates are built outwards from the leading plane by
+trimming and reflecting (docs/geometry.md §2). The planes of the leading crease's parity (``k0 +-
+2``, ``k0 +- 4``, ...) are *solved*: each must pass through three points, one on each of three
+ruling lines of the plate that reaches it,
 
 * the reference (apex) ruling meets the apex target ``y = A(d)``,
 * the start ruling meets the support target ``x = S(d)``,
@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from compas_ccu.errors import DesignError
+from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = ["TargetCurves", "TargetFit", "targets_from_values", "intersect_ray_polyline"]
 
@@ -143,12 +144,12 @@ def intersect_ray_polyline(origin: np.ndarray, direction: np.ndarray, polyline: 
     with np.errstate(divide="ignore", invalid="ignore"):
         t = (w[:, 0] * e[:, 1] - w[:, 1] * e[:, 0]) / denom
         u = (w[:, 0] * direction[1] - w[:, 1] * direction[0]) / denom
-    hit = np.isfinite(t) & (t > 1e-12) & (u >= -1e-12) & (u <= 1.0 + 1e-12)
+    hit = np.isfinite(t) & (t > ZERO_LENGTH) & (u >= -ZERO_LENGTH) & (u <= 1.0 + ZERO_LENGTH)
     if hit.any():
         return float(t[hit].min()), 0.0
     # closest approach: target vertices projected on the ray, ray points on the segments
     dd = float(direction @ direction)
-    ts = np.clip((polyline - origin) @ direction / dd, 1e-9, None)
+    ts = np.clip((polyline - origin) @ direction / dd, EXACT_RELATIVE, None)
     pts = origin + ts[:, None] * direction
     rel = pts[:, None, :] - a[None]
     s = np.clip(np.einsum("pqi,qi->pq", rel, e) / np.einsum("qi,qi->q", e, e), 0.0, 1.0)

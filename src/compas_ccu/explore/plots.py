@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.explore.pareto import feasible, objective_matrix, pareto_mask
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["plot_design_space", "plot_pareto"]
 
@@ -30,7 +31,7 @@ def _axis_values(rows: list, name: str):
 
 def _varies(values: np.ndarray) -> bool:
     v = values[np.isfinite(values)]
-    return v.size > 0 and np.ptp(v) > 1e-9 * max(1.0, np.abs(v).max())
+    return v.size > 0 and np.ptp(v) > EXACT_RELATIVE * max(1.0, np.abs(v).max())
 
 
 def _metric(rows: list, name: str) -> np.ndarray:

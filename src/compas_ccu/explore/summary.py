@@ -22,7 +22,7 @@ __all__ = ["summarise", "write_best"]
 
 def write_best(sweep, picks: list, out) -> list:
     """The best variants' files: ``best/<rank>-<variant>/`` with the design (TOML), the
-    deployed structure (``structure.json``, SPEC §4) and ``structure.obj``.
+    deployed structure (``structure.json``, docs/structure-json.md) and ``structure.obj``.
 
     Parameters
     ----------

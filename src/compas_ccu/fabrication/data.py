@@ -3,8 +3,8 @@
 Every writer in :mod:`compas_ccu.fabrication` is a pure function of a :class:`FabricationData`;
 :func:`compas_ccu.fabrication.fabrication_data` builds one from a model and its thickness.
 
-Units: metres and degrees (the DXF writer converts to millimetres itself).
-Plate vertex layout (SPEC §4, :mod:`compas_ccu.model`): near boundary ``0 .. n``, far boundary
+Units: metres and degrees (the DXF writer converts to millimetres itself). Plate vertex layout
+(docs/geometry.md §2, :mod:`compas_ccu.kinematics.plates`): near boundary ``0 .. n``, far boundary
 ``n + 1 .. 2n + 1``; quad ``j`` = ``[j, j + 1, n + 2 + j, n + 1 + j]``; ruling ``j`` joins vertex
 ``j`` and ``n + 1 + j``.
 """
@@ -48,7 +48,7 @@ class FabricationData:
     stack_solids : (p, 2, 2n + 2, 3) float
         The same solids in the flat-folded stack (alpha = 0).
     creases : list of dict
-        SPEC §4 crease records: ``id``, ``plates`` [a, b] (plate ids), ``vertices``
+        docs/structure-json.md crease records: ``id``, ``plates`` [a, b] (plate ids), ``vertices``
         [[ia ...], [ib ...]] (vertex indices in plates a and b, same order along the crease),
         ``kind`` ("synclastic" | "anticlastic" | "ccf" | "mixed" | "straight"), and
         ``fold_angle`` (degrees, the dihedral angle between the two plates' surfaces at the

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.kinematics.plates import plate_rulings
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = [
     "write_plate_dxf",
@@ -65,7 +66,7 @@ def _upright(u: np.ndarray) -> np.ndarray:
     """Unit direction ``u`` flipped so text along it reads left to right (angle in (-90, 90])."""
     u = np.asarray(u, dtype=float)
     u = u / np.linalg.norm(u)
-    if u[0] < -1e-12 or (abs(u[0]) <= 1e-12 and u[1] < 0):
+    if u[0] < -ZERO_LENGTH or (abs(u[0]) <= ZERO_LENGTH and u[1] < 0):
         u = -u
     return u
 

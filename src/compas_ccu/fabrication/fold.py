@@ -73,13 +73,14 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.fabrication.meshes import crease_line, layout_offsets
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["ASSIGNMENTS", "crease_fold_angles", "fold_document", "read_fold", "write_fold"]
 
 #: The edge assignments this writer uses.
 ASSIGNMENTS = ("B", "M", "V", "F", "U")
 
-_SIGN_TOL = 1e-9
+_SIGN_TOL = EXACT_RELATIVE
 _HINGES = ("snap", "merge")
 
 
@@ -334,7 +335,9 @@ def _frame(data, coords, faces, *, hinges, merge_tol, state, dihedral, signs, fl
     }
 
 
-def fold_document(data, *, hinges: str = "snap", merge_tol: float = 1e-9, gap: float = 0.1) -> dict:
+def fold_document(
+    data, *, hinges: str = "snap", merge_tol: float = EXACT_RELATIVE, gap: float = 0.1
+) -> dict:
     """The design as a FOLD 1.1 document (a JSON-ready dict); see the module docstring.
 
     Parameters
@@ -424,7 +427,7 @@ def write_fold(
     path,
     *,
     hinges: str = "snap",
-    merge_tol: float = 1e-9,
+    merge_tol: float = EXACT_RELATIVE,
     gap: float = 0.1,
     indent=None,
 ) -> Path:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.errors import GeometryError
+from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = ["HingeStrip", "hinge_strips", "check_hinge_width", "offset_strip"]
 
@@ -121,7 +122,7 @@ def offset_strip(centre, width: float, *, name: str = "polyline") -> np.ndarray:
     d = np.diff(centre, axis=0)
     length = np.linalg.norm(d, axis=1)
     scale = float(np.ptp(centre, axis=0).max()) or 1.0
-    if (length <= 1e-12 * scale).any():
+    if (length <= ZERO_LENGTH * scale).any():
         j = int(np.argmin(length))
         raise GeometryError(f"{name}: edge {j} has zero length ({length[j]:.3g})")
     t = d / length[:, None]
@@ -131,7 +132,7 @@ def offset_strip(centre, width: float, *, name: str = "polyline") -> np.ndarray:
     right_shift = left_shift.copy()
     bisector = normal[:-1] + normal[1:]
     blen = np.linalg.norm(bisector, axis=1)
-    if (blen < 1e-9).any():
+    if (blen < EXACT_RELATIVE).any():
         j = int(np.argmin(blen)) + 1
         raise GeometryError(f"{name}: the polyline turns back on itself at vertex {j}")
     bisector /= blen[:, None]

@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.geometry import rigid_align
 from compas_ccu.fea.mesh import ShellMesh
 from compas_ccu.fea.problem import FEProblem, LoadPattern
+from compas_ccu.geometry import rigid_align
 from compas_ccu.strips.curvature import plate_curvature
 
 __all__ = ["actuate", "bending_energy"]

@@ -1,10 +1,10 @@
 """Exact one-degree-of-freedom deployment of the leading strip of a planar crease.
 
 The leading strip's crease stays in the fixed crease plane O (local ``z = 0``) while its planar
-quads rotate about the ruling edges. SPEC §2 describes the sequential construction: tilt quad 0
-about its crease edge, then rotate every next quad about the shared ruling until its next crease
-vertex returns to O (a circle-plane intersection). That march has a closed form, which is what
-makes the kinematics vectorised and exact:
+quads rotate about the ruling edges. docs/geometry.md §2 describes the sequential construction: tilt
+quad 0 about its crease edge, then rotate every next quad about the shared ruling until its next
+crease vertex returns to O (a circle-plane intersection). That march has a closed form, which is
+what makes the kinematics vectorised and exact:
 
 Local frame: the plate lies on the left of the crease (``+v`` side) and tilts towards ``+z``.
 Quad ``j`` contains crease edge ``u_j`` (unit, in O) and is tilted by ``psi_j`` about it, i.e. it
@@ -27,7 +27,7 @@ and the crease polyline follows by cumulative sums. (K1) has no solution once
 ``s0 * c_j > 1`` for some segment ``j``: that quad would have to stand beyond perpendicular to O,
 which is the deployment limit. ``cos(psi_j) >= 0`` selects the root continuous with the flat
 state. (K1)-(K2) are the discrete, exact form of alpha' = cot(gamma) kappa_2D tan(alpha) and
-cos(alpha) = kappa_2D / kappa_3D (SPEC §1); they are exact for every planar-quad strip.
+cos(alpha) = kappa_2D / kappa_3D (docs/geometry.md §1); they are exact for every planar-quad strip.
 
 The actuation is named by the reflection angle alpha at a reference crease vertex, measured as
 the angle between O and the surface tangent ``S_i`` at the vertex: the unit vector in the plane
@@ -45,6 +45,7 @@ import numpy as np
 
 from compas_ccu.errors import DeploymentLimitError, GeometryError
 from compas_ccu.strips.intrinsics import StripIntrinsics
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = ["LeadingStrip", "LeadingPlacement"]
 
@@ -262,8 +263,8 @@ class LeadingStrip:
                 alpha_limit=math.degrees(limit),
                 vertex=j,
             )
-        if np.any(alpha > limit * (1.0 + 1e-12)):
-            bad = float(np.degrees(alpha[alpha > limit * (1.0 + 1e-12)][0]))
+        if np.any(alpha > limit * (1.0 + ZERO_LENGTH)):
+            bad = float(np.degrees(alpha[alpha > limit * (1.0 + ZERO_LENGTH)][0]))
             raise DeploymentLimitError(
                 f"alpha = {bad:.6g} deg is beyond the deployment limit: the largest reachable "
                 f"alpha at reference vertex {self.reference} is {math.degrees(limit):.6g} deg, "

@@ -1,6 +1,6 @@
 """The one-degree-of-freedom mechanism of a CCU structure: leading strip plus reflected plates.
 
-SPEC §2, multi-crease: the leading strip follows the exact closed form of
+docs/geometry.md §2, multi-crease: the leading strip follows the exact closed form of
 :mod:`compas_ccu.kinematics.leading`; every other plate hangs off a crease of an already placed
 plate (its *parent*) and is the mirror image of the parent's ruling lines across the plane of
 that crease:

@@ -1,7 +1,7 @@
 """Sector angles, crease kind and the smooth relations (Eq. 1-5) evaluated on a crease.
 
-For a crease between plates ``a`` and ``b`` (SPEC §1, paper Fig. 3), at every crease vertex the
-sector angles counter-clockwise are
+For a crease between plates ``a`` and ``b`` (docs/geometry.md §1, paper Fig. 3), at every crease
+vertex the sector angles counter-clockwise are
 
     beta_0 = (forward edge, ruling a)     beta_1 = (ruling a, backward edge)
     beta_2 = (backward edge, ruling b)    beta_3 = (ruling b, forward edge)
@@ -30,6 +30,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["CreaseRelations", "crease_relations", "classify"]
 
@@ -69,7 +71,7 @@ def _angle(a, b):
     return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.einsum("...i,...i", a, b))
 
 
-def classify(sum_beta: np.ndarray, relation: str, *, tol: float = 1e-9) -> list:
+def classify(sum_beta: np.ndarray, relation: str, *, tol: float = EXACT_RELATIVE) -> list:
     """Kind of every crease vertex from its sector-angle sum (ends: None)."""
     kinds = []
     for s in sum_beta:

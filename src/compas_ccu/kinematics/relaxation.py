@@ -1,10 +1,10 @@
 """Least-squares relaxation of the placed plates where the mirror construction is not exact.
 
-SPEC §2, multi-crease: where a crease between two plates leaves its plane at an intermediate
-deployment state, the mirror construction of :class:`compas_ccu.kinematics.Mechanism` has no
-exact solution; the reflected plates then change the lengths of their quads. :func:`relax` is
-the stated fallback: starting from the kinematic guess it moves the vertices of the non-fixed
-plates so that every quad is as close as possible to its cut pattern, and reports what is left.
+docs/geometry.md §2, several creases: where a crease between two plates leaves its plane at an
+intermediate deployment state, the mirror construction of :class:`compas_ccu.kinematics.Mechanism`
+has no exact solution; the reflected plates then change the lengths of their quads. :func:`relax` is
+the stated fallback: starting from the kinematic guess it moves the vertices of the non-fixed plates
+so that every quad is as close as possible to its cut pattern, and reports what is left.
 
 Unknowns
     The vertices of every plate, with each non-leading plate's near boundary *merged* with the
@@ -64,6 +64,7 @@ from scipy.optimize import least_squares
 from compas_ccu.errors import CCUError, GeometryError
 from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import QUAD_LENGTH_PAIRS, quad_corners, quad_lengths
+from compas_ccu.tolerances import SOLVER, ZERO_LENGTH
 
 __all__ = ["Relaxation", "relax", "relax_states", "links_from_mechanism"]
 
@@ -72,7 +73,7 @@ _PAIRS = QUAD_LENGTH_PAIRS
 _EXACT_LIMIT = 300
 # lsmr tolerances of the sparse subproblem: scipy's default 1e-6 leaves the trust-region
 # iteration crawling (max_nfev reached at strains ~1e-3); 1e-12 converges in ~5 iterations
-_LSMR_OPTIONS = {"atol": 1e-12, "btol": 1e-12}
+_LSMR_OPTIONS = {"atol": SOLVER, "btol": SOLVER}
 
 
 @dataclass(frozen=True, eq=False)
@@ -380,7 +381,7 @@ class _Problem:
         if self.quads.shape[0] == 0:
             return
         *_, s, _ = self._planarity_terms(pos[self.quads])
-        bad = ~(s > 1e-12 * self.scale**2)
+        bad = ~(s > ZERO_LENGTH * self.scale**2)
         if bad.any():
             q = int(np.flatnonzero(bad)[0])
             raise GeometryError(
@@ -502,9 +503,9 @@ def relax(
     *,
     fixed=(0,),
     planarity_weight: float = 1.0,
-    ftol: float = 1e-12,
-    xtol: float = 1e-12,
-    gtol: float = 1e-12,
+    ftol: float = SOLVER,
+    xtol: float = SOLVER,
+    gtol: float = SOLVER,
     max_nfev: int = 200,
     tr_solver: str = "auto",
 ) -> Relaxation:
@@ -569,9 +570,9 @@ def relax_states(
     *,
     fixed=(0,),
     planarity_weight: float = 1.0,
-    ftol: float = 1e-12,
-    xtol: float = 1e-12,
-    gtol: float = 1e-12,
+    ftol: float = SOLVER,
+    xtol: float = SOLVER,
+    gtol: float = SOLVER,
     max_nfev: int = 200,
     tr_solver: str = "auto",
 ) -> list:

@@ -1,6 +1,6 @@
 """Intrinsic description of a planar-quad strip: what isometric deployment preserves.
 
-A strip (SPEC §2) is a chain of planar quads between two polylines: the *near* boundary
+A strip (docs/geometry.md §2) is a chain of planar quads between two polylines: the *near* boundary
 ``P_0 .. P_n`` (a crease, or the crease nearest to the leading crease) and the *far* boundary
 ``Q_0 .. Q_n`` (the next crease or a free edge). Quad ``j`` is ``P_j, P_{j+1}, Q_{j+1}, Q_j``;
 the segments ``P_i Q_i`` are rulings. Every quad is rigid, so the strip is fixed by
@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 
 from compas_ccu.errors import GeometryError
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = ["StripIntrinsics", "strip_intrinsics", "sector_angles"]
 
@@ -136,15 +137,15 @@ def strip_intrinsics(near: np.ndarray, far: np.ndarray) -> StripIntrinsics:
         )
     edge_lengths = np.linalg.norm(np.diff(near, axis=0), axis=1)
     ruling_lengths = np.linalg.norm(far - near, axis=1)
-    scale = max(float(edge_lengths.sum()), 1e-300)
-    bad = np.flatnonzero(edge_lengths <= 1e-12 * scale)
+    scale = max(float(edge_lengths.sum()), DIVISION_FLOOR)
+    bad = np.flatnonzero(edge_lengths <= ZERO_LENGTH * scale)
     if bad.size:
         raise GeometryError(f"crease edge {int(bad[0])} has zero length")
-    bad = np.flatnonzero(ruling_lengths <= 1e-12 * scale)
+    bad = np.flatnonzero(ruling_lengths <= ZERO_LENGTH * scale)
     if bad.size:
         raise GeometryError(f"ruling at crease vertex {int(bad[0])} has zero length")
     back, fwd = sector_angles(near, far)
-    tol = 1e-9
+    tol = EXACT_RELATIVE
     degenerate = np.zeros(len(near), dtype=bool)
     degenerate[1:] |= (back[1:] < tol) | (back[1:] > np.pi - tol)
     degenerate[:-1] |= (fwd[:-1] < tol) | (fwd[:-1] > np.pi - tol)

@@ -4,10 +4,10 @@ All functions work in the local frame of the crease plane O: the crease polyline
 ``z = 0``, the plate lies on the left of the crease direction and rises towards ``+z``.
 They return unit ruling directions ``(n + 1, 3)`` from the crease into the plate such that every
 quad between consecutive rulings is planar, i.e. a discrete developable. The reflection angle
-alpha at the reference vertex (SPEC §1, measured as in :mod:`compas_ccu.kinematics.leading`)
-equals the requested design angle.
+alpha at the reference vertex (docs/geometry.md §1, measured as in
+:mod:`compas_ccu.kinematics.leading`) equals the requested design angle.
 
-Ruling types (SPEC §3, "developable types"):
+Ruling types (docs/geometry.md, "developable types"):
 
 * :func:`orthogonal_rulings` -- gamma = 90 deg, constant reflection angle: the ultra-special case
   (a circular crease gives a right circular cone).
@@ -26,6 +26,7 @@ import numpy as np
 
 from compas_ccu.errors import DevelopabilityError, GeometryError
 from compas_ccu.strips.frames import crease_frames
+from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_ANGLE, ZERO_LENGTH
 
 __all__ = [
     "rulings_from_tilts",
@@ -85,7 +86,7 @@ def rulings_from_tilts(points: np.ndarray, tilts: np.ndarray, gamma=None) -> np.
     r = np.empty((len(f.turns), 3))
     inner = np.cross(normals[:-1], normals[1:])
     size = np.linalg.norm(inner, axis=1)
-    coplanar = size < 1e-12
+    coplanar = size < ZERO_LENGTH
     inner = np.where(coplanar[:, None], w[1:], inner / np.where(coplanar, 1.0, size)[:, None])
     inner *= np.sign(np.einsum("ij,ij->i", inner, w[1:]))[:, None]
     r[1:-1] = inner
@@ -150,7 +151,7 @@ def cylindrical_rulings(
     into = f.normals @ d
     if into[reference] < 0.0:
         d, into = -d, -into
-    bad = np.flatnonzero(into <= 1e-9)
+    bad = np.flatnonzero(into <= EXACT_RELATIVE)
     if bad.size:
         i = int(bad[0])
         raise GeometryError(
@@ -184,7 +185,7 @@ def conical_rulings(points: np.ndarray, *, apex, alpha: float, reference: int) -
     side = np.einsum("ij,ij->i", to_apex, f.normals)
     sign = 1.0 if side[reference] > 0.0 else -1.0
     dist = np.linalg.norm(to_apex, axis=1)
-    bad = np.flatnonzero(sign * side <= 1e-9 * dist.max())
+    bad = np.flatnonzero(sign * side <= EXACT_RELATIVE * dist.max())
     if bad.size:
         i = int(bad[0])
         raise GeometryError(
@@ -199,8 +200,8 @@ def conical_rulings(points: np.ndarray, *, apex, alpha: float, reference: int) -
 def check_alpha_field(points: np.ndarray, gamma: np.ndarray, alpha: np.ndarray) -> None:
     """Refuse a prescribed alpha(s) that violates alpha' = cot(gamma) kappa_2D tan(alpha).
 
-    For a planar crease the reflection angle is not free once the ruling angles are given (SPEC
-    §1); in particular a constant alpha requires gamma = 90 deg everywhere.
+    For a planar crease the reflection angle is not free once the ruling angles are given
+    (docs/geometry.md §1); in particular a constant alpha requires gamma = 90 deg everywhere.
 
     Parameters
     ----------
@@ -224,12 +225,12 @@ def check_alpha_field(points: np.ndarray, gamma: np.ndarray, alpha: np.ndarray) 
     kappa3d[1:-1] = f.turns[1:-1] / (0.5 * (f.lengths[:-1] + f.lengths[1:]))
     kappa3d[0], kappa3d[-1] = kappa3d[1], kappa3d[-2]
     rhs = kappa3d / np.tan(gamma)
-    scale = max(float(np.max(np.abs(kappa3d))), 1e-12)
+    scale = max(float(np.max(np.abs(kappa3d))), ZERO_LENGTH)
     mismatch = np.abs(lhs - rhs)
     mismatch[:2] = mismatch[-2:] = 0.0  # one-sided differences and extrapolated end rulings
     i = int(np.argmax(mismatch))
-    if mismatch[i] > 1e-2 * scale + 1e-9:
-        constant = np.ptp(alpha) < 1e-12
+    if mismatch[i] > 1e-2 * scale + EXACT_RELATIVE:
+        constant = np.ptp(alpha) < ZERO_ANGLE
         hint = (
             "a constant reflection angle along a planar crease needs gamma = 90 deg everywhere "
             "(the ultra-special case); "

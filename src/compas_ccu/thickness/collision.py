@@ -23,6 +23,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from compas_ccu.tolerances import EXACT_RELATIVE
+
 __all__ = ["Contact", "plate_contacts"]
 
 
@@ -87,7 +89,16 @@ def _lateral(points, cells, tol):
 
 
 def plate_contacts(
-    mid_near, mid_far, offsets, faces, thickness, *, pairs, hinged=None, reach=0.1, tol=1e-9
+    mid_near,
+    mid_far,
+    offsets,
+    faces,
+    thickness,
+    *,
+    pairs,
+    hinged=None,
+    reach=0.1,
+    tol=EXACT_RELATIVE,
 ):
     """Worst contact of every ordered plate pair in every state.
 

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_planarity"]
+from compas_ccu.tolerances import EXACT_RELATIVE
 
-# SPEC §5: invariants hold to 1e-9 of the structure size
-SPEC_BAR = 1e-9
+__all__ = ["plot_planarity"]
 
 
 def plot_planarity(model, *, steps: int = 60, alpha: float | None = None, title=None):
@@ -25,13 +24,13 @@ def plot_planarity(model, *, steps: int = 60, alpha: float | None = None, title=
     -------
     matplotlib.figure.Figure
         Log scale; zeros (exactly planar) are drawn at the floor of the axis. The dashed line is
-        the SPEC §5 bar (1e-9 of the structure size).
+        the docs/geometry.md §3 bar (1e-9 of the structure size).
 
     Examples
     --------
     >>> from compas_ccu.model import load_model
     >>> fig = plot_planarity(load_model("examples/vault.toml"), steps=10)
-    >>> len(fig.axes[0].lines)  # 9 creases and the SPEC bar
+    >>> len(fig.axes[0].lines)  # 9 creases and the 1e-9 bar
     10
     """
     from matplotlib.figure import Figure
@@ -49,15 +48,19 @@ def plot_planarity(model, *, steps: int = 60, alpha: float | None = None, title=
     cmap = _crease_colors(dev.shape[1])
     for ci in range(dev.shape[1]):
         ax.semilogy(alphas, np.maximum(dev[:, ci], floor), color=cmap[ci], lw=1.4, label=f"c{ci}")
-    ax.axhline(SPEC_BAR * size, color="#aa0000", ls="--", lw=1.0)
+    ax.axhline(EXACT_RELATIVE * size, color="#aa0000", ls="--", lw=1.0)
     ax.text(
-        alphas[0], SPEC_BAR * size * 1.6, "SPEC §5 bar: 1e-9 × size", color="#aa0000", fontsize=8
+        alphas[0],
+        EXACT_RELATIVE * size * 1.6,
+        "exactness bar: 1e-9 × size",
+        color="#aa0000",
+        fontsize=8,
     )
     ax.axhspan(floor, 1e-14 * size, color="#dddddd", alpha=0.5, lw=0)
     ax.text(alphas[-1], 2e-15 * size, "rounding level", ha="right", fontsize=8, color="#666666")
     ax.set_xlabel("reference reflection angle α (°)")
     ax.set_ylabel("crease distance from its plane (m)")
-    ax.set_ylim(floor, max(10 * float(dev.max()), 100 * SPEC_BAR * size))
+    ax.set_ylim(floor, max(10 * float(dev.max()), 100 * EXACT_RELATIVE * size))
     ax.yaxis.set_major_locator(LogLocator(numticks=8))
     ax.grid(True, which="major", alpha=0.3)
     if dev.shape[1] <= 12 and dev.shape[1]:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.strips.curvature import plate_curvature
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.scene import scene_from_structure
 
@@ -81,7 +82,7 @@ class Camera:
         xy, depth = screen[..., :2], screen[..., 2]
         if self.distance is not None:
             eye = self.distance * size
-            xy = xy * (eye / np.maximum(eye - depth, 1e-9 * eye))[..., None]
+            xy = xy * (eye / np.maximum(eye - depth, EXACT_RELATIVE * eye))[..., None]
         return xy, depth
 
 
@@ -177,7 +178,7 @@ def draw_scene(
     p, n = scene.faces.shape[:2]
     quads = scene.quads.reshape(-1, 4, 3)
     normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
-    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), DIVISION_FLOOR)
 
     mappable = None
     face_rgb = np.repeat(np.array([C.hex_to_rgb(C.plate_tone(i)) for i in range(p)]), n, axis=0)
@@ -268,7 +269,7 @@ def value_range(values, vmin=None, vmax=None) -> tuple:
     finite = values[np.isfinite(values)]
     lo = vmin if vmin is not None else (float(finite.min()) if finite.size else 0.0)
     hi = vmax if vmax is not None else (float(finite.max()) if finite.size else 1.0)
-    if hi - lo <= 1e-9 * max(abs(hi), abs(lo), 1e-300):
+    if hi - lo <= EXACT_RELATIVE * max(abs(hi), abs(lo), DIVISION_FLOOR):
         mid = 0.5 * (lo + hi)
         pad = 0.01 * abs(mid) or 1.0
         lo, hi = mid - pad, mid + pad

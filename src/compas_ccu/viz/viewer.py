@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from compas_ccu.kinematics.plates import plate_rulings
+from compas_ccu.tolerances import EXACT_RELATIVE
 from compas_ccu.viz.colors import (
     EDGE_COLOR,
     KIND_COLORS,
@@ -177,7 +178,7 @@ def _pattern_offsets(flat: np.ndarray, n: int, gap: float) -> np.ndarray:
 
 def _range(lo: np.ndarray, hi: np.ndarray):
     """Padded axis ranges and the matching manual aspect ratio of a box (lo, hi : (3,))."""
-    ext = np.maximum(hi - lo, 1e-9)
+    ext = np.maximum(hi - lo, EXACT_RELATIVE)
     pad = _PAD * float(ext.max())
     lo, hi = lo - pad, hi + pad
     ext = hi - lo
