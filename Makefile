@@ -1,5 +1,6 @@
 # Quick start: `make demo` (set up + run the vault example and write its report),
-# `make test` (set up + browser + lint + tests). `make explore` runs the example design-space
+# `make test` (set up + browser + lint + import contracts + every test). `make test-fast` runs the
+# tests not marked slow (no FE engine, Dask cluster, browser or notebook kernel), under a minute. `make explore` runs the example design-space
 # sweep (270 variants on a local Dask cluster).
 PYTHON   ?= python3
 VENV     ?= .venv
@@ -8,7 +9,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore test lint bench bench-fea bench-thickness bench-explore clean
+.PHONY: setup blas browser demo explore test test-fast lint bench bench-fea bench-thickness bench-explore clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -68,9 +69,15 @@ explore: setup
 lint: setup
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/ruff format --check src tests benchmarks
+	$(BIN)/lint-imports --no-cache
 
 test: setup browser lint
 	$(BIN)/python -m pytest -q
+
+# the quick loop while editing: every test not marked slow, and ruff
+test-fast: setup
+	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/python -m pytest -q -m "not slow"
 
 bench: setup
 	$(BIN)/python benchmarks/bench_deploy.py

@@ -13,6 +13,7 @@ pytest.importorskip("matplotlib")
 NOTEBOOK = Path(__file__).resolve().parents[1] / "notebooks" / "tour.ipynb"
 
 
+@pytest.mark.slow
 def test_tour_notebook_runs_top_to_bottom(tmp_path, monkeypatch):
     monkeypatch.setenv("CCU_NOTEBOOK_OUT", str(tmp_path))
     nb = nbformat.read(NOTEBOOK, as_version=4)

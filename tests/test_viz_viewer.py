@@ -258,6 +258,7 @@ def test_figure_states_and_arguments(vault_model):
 
 
 # -- in the browser ---------------------------------------------------------------------------
+@pytest.mark.slow
 def test_page_loads_offline_without_errors(viewer):
     errors = [text for kind, text in viewer.log.console if kind == "error"]
     assert errors == [] and viewer.log.errors == []
@@ -267,6 +268,7 @@ def test_page_loads_offline_without_errors(viewer):
     assert external == []
 
 
+@pytest.mark.slow
 def test_scene_is_drawn_in_kind_colours(viewer):
     img = _shot(viewer.page, "design")
     assert img.shape[0] > 300 and img.shape[1] > 500
@@ -276,6 +278,7 @@ def test_scene_is_drawn_in_kind_colours(viewer):
         assert _kind_pixels(img, kind) > MIN_KIND_PIXELS, kind
 
 
+@pytest.mark.slow
 def test_slider_moves_through_the_states(viewer):
     page = viewer.page
     assert _slider_active(page) == STEPS
@@ -312,6 +315,7 @@ def test_slider_moves_through_the_states(viewer):
     assert _difference(_shot(page, "returned"), before_img) < MAX_RETURN
 
 
+@pytest.mark.slow
 def test_creases_toggle(viewer):
     page = viewer.page
     shown = _shot(page, "design")
@@ -335,6 +339,7 @@ def test_creases_toggle(viewer):
     assert _difference(again, shown) < MAX_RETURN
 
 
+@pytest.mark.slow
 def test_cut_patterns_toggle(viewer):
     page = viewer.page
     start = _shot(page, "design")
@@ -361,6 +366,7 @@ def test_cut_patterns_toggle(viewer):
     assert _difference(_shot(page, "cut-hidden"), start) < MAX_RETURN
 
 
+@pytest.mark.slow
 def test_play_deploys_from_the_folded_stack(viewer):
     page = viewer.page
     assert _slider_active(page) == STEPS

@@ -1,0 +1,99 @@
+"""The layering of the package (docs/architecture.md): contracts kept, every module in a layer,
+no function-local imports of the package's own modules, and the contracts catch what they must."""
+
+from __future__ import annotations
+
+import ast
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from compas_ccu.design.document import parse_toml
+
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src" / "compas_ccu"
+LINT_IMPORTS = Path(sys.executable).with_name("lint-imports")
+
+
+def _contracts() -> list:
+    return parse_toml((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]["contracts"]
+
+
+def _layered_modules() -> set:
+    layers = next(c for c in _contracts() if c["type"] == "layers")["layers"]
+    return {m.strip() for layer in layers for m in layer.split("|")}
+
+
+def _lint(root: Path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [str(LINT_IMPORTS), "--no-cache"],
+        cwd=root,
+        env={"PYTHONPATH": str(root / "src"), "PATH": "/usr/bin:/bin"},
+        capture_output=True,
+        text=True,
+    )
+
+
+def test_every_top_level_module_is_in_a_layer():
+    top = {
+        f"compas_ccu.{p.stem if p.is_file() else p.name}"
+        for p in SRC.iterdir()
+        if (p.suffix == ".py" and p.stem != "__init__") or (p / "__init__.py").exists()
+    }
+    assert top - _layered_modules() == set(), "add these modules to a layer in pyproject.toml"
+    assert _layered_modules() - top == set(), "these layers name modules that do not exist"
+
+
+def test_no_function_local_imports_of_the_package():
+    """Intra-package imports are module-level: only optional third-party extras load lazily."""
+    local = []
+    for path in sorted(SRC.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for func in ast.walk(tree):
+            if not isinstance(func, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            for node in ast.walk(func):
+                names = (
+                    [node.module or ""]
+                    if isinstance(node, ast.ImportFrom)
+                    else [a.name for a in node.names]
+                    if isinstance(node, ast.Import)
+                    else []
+                )
+                if any(n == "compas_ccu" or n.startswith("compas_ccu.") for n in names):
+                    local.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    assert local == []
+
+
+def test_the_import_contracts_are_kept():
+    result = _lint(ROOT)
+    assert result.returncode == 0, result.stdout[-3000:]
+    assert "0 broken" in result.stdout
+
+
+@pytest.fixture()
+def copy_of_the_project(tmp_path):
+    shutil.copytree(SRC, tmp_path / "src" / "compas_ccu")
+    shutil.copy(ROOT / "pyproject.toml", tmp_path)
+    return tmp_path
+
+
+def test_an_upward_import_breaks_the_layers_contract(copy_of_the_project):
+    schema = copy_of_the_project / "src" / "compas_ccu" / "design" / "schema.py"
+    schema.write_text(schema.read_text() + "\nimport compas_ccu.model  # noqa\n")
+    result = _lint(copy_of_the_project)
+    assert result.returncode == 1
+    assert "Layers: a module imports only from the layers below its own BROKEN" in result.stdout
+    assert "compas_ccu.design.schema -> compas_ccu.model" in result.stdout
+
+
+def test_a_cycle_breaks_the_acyclic_contract(copy_of_the_project):
+    leading = copy_of_the_project / "src" / "compas_ccu" / "kinematics" / "leading.py"
+    leading.write_text(leading.read_text() + "\nimport compas_ccu.kinematics.mechanism  # noqa\n")
+    result = _lint(copy_of_the_project)
+    assert result.returncode == 1
+    assert "No import cycles between the modules of any package BROKEN" in result.stdout
+    assert "compas_ccu.kinematics" in result.stdout
