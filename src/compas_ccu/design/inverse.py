@@ -147,7 +147,7 @@ def write_design(design, path, *, header: str | None = None) -> None:
     doc = clean(design.document)
     ordered = {k: doc[k] for k in ("design",) if k in doc}
     ordered.update({k: v for k, v in doc.items() if k != "design"})
-    text = header if header is not None else design.values["design"]["description"]
+    text = header if header is not None else design.sections.design.description
     comment = "".join(f"# {line}\n" for line in text.splitlines()) + ("\n" if text else "")
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(comment + tomli_w.dumps(ordered))
