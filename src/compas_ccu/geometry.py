@@ -13,6 +13,8 @@ layers all reflect in planes and fit planes).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from compas_ccu.errors import DesignError
@@ -25,6 +27,7 @@ __all__ = [
     "reflect_points",
     "fit_planes",
     "plane_frame",
+    "PlaneFrame",
     "rigid_align",
 ]
 
@@ -91,6 +94,35 @@ def plane_frame(origin, xaxis, yaxis):
         )
     y = unit(y)
     return np.asarray(origin, dtype=float), np.array([x, y, np.cross(x, y)])
+
+
+@dataclass(frozen=True)
+class PlaneFrame:
+    """The world frame of the leading crease plane.
+
+    Local coordinates: profile x, profile y (times ``flip``), distance from the plane.
+
+    Attributes
+    ----------
+    origin : (3,) float
+    axes : (3, 3) float
+        Rows: x axis, y axis, plane normal (world).
+    flip : float
+        +1 if the leading plate lies left of the profile, -1 if right (the local frame mirrors
+        profile y then).
+    """
+
+    origin: np.ndarray
+    axes: np.ndarray
+    flip: float
+
+    def to_world(self, local: np.ndarray) -> np.ndarray:
+        """World points from local points (..., 3)."""
+        return self.origin + self.vector_to_world(local)
+
+    def vector_to_world(self, local: np.ndarray) -> np.ndarray:
+        """World vectors from local vectors (..., 3)."""
+        return (local * np.array([1.0, self.flip, 1.0])) @ self.axes
 
 
 def rigid_align(source: np.ndarray, target: np.ndarray) -> np.ndarray:

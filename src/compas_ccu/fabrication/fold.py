@@ -73,6 +73,7 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.fabrication.meshes import crease_line, layout_offsets
+from compas_ccu.geometry import unit
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["ASSIGNMENTS", "crease_fold_angles", "fold_document", "read_fold", "write_fold"]
@@ -94,10 +95,6 @@ def _quad_normals(coords: np.ndarray, quads: np.ndarray) -> np.ndarray:
     """(f, 3) unnormalised quad normals ``(c - a) x (d - b)`` for (f, 4) quads."""
     q = coords[quads]
     return np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 1])
-
-
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
 def _signed_angle(nl, nr, e) -> np.ndarray:
@@ -196,8 +193,8 @@ def crease_fold_angles(data) -> dict:
         forward = _traverses(qa, ia[:-1], ia[1:])
         u = np.where(forward, ia[:-1], ia[1:])
         v = np.where(forward, ia[1:], ia[:-1])
-        nl, nr = _unit(_quad_normals(mid[a], qa)), _unit(_quad_normals(mid[b], qb))
-        out[c["id"]] = _signed_angle(nl, nr, _unit(mid[a, v] - mid[a, u]))
+        nl, nr = unit(_quad_normals(mid[a], qa)), unit(_quad_normals(mid[b], qb))
+        out[c["id"]] = _signed_angle(nl, nr, unit(mid[a, v] - mid[a, u]))
     return out
 
 
@@ -287,10 +284,10 @@ def _frame(data, coords, faces, *, hinges, merge_tol, state, dihedral, signs, fl
     measured = np.zeros(len(ukeys))
     interior = right >= 0
     if dim == 3 and interior.any():
-        normals = _unit(_quad_normals(vertices_coords, fv))
+        normals = unit(_quad_normals(vertices_coords, fv))
         ev = vertices_coords[edges[interior, 1]] - vertices_coords[edges[interior, 0]]
         measured[interior] = _signed_angle(
-            normals[left[interior]], normals[right[interior]], _unit(ev)
+            normals[left[interior]], normals[right[interior]], unit(ev)
         )
 
     assignment = np.full(len(ukeys), "U", dtype="<U1")

@@ -1,10 +1,47 @@
-"""Validity checks of placed states: creases that overlap themselves in their plane."""
+"""Validity checks: cut patterns whose rulings cross, creases that overlap themselves."""
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["total_turning", "self_intersecting"]
+__all__ = ["total_turning", "self_intersecting", "crossing_rulings"]
+
+
+def crossing_rulings(patterns: np.ndarray, quads: np.ndarray):
+    """The first quad of a cut pattern whose two rulings cross (the pattern folds over itself).
+
+    Parameters
+    ----------
+    patterns : (p, v, 2) float
+        Cut patterns of ``p`` plates.
+    quads : (n, 4) int
+        Quad ``j``'s vertices ``a, b, c, d`` with rulings ``a-d`` and ``b-c``.
+
+    Returns
+    -------
+    (plate, quad) or None
+
+    >>> import numpy as np
+    >>> good = np.array([[[0.0, 0], [1, 0], [1, 1], [0, 1]]])
+    >>> crossing_rulings(good, np.array([[0, 1, 2, 3]])) is None
+    True
+    >>> crossing_rulings(good[:, [0, 1, 3, 2]], np.array([[0, 1, 2, 3]]))
+    (0, 0)
+    """
+    a, b, c, d = (patterns[:, quads[:, i]] for i in range(4))
+    # rulings a-d and b-c of a quad must not meet: a + s (d - a) = b + t (c - b)
+    u, v, w = d - a, c - b, b - a
+
+    def cross(p, q):
+        return p[..., 0] * q[..., 1] - p[..., 1] * q[..., 0]
+
+    den = cross(u, v)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s, t = cross(w, v) / den, cross(w, u) / den
+    bad = np.argwhere((den != 0.0) & (s > 0.0) & (s <= 1.0) & (t > 0.0) & (t <= 1.0))
+    if bad.size == 0:
+        return None
+    return int(bad[0, 0]), int(bad[0, 1])
 
 
 def total_turning(points: np.ndarray) -> np.ndarray:

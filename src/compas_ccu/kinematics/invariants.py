@@ -16,7 +16,7 @@ from compas_ccu.kinematics.checks import self_intersecting
 from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import quad_lengths
 
-__all__ = ["invariant_errors", "overlapping_creases", "INVARIANT_KEYS"]
+__all__ = ["invariant_errors", "overlapping_creases", "overlap_limit", "INVARIANT_KEYS"]
 
 #: The scalar invariant errors of a state, metres (each also reported relative to the size).
 INVARIANT_KEYS = ("isometry", "quad_planarity", "hinge_gap", "mirror_error", "leading_in_plane")
@@ -96,3 +96,21 @@ def overlapping_creases(mechanism, states) -> np.ndarray:
             self_intersecting(hinge, states.plane_origins[:, ci], states.plane_normals[:, ci])
         )
     return np.stack(cols, axis=1)
+
+
+def overlap_limit(mechanism, *, bisections: int = 40) -> float:
+    """Largest reference alpha (radians) before a crease overlaps itself, or the limit.
+
+    Bisection on :func:`overlapping_creases` between the flat stack and the deployment limit.
+    """
+    limit = mechanism.alpha_limit
+    if not overlapping_creases(mechanism, mechanism.deploy(limit)).any():
+        return limit
+    lo, hi = 0.0, limit
+    for _ in range(bisections):
+        mid = 0.5 * (lo + hi)
+        if overlapping_creases(mechanism, mechanism.deploy(mid)).any():
+            hi = mid
+        else:
+            lo = mid
+    return lo

@@ -31,6 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from compas_ccu.geometry import unit
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["CreaseRelations", "crease_relations", "classify"]
@@ -61,10 +62,6 @@ class CreaseRelations(NamedTuple):
     eq3: np.ndarray
     eq4: np.ndarray
     eq5: np.ndarray
-
-
-def _unit(v):
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
 def _angle(a, b):
@@ -114,9 +111,9 @@ def crease_relations(
     CreaseRelations
     """
     p = np.asarray(hinge, dtype=float)
-    ra = _unit(np.asarray(ruling_a, dtype=float))
-    rb = _unit(np.asarray(ruling_b, dtype=float))
-    nrm = _unit(np.asarray(plane_normal, dtype=float))
+    ra = unit(np.asarray(ruling_a, dtype=float))
+    rb = unit(np.asarray(ruling_b, dtype=float))
+    nrm = unit(np.asarray(plane_normal, dtype=float))
     m = len(p)
     edges = np.diff(p, axis=0)
     h = np.linalg.norm(edges, axis=1)
@@ -147,11 +144,11 @@ def crease_relations(
     # reflection angle at the vertices: elevation of S (normal to T in span(T, ruling a))
     tangent = np.empty_like(p)
     tangent[0], tangent[-1] = u[0], u[-1]
-    tangent[1:-1] = _unit(u[:-1] + u[1:])
+    tangent[1:-1] = unit(u[:-1] + u[1:])
     if m >= 3:  # ends: the neighbouring tangent reflected in the end edge (as in strips.frames)
         tangent[0] = 2.0 * (tangent[1] @ u[0]) * u[0] - tangent[1]
         tangent[-1] = 2.0 * (tangent[-2] @ u[-1]) * u[-1] - tangent[-2]
-    tangent = _unit(tangent - np.outer(tangent @ nrm, nrm))
+    tangent = unit(tangent - np.outer(tangent @ nrm, nrm))
     s = ra - np.einsum("ij,ij->i", ra, tangent)[:, None] * tangent
     out_of_plane = np.abs(s @ nrm)
     alpha = np.arctan2(out_of_plane, np.linalg.norm(s - np.outer(s @ nrm, nrm), axis=1))

@@ -11,7 +11,6 @@ docs/structure-json.md (plate and crease ids, vertex order, world frame, units).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -20,10 +19,12 @@ from compas.data import Data
 from compas_ccu.design import Design, load_design
 from compas_ccu.design.build import build
 from compas_ccu.errors import DeploymentLimitError, GeometryError, SelfIntersectionError
-from compas_ccu.geometry import plane_frame
+from compas_ccu.geometry import PlaneFrame, plane_frame
+from compas_ccu.kinematics.checks import crossing_rulings
 from compas_ccu.kinematics.invariants import (
     INVARIANT_KEYS,
     invariant_errors,
+    overlap_limit,
     overlapping_creases,
 )
 from compas_ccu.kinematics.plates import PlateIndex, stack_rows
@@ -34,36 +35,7 @@ from compas_ccu.strips.rulings import vertex_reflection_angles
 from compas_ccu.structure import Structure
 from compas_ccu.tolerances import DIVISION_FLOOR
 
-__all__ = ["CCUModel", "PlaneFrame", "load_model"]
-
-
-@dataclass(frozen=True)
-class PlaneFrame:
-    """The world frame of the leading crease plane.
-
-    Local coordinates: profile x, profile y (times ``flip``), distance from the plane.
-
-    Attributes
-    ----------
-    origin : (3,) float
-    axes : (3, 3) float
-        Rows: x axis, y axis, plane normal (world).
-    flip : float
-        +1 if the leading plate lies left of the profile, -1 if right (the local frame mirrors
-        profile y then).
-    """
-
-    origin: np.ndarray
-    axes: np.ndarray
-    flip: float
-
-    def to_world(self, local: np.ndarray) -> np.ndarray:
-        """World points from local points (..., 3)."""
-        return self.origin + self.vector_to_world(local)
-
-    def vector_to_world(self, local: np.ndarray) -> np.ndarray:
-        """World vectors from local vectors (..., 3)."""
-        return (local * np.array([1.0, self.flip, 1.0])) @ self.axes
+__all__ = ["CCUModel", "load_model"]
 
 
 class CCUModel(Data):
@@ -275,21 +247,9 @@ class CCUModel(Data):
         * a flat-state design whose design angle lies beyond the deployment limit;
         * a crease that overlaps itself at the design state.
         """
-        flat = self.flat()
-        q = self.plates.quads
-        a, b, c, d = (flat[:, q[:, i], :2] for i in range(4))
-        # rulings a-d and b-c of a quad must not meet: a + s (d - a) = b + t (c - b)
-        u, v, w = d - a, c - b, b - a
-
-        def cross(p, q):
-            return p[..., 0] * q[..., 1] - p[..., 1] * q[..., 0]
-
-        den = cross(u, v)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            s_, t_ = cross(w, v) / den, cross(w, u) / den
-        bad = np.argwhere((den != 0.0) & (s_ > 0.0) & (s_ <= 1.0) & (t_ > 0.0) & (t_ <= 1.0))
-        if bad.size:
-            p, j = (int(v) for v in bad[0])
+        bad = crossing_rulings(self.flat()[..., :2], self.plates.quads)
+        if bad is not None:
+            p, j = bad
             raise GeometryError(
                 f"the rulings of plate {self.plate_ids[p]} cross between crease vertices {j} and "
                 f"{j + 1}: its cut pattern folds over itself (the crease is curved too tightly "
@@ -316,18 +276,7 @@ class CCUModel(Data):
     def overlap_alpha(self) -> float:
         """Largest reference alpha (degrees) before a crease overlaps itself (or the limit)."""
         if self._overlap_alpha is None:
-            limit = self.mechanism.alpha_limit
-            if not self.overlapping(self.mechanism.deploy(limit)).any():
-                self._overlap_alpha = math.degrees(limit)
-            else:
-                lo, hi = 0.0, limit
-                for _ in range(40):
-                    mid = 0.5 * (lo + hi)
-                    if self.overlapping(self.mechanism.deploy(mid)).any():
-                        hi = mid
-                    else:
-                        lo = mid
-                self._overlap_alpha = math.degrees(lo)
+            self._overlap_alpha = math.degrees(overlap_limit(self.mechanism))
         return self._overlap_alpha
 
     def invariants(self, states) -> dict:

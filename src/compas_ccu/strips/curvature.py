@@ -18,11 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.geometry import unit
+
 __all__ = ["plate_curvature"]
-
-
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
 def _distance_to_lines(points: np.ndarray, base: np.ndarray, direction: np.ndarray) -> np.ndarray:
@@ -67,8 +65,8 @@ def plate_curvature(vertices) -> np.ndarray:
     if n < 2:
         return out
     a, b, c, d = near[..., :-1, :], near[..., 1:, :], far[..., 1:, :], far[..., :-1, :]
-    normals = _unit(np.cross(c - a, d - b))  # (..., n, 3)
-    ruling = _unit(far - near)  # (..., n + 1, 3)
+    normals = unit(np.cross(c - a, d - b))  # (..., n, 3)
+    ruling = unit(far - near)  # (..., n + 1, 3)
     n0, n1, r = normals[..., :-1, :], normals[..., 1:, :], ruling[..., 1:-1, :]
     theta = np.arctan2(np.einsum("...i,...i", np.cross(n0, n1), r), np.einsum("...i,...i", n0, n1))
     kappa = []

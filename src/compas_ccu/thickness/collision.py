@@ -23,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from compas_ccu.geometry import unit
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["Contact", "plate_contacts"]
@@ -30,10 +31,6 @@ __all__ = ["Contact", "plate_contacts"]
 
 def _dot(a, b):
     return np.einsum("...i,...i", a, b)
-
-
-def _unit(v):
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
 class Contact(NamedTuple):
@@ -56,18 +53,18 @@ def _cells(mid_near, mid_far, offsets):
     """Half-space description of the cells of plates (..., n cells)."""
     a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]
     c, d = mid_far[..., 1:, :], mid_far[..., :-1, :]
-    normal = _unit(np.cross(c - a, d - b))
-    ruling = _unit(mid_far - mid_near)
-    side = _unit(np.cross(ruling, offsets))  # plane of ruling j and ν_j
+    normal = unit(np.cross(c - a, d - b))
+    ruling = unit(mid_far - mid_near)
+    side = unit(np.cross(ruling, offsets))  # plane of ruling j and ν_j
     # orient the side planes so that the cell is on their positive side
     centre = 0.25 * (a + b + c + d)
     s0 = side[..., :-1, :]
     s0 = s0 * np.sign(_dot(centre - a, s0))[..., None]
     s1 = side[..., 1:, :]
     s1 = s1 * np.sign(_dot(centre - b, s1))[..., None]
-    e_near = _unit(np.cross(normal, b - a))
+    e_near = unit(np.cross(normal, b - a))
     e_near = e_near * np.sign(_dot(centre - a, e_near))[..., None]
-    e_far = _unit(np.cross(normal, c - d))
+    e_far = unit(np.cross(normal, c - d))
     e_far = e_far * np.sign(_dot(centre - d, e_far))[..., None]
     return centre, normal, (a, s0), (b, s1), (a, e_near), (d, e_far)
 
