@@ -96,6 +96,7 @@ def test_available_reports_version(engine):
     assert ok and info[0].isdigit()
 
 
+@pytest.mark.slow
 def test_rollup_cantilever_matches_the_exact_circle_and_moment(engine):
     """Sze, Liu & Lo (2004): an end moment rolls the strip into arcs, a full circle at Mmax."""
     L, b, t, E = 12.0, 1.0, 0.1, 1.2e6
@@ -152,6 +153,7 @@ def sign_problem(directions=None, orthotropic=False, material=None, load="moment
     )
 
 
+@pytest.mark.slow
 def test_moment_sign_convention_and_rotated_element_frame(engine):
     """m11 > 0 stretches the top surface; forces are in the frame e1 = material direction."""
     moment = 1.0 / 0.5  # per unit width
@@ -180,6 +182,7 @@ def test_moment_sign_convention_and_rotated_element_frame(engine):
     )
 
 
+@pytest.mark.slow
 def test_orthotropic_direction_sets_the_stiff_axis(engine):
     wood = Material("ply", 10.0e9, 1.0e9, 0.6e9, 0.05, 600.0, 40e6, 20e6)
     if engine.__name__.endswith("kratos"):
@@ -234,6 +237,7 @@ def test_orthotropic_direction_sets_the_stiff_axis(engine):
         )
 
 
+@pytest.mark.slow
 def test_free_hinge_folds_180_degrees_without_forces(engine):
     n, steps = 4, 36
     nodes, elements, ties, lengths, offset = two_plates(n)
@@ -276,6 +280,7 @@ def test_free_hinge_folds_180_degrees_without_forces(engine):
     assert np.abs(result.displacements[:, :offset]).max() <= 1e-8
 
 
+@pytest.mark.slow
 def test_overload_does_not_converge_and_keeps_the_history(engine):
     L, b, t, E = 12.0, 1.0, 0.1, 1.2e6
     m_max = 2.0 * np.pi * E * b * t**3 / 12.0 / L
@@ -292,6 +297,7 @@ def test_overload_does_not_converge_and_keeps_the_history(engine):
     np.testing.assert_allclose(result.forces[0][:, 3], -0.1 * m_max, rtol=0.01)
 
 
+@pytest.mark.slow
 def test_cutting_a_step_recovers_the_same_answer(engine):
     L, b, t, E = 12.0, 1.0, 0.1, 1.2e6
     m_max = 2.0 * np.pi * E * b * t**3 / 12.0 / L
@@ -305,6 +311,7 @@ def test_cutting_a_step_recovers_the_same_answer(engine):
     assert cut.iterations[0] > whole.iterations[0]
 
 
+@pytest.mark.slow
 def test_prescribed_slave_node_is_swapped_to_master(engine):
     """Tie (A, B) with B prescribed: the same as plate A alone with its edge prescribed."""
     n, dz = 2, 0.05
@@ -369,6 +376,7 @@ def test_prescribed_slave_node_is_swapped_to_master(engine):
         engine.solve(both, **OPTIONS)
 
 
+@pytest.mark.slow
 def test_freed_dof_carrying_its_reaction_as_a_load_stays_put(engine):
     """Tip z prescribed in step 1, free in step 2 under its step-1 reaction as a load."""
     nodes, elements = grid(0.0, 1.0, 0.5, 4, 1)
@@ -415,6 +423,7 @@ def test_freed_dof_carrying_its_reaction_as_a_load_stays_put(engine):
     np.testing.assert_allclose(result.reactions[1][:2], first.reactions[-1][:2], atol=1e-3)
 
 
+@pytest.mark.slow
 def test_hinge_springs_and_spring_ties(engine):
     """A rotational hinge spring k resists a small fold with a moment k * crease length * angle."""
     n, angle, k = 2, 0.01, 5.0
@@ -447,6 +456,7 @@ def test_hinge_springs_and_spring_ties(engine):
     np.testing.assert_allclose(springs.displacements, rigid.displacements, atol=1e-8)
 
 
+@pytest.mark.slow
 def test_hinge_carries_half_the_load_of_a_simply_supported_plate(engine):
     """Plate B hangs between the hinge and a line support: each carries half its load."""
     n = 4
@@ -479,6 +489,7 @@ def test_hinge_carries_half_the_load_of_a_simply_supported_plate(engine):
     assert result.reactions[-1][: n + 1].sum(axis=0)[2] == pytest.approx(50.0, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_a_moment_on_a_free_hinge_has_no_equilibrium_and_is_reported(engine):
     """An impossible load: a moment about a free hinge line (a mechanism) never converges."""
     n = 2
@@ -501,6 +512,7 @@ def test_a_moment_on_a_free_hinge_has_no_equilibrium_and_is_reported(engine):
     assert "step 1" in result.message
 
 
+@pytest.mark.slow
 def test_linear_buckling_factor_of_a_compressed_cantilever_matches_euler(engine):
     """A strip clamped at one end, 5 N of compression at the other: P_cr = pi^2 E I / (4 L^2)."""
     L, b, t, E, P, n = 1.0, 0.1, 0.01, 1.0e9, 5.0, 20

@@ -3,13 +3,17 @@ agreement, non-convergence, the structural checks and ``ccu validate`` / ``ccu i
 
 from __future__ import annotations
 
+import ast
 import json
+from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from compas_ccu.cli import main
 from compas_ccu.design import load_design
+from compas_ccu.fea.comparison import compare
 from compas_ccu.fea.mesh import mesh_model
 from compas_ccu.fea.problem import ConvergenceError, FEError
 from compas_ccu.fea.record import agreement
@@ -78,6 +82,7 @@ def test_mesh_refuses_a_bad_element_size(cone):
 
 
 # -- the cone pair --------------------------------------------------------------------------------
+@pytest.mark.slow
 @pytest.mark.parametrize("engine", ["kratos", "opensees"])
 def test_cone_pair_deploys_within_0_3_percent_of_span_of_the_exact_cone(cone_runs, engine):
     v = cone_runs[engine]
@@ -89,6 +94,7 @@ def test_cone_pair_deploys_within_0_3_percent_of_span_of_the_exact_cone(cone_run
     radius = np.linalg.norm(crease - centre, axis=1)
     np.testing.assert_allclose(radius, 2.0 * np.cos(np.radians(40.0)), rtol=1e-12)
     assert 0.0 < s["deviation"]["max_percent"] <= 0.3
+    assert s["deviation"]["alignment"] == "none"  # the supports hold both in the same frame
     assert s["deviation"]["mean_percent"] < 0.1
     # the FE crease radius follows the cone to 0.3 % of the span
     fe = v.positions[-1][v.mesh.ties[:, 0]]
@@ -103,6 +109,7 @@ def test_cone_pair_deploys_within_0_3_percent_of_span_of_the_exact_cone(cone_run
     assert work[0] == 0.0 and np.all(np.diff(work) > 0.0)
 
 
+@pytest.mark.slow
 def test_engines_agree_on_the_cone_pair_to_three_digits(cone_runs):
     a = agreement(cone_runs["kratos"], cone_runs["opensees"])
     assert a["position_max_percent"] <= 1e-2  # 1e-4 of the span (measured 2.5e-5)
@@ -118,6 +125,7 @@ def test_engines_agree_on_the_cone_pair_to_three_digits(cone_runs):
     assert np.median(np.abs(ma - mo)) <= 1e-3 * ma.max()
 
 
+@pytest.mark.slow
 def test_hinges_of_the_cone_pair_carry_a_line_force_and_balance(cone_runs):
     v = cone_runs["kratos"]
     hinges = v.hinge_forces()
@@ -130,6 +138,7 @@ def test_hinges_of_the_cone_pair_carry_a_line_force_and_balance(cone_runs):
 
 
 # -- failures -------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_non_convergence_is_reported_with_step_and_residual(cone):
     with pytest.raises(ConvergenceError) as info:
         validate(cone, engine="kratos", max_iterations=1, max_cuts=0, checks=False, **FAST)
@@ -156,7 +165,45 @@ def test_bad_options_are_refused_with_the_value(cone):
         validate(cone, alpha=89.0, **FAST)
 
 
+def test_comparison_names_its_alignment_and_the_rigid_one_removes_a_rigid_motion():
+    rng = np.random.default_rng(1)
+    kinematic = rng.normal(size=(2, 30, 3))
+    c, s = np.cos(0.3), np.sin(0.3)
+    turn = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    moved = kinematic @ turn.T + [0.5, -0.2, 0.1]
+    history = SimpleNamespace(positions=moved, kinematic=kinematic, spans=np.array([2.0, 2.0]))
+    plain, rigid = compare(history), compare(history, alignment="rigid")
+    assert plain.alignment == "none" and rigid.alignment == "rigid"
+    assert plain.deviation.min() > 0.1 and rigid.deviation.max() < 1e-12
+    np.testing.assert_allclose(plain.deviation_percent(), 50.0 * plain.deviation)
+    with pytest.raises(FEError, match="alignment must be one of"):
+        compare(history, alignment="affine")
+
+
+def test_actuation_refuses_a_prebend_beyond_the_target(cone):
+    with pytest.raises(FEError, match="prebend must lie between 0 and the target 40 deg"):
+        validate(cone, mode="actuation", prebend=45.0, **FAST)
+
+
+def test_fea_modules_form_layers_and_only_output_draws():
+    """No import of compas_ccu inside a function (but viz in output), none of a private name."""
+    root = Path(__file__).resolve().parents[1] / "src" / "compas_ccu" / "fea"
+    for path in sorted(root.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        top = {id(node) for node in tree.body}
+        for node in ast.walk(tree):
+            module = getattr(node, "module", None) or ""
+            if not isinstance(node, ast.ImportFrom) or not module.startswith("compas_ccu"):
+                continue
+            assert not any(a.name.startswith("_") for a in node.names), (path.name, module)
+            if module.startswith("compas_ccu.viz"):
+                assert path.name == "output.py" and id(node) not in top, path.name
+            else:
+                assert id(node) in top, (path.name, module)
+
+
 # -- checks ---------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_structural_checks_on_the_deployed_state(cone):
     v = validate(cone, engine="opensees", element_size=0.2, steps=3, area_load=1500.0)
     c = v.summary()["checks"]
@@ -175,6 +222,7 @@ def test_structural_checks_on_the_deployed_state(cone):
     assert c["buckling_factor"] is None and "kratos" in c["buckling_note"]
 
 
+@pytest.mark.slow
 def test_buckling_factor_of_the_loaded_cone_pair_scales_with_the_load(cone):
     """Kratos: the factor falls roughly in proportion when the area load grows tenfold."""
     light = validate(cone, engine="kratos", area_load=1500.0, **FAST).summary()["checks"]
@@ -190,6 +238,7 @@ def test_buckling_factor_of_the_loaded_cone_pair_scales_with_the_load(cone):
     assert heavy["deflection_max_m"] > 10.0 * light["deflection_max_m"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("engine", ["kratos", "opensees"])
 def test_actuation_reaches_the_target_with_crease_end_actuators(cone, engine):
     v = validate(cone, engine=engine, mode="actuation", element_size=0.1, steps=8)
@@ -203,6 +252,7 @@ def test_actuation_reaches_the_target_with_crease_end_actuators(cone, engine):
     # no clamps at the plate ends: the shape relaxes more than under displacement control but
     # stays within 0.5 % of the span of the kinematic cone (measured 0.41 %)
     assert 0.2 < s["deviation"]["max_percent"] <= 0.5
+    assert s["deviation"]["alignment"] == "rigid" and v.alignment == "rigid"
     # the actuators push along the crease and pull the plates apart, more as alpha grows
     force = np.asarray(act["force_max_N"])
     assert force[1] == 0.0 and np.all(np.diff(force[2:]) > 0.0)
@@ -211,6 +261,7 @@ def test_actuation_reaches_the_target_with_crease_end_actuators(cone, engine):
 
 
 # -- command line ---------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_ccu_validate_writes_results_and_info_shows_them(tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("CCU_CACHE_DIR", str(tmp_path / "cache"))
     design = tmp_path / "cone.toml"
@@ -248,6 +299,7 @@ def test_ccu_validate_reports_a_bad_option(tmp_path, capsys):
     assert "element_size must be > 0" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_orthotropic_plywood_runs_on_opensees_and_is_refused_by_kratos(cone):
     """Birch plywood with E1 = 11 GPa along the crease, E2 = 6 GPa across (OpenSees only)."""
     options = dict(element_size=0.2, steps=2, checks=False, material="birch-plywood")

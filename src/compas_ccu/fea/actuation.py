@@ -1,33 +1,43 @@
-"""The paper's actuation: pre-bending, then forces at the crease ends, stepped iteratively (§3).
+"""Deployment by actuation, the paper's procedure (§3): pre-bending, then actuators at the
+crease ends, corrected iteratively.
 
-1. **Pre-bending** (``prebend`` degrees, default a quarter of the target): the end rulings follow
-   the kinematic path from the flat stack, so the plates leave the flat, bifurcating state bent
-   the right way (the paper's SOFiSTiK model needed it "to avoid buckling").
-2. **Actuation by forces**: the end rulings are released; the reactions that held the pre-bent
-   state stay on as (dead) loads, and the structure is driven by *actuators* at the crease ends
-   (the feet of every crease): a spring of stiffness ``actuator_stiffness`` from each foot to an
-   anchor that moves towards the foot's kinematic target. The actuator forces are results: split
-   into the component along the leading crease chord (the crease-aligned inward push) and the
-   rest (the outward pull, perpendicular to the crease planes).
-3. **Iteratively**: the springs stretch, so the anchors' final positions are corrected (up to
-   four runs) until the feet reach their targets to 0.1 % of the span.
+1. **Pre-bending** (``prebend`` degrees, default a quarter of the target, in ``max(2, steps //
+   4)`` steps): the end rulings of every plate (the supports) follow the kinematic path from the
+   flat stack, so the plates leave the flat, bifurcating state bent the right way (the paper's
+   SOFiSTiK model needed it "to avoid buckling"). This stage is solved alone first, for the
+   reactions that hold the pre-bent state.
+2. **Actuation** (the remaining steps): the supports are released; their pre-bending reactions
+   stay on as dead loads, and the structure is driven by *actuators* at the crease ends (the feet
+   of every crease, both plates' nodes): a spring of stiffness ``actuator_stiffness`` from each
+   foot to an anchor node that moves towards the foot's kinematic target. The actuator forces
+   are results, split into the component along the leading crease chord (the crease-aligned
+   push) and the rest (the pull perpendicular to it).
+3. **Iteratively**: the springs stretch, so the anchors' end positions are corrected by the
+   feet's miss (up to four runs) until the feet reach their targets to 0.1 % of the diagonal of
+   the deployed kinematic bounding box.
 
-Pure dead-load control (forces with a statically determinate restraint) was tried first: the
-released pair has no stable equilibrium under dead loads at its feet (Newton fails at 1/64 of the
-first force step even at a fifth of the force), which is why an actuator with a finite stiffness
-— a winch, a jack, a person — is the model here.
+An actuator with a finite stiffness (a jack, a winch, a person) rather than dead loads at the
+feet: the released structure has no stable equilibrium under dead loads there (``docs/fea.md``).
 
-The FE shape at each step is compared with the kinematic shape at the angle it actually reached
-(from the span of the leading crease), after a best-fit rigid alignment.
+The history (:class:`~compas_ccu.fea.history.DeploymentHistory`, anchors removed) holds at every
+step the kinematic state at the angle the FE structure actually reached — found from the span of
+the leading crease — not the scheduled one; its ``extra["actuation"]`` records the schedule, the
+angles reached, the actuator forces, the feet's miss per run and the plates' kinematic bending
+energy. The plate ends are free, so :func:`compas_ccu.fea.validation.validate` compares the shape
+after a best-fit rigid alignment (:mod:`compas_ccu.fea.comparison`).
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
+from compas_ccu.fea.history import DeploymentHistory
 from compas_ccu.fea.mesh import ShellMesh
-from compas_ccu.fea.problem import FEProblem, LoadPattern
-from compas_ccu.geometry import rigid_align
+from compas_ccu.fea.problem import FEError, FEProblem, FEResult, LoadPattern
+from compas_ccu.fea.settings import FESettings
+from compas_ccu.fea.solving import solve_steps, tie_set
 from compas_ccu.strips.curvature import plate_curvature
 
 __all__ = ["actuate", "bending_energy"]
@@ -53,14 +63,20 @@ def bending_energy(vertices: np.ndarray, rigidity: float) -> np.ndarray:
     return 0.5 * rigidity * (k2 * area).sum(axis=(-1, -2))
 
 
-def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
-    """Run the actuation procedure; returns a :class:`~compas_ccu.fea.validation.Validation`."""
-    from compas_ccu.fea.validation import Validation, _solve, _tie_set
+def actuate(model, mesh: ShellMesh, settings: FESettings, *, alpha: float) -> DeploymentHistory:
+    """Deploy ``mesh`` of ``model`` to ``alpha`` by pre-bending, then actuators (see above).
 
+    Raises
+    ------
+    FEError
+        ``prebend`` does not lie between 0 and the target.
+    ConvergenceError
+        A step of a run did not converge even after cutting it.
+    """
     s = settings
     pre = s.prebend if s.prebend is not None else alpha / 4.0
     if not (0.0 < pre < alpha):
-        raise ValueError(f"prebend must lie between 0 and the target {alpha:g} deg, got {pre!r}")
+        raise FEError(f"prebend must lie between 0 and the target {alpha:g} deg, got {pre!r}")
     s1 = max(2, s.steps // 4)
     s2 = max(2, s.steps - s1)
     alphas1 = np.linspace(0.0, pre, s1 + 1)[1:]
@@ -73,7 +89,7 @@ def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
     anchors = n_nodes + np.arange(len(feet))
     nodes = np.vstack([mesh.nodes, mesh.nodes[feet]])
     hinge_k = 1e11  # N/m per m of crease: rigid for plates of this size (checked in the tests)
-    ties, lengths, _, _ = _tie_set(mesh, supports)
+    ties, lengths, _, _ = tie_set(mesh, supports)
     ties_all = np.vstack([ties, np.c_[anchors, feet]])
     lengths_all = np.r_[lengths, np.full(len(feet), s.actuator_stiffness / hinge_k)]
     common = dict(
@@ -98,7 +114,7 @@ def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
     stage1 = FEProblem(
         steps=s1, fixed=fixed, prescribed=np.concatenate([u_sup, u_feet], 1)[:s1], **common
     )
-    first = _solve(stage1, s, alphas1)
+    first = solve_steps(stage1, s, alphas1)
     hold = np.zeros((len(nodes), 6))
     hold[supports, :3] = first.reactions[-1][: len(supports)]
     held = np.r_[np.zeros(s1 - 1), np.ones(s2 + 1)]  # full while the supports still hold
@@ -118,7 +134,7 @@ def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
             patterns=[LoadPattern("pre-bending reactions", hold, held)],
             **common,
         )
-        result = _solve(problem, s, np.r_[alphas1, alphas2])
+        result = solve_steps(problem, s, np.r_[alphas1, alphas2])
         x = result.positions(nodes)
         miss = kin[-1, feet] - x[-1, feet]
         history.append(float(np.linalg.norm(miss, axis=1).max()))
@@ -140,29 +156,13 @@ def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
     reached = np.interp(fe_span, kin_span[order], dense[order])
     matched_states = model.path(reached, check=False)
     matched = mesh.kinematic(np.array([st.deployed for st in matched_states]))
-    aligned = np.array(
-        [np.linalg.norm(rigid_align(x[k], matched[k]) - matched[k], axis=1) for k in range(steps)]
-    )
     chord = x[:, ends[1]] - x[:, ends[0]]
     chord /= np.linalg.norm(chord, axis=1, keepdims=True)
     along = np.einsum("kfi,ki->kf", forces, chord)
     across = np.linalg.norm(forces - along[..., None] * chord[:, None], axis=2)
-    trimmed = _strip_anchors(result, n_nodes)
-    v = Validation(
-        model,
-        mesh,
-        s,
-        problem,
-        trimmed,
-        reached,
-        matched,
-        np.array([st.metrics["span"] for st in matched_states]),
-        steps,
-    )
-    v.extra["aligned"] = aligned
     rigidity = s.material.isotropic_equivalent().E1 * s.thickness**3 / 12.0
     rigidity /= 1.0 - s.material.isotropic_equivalent().nu12 ** 2
-    v.extra["actuation"] = {
+    record = {
         "prebend_deg": pre,
         "prebend_steps": s1,
         "force_steps": s2,
@@ -178,13 +178,22 @@ def actuate(model, mesh: ShellMesh, settings, *, alpha: float):
             bending_energy(matched_states[-1].deployed[None], rigidity)[0]
         ),
     }
-    return v
+    return DeploymentHistory(
+        model,
+        mesh,
+        s,
+        problem,
+        _strip_anchors(result, n_nodes),
+        reached,
+        matched,
+        np.array([st.metrics["span"] for st in matched_states]),
+        steps,
+        extra={"actuation": record},
+    )
 
 
-def _strip_anchors(result, n_nodes: int):
+def _strip_anchors(result: FEResult, n_nodes: int) -> FEResult:
     """The result without the anchor nodes (reactions keep the anchors: the actuator forces)."""
-    from dataclasses import replace
-
     return replace(
         result,
         displacements=result.displacements[:, :n_nodes],

@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.fea.stresses import principal
+
 __all__ = ["cache_folder", "remember", "last_validation", "agreement"]
 
 
@@ -65,8 +67,6 @@ def agreement(a, b) -> dict:
     Returns the largest node position difference in % of span, and relative differences of the
     peak deviation, peak moment and peak bending stress at the target state.
     """
-    from compas_ccu.fea.stresses import principal
-
     k = a.deployment_steps - 1
     span = float(a.spans[k])
     dx = np.linalg.norm(a.positions[k] - b.positions[k], axis=1).max()

@@ -10,16 +10,13 @@ Both are optional dependencies (``pip install compas_ccu[fea]``), imported only 
 
 from __future__ import annotations
 
-import importlib
-
+from compas_ccu.fea.engines import kratos, opensees
 from compas_ccu.fea.problem import FEError
 
 __all__ = ["ENGINES", "get_engine", "solve", "available"]
 
-ENGINES = {
-    "kratos": "compas_ccu.fea.engines.kratos",
-    "opensees": "compas_ccu.fea.engines.opensees",
-}
+#: The backend modules by name (cheap to import: each imports its engine only when used).
+ENGINES = {"kratos": kratos, "opensees": opensees}
 
 DEFAULTS = {"tolerance": 1e-6, "max_iterations": 30, "max_cuts": 6, "buckling": False}
 
@@ -28,7 +25,7 @@ def get_engine(name: str):
     """The backend module ``name`` (it has ``solve`` and ``available``)."""
     if name not in ENGINES:
         raise FEError(f"unknown FE engine {name!r}; known: {sorted(ENGINES)}")
-    return importlib.import_module(ENGINES[name])
+    return ENGINES[name]
 
 
 def available(name: str) -> tuple:

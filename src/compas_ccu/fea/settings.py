@@ -1,0 +1,115 @@
+"""The options of an FE validation: one dataclass, checked on construction.
+
+>>> s = FESettings(engine="opensees", steps=4)
+>>> s.mode, s.material.name
+('displacement', 'plywood')
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from compas_ccu.fea.problem import FEError
+from compas_ccu.materials import material as get_material
+
+__all__ = ["FESettings", "MODES", "CONTROLS", "GRAVITY"]
+
+MODES = ("displacement", "actuation")
+CONTROLS = ("supports", "edges")
+GRAVITY = 9.81
+
+
+@dataclass
+class FESettings:
+    """Options of an FE validation (SI units; angles in degrees).
+
+    Attributes
+    ----------
+    engine : {"kratos", "opensees"}
+    mode : {"displacement", "actuation"}
+        The deployment strategy: :mod:`compas_ccu.fea.displacement` or
+        :mod:`compas_ccu.fea.actuation`.
+    element_size : float
+        Target element edge length, m.
+    steps : int
+        Deployment increments from the flat stack to the target.
+    alpha : float or None
+        Target reference reflection angle, degrees (None: the design's).
+    material : str or dict
+        A name of :data:`compas_ccu.materials.MATERIALS` or a dict of values.
+    thickness : float
+        m (default 8 mm plywood).
+    orthotropic : bool
+        E1 along the crease, E2 across (else the isotropic equivalent).
+    hinge_stiffness : float
+        Rotational hinge spring, N m / rad per m of crease (0: free hinges).
+    hinge_translational_stiffness : float or None
+        Displacement mode: in-plane / out-of-plane hinge springs, N/m per m, instead of rigid
+        ties.
+    control : {"supports", "edges"}
+        Displacement mode: which nodes follow the kinematic path.
+    self_weight : bool
+        Displacement mode: self-weight during the deployment too.
+    checks : bool
+        Displacement mode: run the structural checks (self-weight + ``area_load``, and the
+        linear buckling factor) on the deployed state.
+    area_load : float
+        Distributed load on the plates for the checks, Pa (1.5 kN/m² of wet concrete).
+    deflection_limit : float
+        Allowed deflection as a fraction of the span (1/500).
+    prebend : float
+        Actuation mode: pre-bending angle, degrees (default: a quarter of the target).
+    actuator_stiffness : float
+        Actuation mode: stiffness of the actuator at every crease end, N/m.
+    tolerance, max_cuts, max_iterations
+        Newton options of the engine.
+    """
+
+    engine: str = "kratos"
+    mode: str = "displacement"
+    element_size: float = 0.1
+    steps: int = 8
+    alpha: float | None = None
+    material: object = "plywood"
+    thickness: float = 0.008
+    orthotropic: bool = False
+    hinge_stiffness: float = 0.0
+    hinge_translational_stiffness: float | None = None
+    control: str = "supports"
+    self_weight: bool = False
+    checks: bool = True
+    area_load: float = 1500.0
+    deflection_limit: float = 1.0 / 500.0
+    prebend: float | None = None
+    actuator_stiffness: float = 2.0e5
+    tolerance: float = 1e-6
+    max_cuts: int = 6
+    max_iterations: int = 30
+
+    def __post_init__(self):
+        if self.mode not in MODES:
+            raise FEError(f"mode must be one of {MODES}, got {self.mode!r}")
+        if self.control not in CONTROLS:
+            raise FEError(f"control must be one of {CONTROLS}, got {self.control!r}")
+        if not (isinstance(self.steps, int) and self.steps >= 1):
+            raise FEError(f"steps must be an integer >= 1, got {self.steps!r}")
+        for key in ("thickness", "element_size"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0.0):
+                raise FEError(f"{key} must be > 0, got {v!r}")
+        if self.area_load < 0.0 or not (0.0 < self.deflection_limit < 1.0):
+            raise FEError(
+                f"area_load must be >= 0 Pa and deflection_limit in (0, 1), got "
+                f"{self.area_load!r} and {self.deflection_limit!r}"
+            )
+        self.material = get_material(self.material)
+
+    @classmethod
+    def from_options(cls, options: dict) -> FESettings:
+        """Settings from keyword options; an unknown key raises :class:`FEError` naming it."""
+        known = cls.__dataclass_fields__
+        unknown = sorted(set(options) - set(known))
+        if unknown:
+            raise FEError(f"unknown FE option(s) {unknown}; known: {sorted(known)}")
+        return cls(**options)
