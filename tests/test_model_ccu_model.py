@@ -9,6 +9,7 @@ import compas
 import numpy as np
 import pytest
 
+from compas_ccu.io import write_obj
 from compas_ccu.kinematics.mechanism import CreasePlanes
 from compas_ccu.model import CCUModel, load_model
 from compas_ccu.strips.intrinsics import quad_lengths
@@ -72,3 +73,13 @@ def test_hinge_planes_of_zero_thickness_reproduce_the_thin_mechanism(vault_model
     assert np.abs(thick.far - thin.far).max() < 1e-12 * size
     assert planes.corrections.shape == (2, 9, vault_model.segments + 1)
     assert np.abs(planes.corrections).max() < 1e-12 * size
+
+
+def test_a_state_name_is_checked_not_guessed(cone_model, tmp_path):
+    s = cone_model.deploy()
+    assert s.points("flat") is s.flat and s.points("deployed") is s.deployed
+    for bad in ("Deployed", "deployed ", "folded"):
+        with pytest.raises(ValueError, match=r"state must be one of 'deployed', 'flat', got"):
+            write_obj(s, tmp_path / "x.obj", state=bad)
+        with pytest.raises(ValueError, match=r"state must be one of"):
+            s.to_meshes(state=bad)

@@ -38,6 +38,7 @@ from compas_ccu.fea.mesh import ShellMesh
 from compas_ccu.fea.problem import FEError, FEProblem, FEResult, LoadPattern
 from compas_ccu.fea.settings import FESettings
 from compas_ccu.fea.solving import solve_steps, tie_set
+from compas_ccu.kinematics.plates import plate_quads
 from compas_ccu.strips.curvature import plate_curvature
 
 __all__ = ["actuate", "bending_energy"]
@@ -55,11 +56,11 @@ def bending_energy(vertices: np.ndarray, rigidity: float) -> np.ndarray:
     v = np.asarray(vertices, dtype=float)
     n = v.shape[-2] // 2 - 1
     kappa = plate_curvature(v)
-    j = np.arange(n)
-    a, b, c, d = v[..., j, :], v[..., j + 1, :], v[..., n + 2 + j, :], v[..., n + 1 + j, :]
+    q = plate_quads(n)
+    a, b, c, d = (v[..., q[:, i], :] for i in range(4))
     area = 0.5 * np.linalg.norm(np.cross(c - a, d - b), axis=-1)
-    k2 = (kappa[..., j] ** 2 + kappa[..., j + 1] ** 2) / 2.0
-    k2 = (k2 + (kappa[..., n + 1 + j] ** 2 + kappa[..., n + 2 + j] ** 2) / 2.0) / 2.0
+    k2 = (kappa[..., q[:, 0]] ** 2 + kappa[..., q[:, 1]] ** 2) / 2.0
+    k2 = (k2 + (kappa[..., q[:, 3]] ** 2 + kappa[..., q[:, 2]] ** 2) / 2.0) / 2.0
     return 0.5 * rigidity * (k2 * area).sum(axis=(-1, -2))
 
 

@@ -9,7 +9,7 @@ How the two shapes are laid over each other is explicit, :attr:`Comparison.align
 * ``"none"`` — as they are, in the model's frame. Right when the FE supports follow the
   kinematic path (displacement control): both shapes share the supports' frame.
 * ``"rigid"`` — the FE shape moved first by the best-fit rotation and translation onto the
-  kinematic one (:func:`compas_ccu.analysis.alignment.rigid_align`), step by step. Right when
+  kinematic one (:func:`compas_ccu.geometry.rigid_align`), step by step. Right when
   nothing holds the structure to the model's frame (actuation: the plate ends are free).
 """
 
@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from compas_ccu.analysis.alignment import rigid_align
 from compas_ccu.fea.history import DeploymentHistory
 from compas_ccu.fea.problem import FEError
 from compas_ccu.fea.stresses import signed_bending_stress
+from compas_ccu.geometry import rigid_align
 
 __all__ = ["Comparison", "compare", "ALIGNMENTS"]
 

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.fea.problem import FEError
+from compas_ccu.kinematics.plates import plate_quads
 
 __all__ = ["ShellMesh", "mesh_model"]
 
@@ -98,11 +99,10 @@ class ShellMesh:
         v = np.asarray(vertices, dtype=float)
         single = v.ndim == 3
         v = v[None] if single else v
-        n = self.segments
-        p, j = self.node_plate, self.node_quad
+        q = plate_quads(self.segments)[self.node_quad]  # (nodes, 4) corners a, b, c, d
+        p = self.node_plate
         u, w = self.node_uv[:, 0:1], self.node_uv[:, 1:2]
-        a, b = v[:, p, j], v[:, p, j + 1]
-        d, c = v[:, p, n + 1 + j], v[:, p, n + 2 + j]
+        a, b, c, d = (v[:, p, q[:, i]] for i in range(4))
         x = (1 - u) * (1 - w) * a + u * (1 - w) * b + u * w * c + (1 - u) * w * d
         return x[0] if single else x
 
