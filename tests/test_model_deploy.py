@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from compas_ccu.design import Design
 from compas_ccu.errors import DeploymentLimitError, SelfIntersectionError
 from compas_ccu.model import CCUModel
 from conftest import make_design
@@ -248,3 +249,47 @@ def test_profile_errors_are_design_errors_naming_the_section():
                 crease={"profile": "spline", "span": 2.0, "points": [[0, 0], [1, 1], [2, 0]]}
             )
         )
+
+
+RULINGS = {
+    "orthogonal": {"type": "orthogonal"},
+    "cylindrical": {"type": "cylindrical", "direction": [0.2, -1.0]},
+    "conical": {"type": "conical", "apex": [0.3, -3.0]},
+    "angle": {"type": "angle", "gamma": 80.0},
+}
+
+
+@pytest.mark.parametrize("reference", [0.0, 0.03, 0.5, 0.97, 1.0])
+@pytest.mark.parametrize("segments", [4, 16])
+@pytest.mark.parametrize("rulings", list(RULINGS))
+def test_the_design_state_is_reproduced_for_every_reference_vertex(rulings, segments, reference):
+    """A reference vertex at an end of the crease (0.03 of 16 segments rounds to vertex 0) used to
+    deploy orthogonal rulings 3 mm (16 segments) to 49 mm (4) away from the design while every
+    invariant said 1e-16; cylindrical and conical ones reported limits up to 141.6 deg."""
+    design = make_design(
+        crease={"profile": "arc", "span": 2.5, "rise": 1.0, "segments": segments},
+        rulings=RULINGS[rulings],
+    )
+    design.document["crease"]["reference"] = reference
+    model = CCUModel(Design(design.document))
+    g = model.geometry
+    st = model.mechanism.deploy(g.design_alpha)
+    miss = max(np.abs(st.near[0] - g.design_near).max(), np.abs(st.far[0] - g.design_far).max())
+    assert miss < 1e-12 * model.size
+    assert 0.0 < model.alpha_limit <= 90.0
+    near_limit = 0.95 * model.alpha_limit
+    alpha = np.asarray(model.deploy(near_limit, check=False).metrics["alpha_leading"])
+    assert alpha[model.reference] == pytest.approx(near_limit, abs=1e-9)
+    with pytest.raises(DeploymentLimitError, match="beyond the deployment limit"):
+        model.deploy(min(model.alpha_limit + 1.0, 95.0))
+
+
+def test_a_limit_at_90_degrees_names_the_reference_vertex():
+    design = make_design(
+        crease={"profile": "arc", "span": 2.5, "rise": 1.0, "segments": 16, "reference": 1.0},
+        rulings=RULINGS["cylindrical"],
+    )
+    model = CCUModel(design)
+    assert model.alpha_limit == 90.0
+    with pytest.raises(DeploymentLimitError, match=r"the surface at reference vertex 16 stands"):
+        model.deploy(120.0)

@@ -233,8 +233,25 @@ class LeadingStrip:
     def alpha_limit(self) -> float:
         """Largest reachable reference reflection angle, radians (the deployment limit)."""
         if self._alpha_limit is None:
-            self._alpha_limit = float(self.reference_alpha(self.s0_max)[0])
+            at_max = float(self.reference_alpha(self.s0_max)[0])
+            # a reflection angle is at most 90 deg: where the surface at the reference vertex
+            # stands perpendicular to O before any segment does, that is the limit
+            self._alpha_limit = min(at_max, 0.5 * math.pi)
         return self._alpha_limit
+
+    @property
+    def limit_reason(self) -> str:
+        """What stands perpendicular to the crease plane at the deployment limit."""
+        j = self.limit_segment
+        if self.alpha_limit >= 0.5 * math.pi:
+            return (
+                f"the surface at reference vertex {self.reference} stands perpendicular to the "
+                "crease plane (alpha = 90 deg)"
+            )
+        return (
+            f"crease segment {j} (crease vertices {j}-{j + 1}) stands perpendicular to the "
+            "crease plane"
+        )
 
     def s0_for_alpha(self, alpha) -> np.ndarray:
         """Invert :meth:`reference_alpha`: the degree of freedom for reference angles ``alpha``.
@@ -268,8 +285,7 @@ class LeadingStrip:
             raise DeploymentLimitError(
                 f"alpha = {bad:.6g} deg is beyond the deployment limit: the largest reachable "
                 f"alpha at reference vertex {self.reference} is {math.degrees(limit):.6g} deg, "
-                f"where crease segment {j} (crease vertices {j}-{j + 1}) stands perpendicular "
-                "to the crease plane",
+                f"where {self.limit_reason}",
                 alpha=bad,
                 alpha_limit=math.degrees(limit),
                 vertex=j,

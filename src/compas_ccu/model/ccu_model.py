@@ -33,7 +33,7 @@ from compas_ccu.kinematics.relaxation import links_from_mechanism, relax
 from compas_ccu.strips.intrinsics import quad_lengths
 from compas_ccu.strips.rulings import vertex_reflection_angles
 from compas_ccu.structure import Structure
-from compas_ccu.tolerances import DIVISION_FLOOR
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 
 __all__ = ["CCUModel", "load_model"]
 
@@ -245,6 +245,8 @@ class CCUModel(Data):
         * rulings that cross inside a plate (a quad of the cut pattern folds over: the crease
           is curved too tightly for the plate's width there);
         * a flat-state design whose design angle lies beyond the deployment limit;
+        * a mechanism that does not reproduce its own design state (an internal inconsistency:
+          never silently deploy something other than the design);
         * a crease that overlaps itself at the design state.
         """
         bad = crossing_rulings(self.flat()[..., :2], self.plates.quads)
@@ -260,11 +262,21 @@ class CCUModel(Data):
         if self.alpha_design > limit:
             raise DeploymentLimitError(
                 f"the design alpha {self.alpha_design:.6g} deg cannot be reached: this cut "
-                f"pattern unfolds at most to {limit:.6g} deg, where crease segment "
-                f"{self.limit_vertex} of the leading crease stands perpendicular to its plane",
+                f"pattern unfolds at most to {limit:.6g} deg, where "
+                f"{self.mechanism.leading.limit_reason}",
                 alpha=self.alpha_design,
                 alpha_limit=limit,
                 vertex=self.limit_vertex,
+            )
+        g = self.geometry
+        s0 = self.mechanism.leading.s0_for_alpha(g.design_alpha) if g.state == "deployed" else 0.0
+        st = self.mechanism.place(s0)
+        miss = max(np.abs(st.near[0] - g.design_near).max(), np.abs(st.far[0] - g.design_far).max())
+        if not miss <= EXACT_RELATIVE * self.size:
+            raise GeometryError(
+                f"the mechanism misses its own design state by {miss:.3g} m at alpha "
+                f"{self.alpha_design:.6g} deg (reference vertex {self.reference}); this is a bug "
+                "in compas_ccu, please report it with the design file"
             )
         self.deploy(check=True)  # raises SelfIntersectionError with the crease and the angle
 

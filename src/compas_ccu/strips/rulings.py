@@ -105,7 +105,15 @@ def rulings_from_tilts(points: np.ndarray, tilts: np.ndarray, gamma=None) -> np.
 
 
 def _reference_turn(points: np.ndarray, reference: int) -> float:
-    return float(crease_frames(points).turns[reference])
+    """The crease turn that sets the discrete tangent at ``reference``.
+
+    At an end vertex the tangent is the end edge turned back by half the neighbouring turn
+    (:func:`compas_ccu.strips.frames.crease_frames`), so the neighbouring turn counts there.
+    """
+    turns = crease_frames(points).turns
+    if len(turns) > 2 and reference in (0, len(turns) - 1):
+        return float(turns[1] if reference == 0 else turns[-2])
+    return float(turns[reference])
 
 
 def orthogonal_rulings(points: np.ndarray, *, alpha: float, reference: int) -> np.ndarray:
