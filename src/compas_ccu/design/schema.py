@@ -33,8 +33,17 @@ class Key:
     columns: int = 0  # kind "rows": numbers per row
 
 
+#: The largest length a design may give, m: beyond it the profile solvers lose their precision
+#: long before a plate structure could exist.
+MAX_LENGTH = 1.0e6
+
+
 def _positive(v):
-    return v > 0.0
+    return 0.0 < v <= MAX_LENGTH
+
+
+def _non_negative(v):
+    return 0.0 <= v <= MAX_LENGTH
 
 
 def _angle_open(v):
@@ -65,14 +74,14 @@ SCHEMA: dict = {
             "float",
             "Distance between the end points, m.",
             check=_positive,
-            check_doc="> 0",
+            check_doc="> 0 and <= 1e6",
             when="arc, catenary, elastica, funicular",
         ),
         "rise": Key(
             "float",
             "Height of the apex above the chord, m.",
             check=_positive,
-            check_doc="> 0",
+            check_doc="> 0 and <= 1e6",
             when="arc, catenary, elastica, funicular",
         ),
         "point_loads": Key(
@@ -94,7 +103,7 @@ SCHEMA: dict = {
             "float",
             "Arc radius, m (instead of span and rise).",
             check=_positive,
-            check_doc="> 0",
+            check_doc="> 0 and <= 1e6",
             when="arc",
         ),
         "angle": Key(
@@ -207,7 +216,7 @@ SCHEMA: dict = {
             "float",
             "Ruling length of the plates of a single crease, m.",
             check=_positive,
-            check_doc="> 0",
+            check_doc="> 0 and <= 1e6",
             when="single",
         ),
         "quadrants": Key(
@@ -221,7 +230,7 @@ SCHEMA: dict = {
             "float",
             "Ruling length of the continuation plates, m (default: width).",
             check=_positive,
-            check_doc="> 0",
+            check_doc="> 0 and <= 1e6",
             when="single",
         ),
         "plates": Key(
@@ -238,7 +247,7 @@ SCHEMA: dict = {
             "k + 1). For 'inclined': the distance above the crease's reference vertex (the "
             "apex of a symmetric arch), measured normal to the leading plane.",
             check=_positive,
-            check_doc="> 0",
+            check_doc="> 0 and <= 1e6",
             when="parallel, inclined",
         ),
         "spacing_start": Key(
@@ -246,8 +255,8 @@ SCHEMA: dict = {
             "Distance between consecutive crease planes above the crease's start vertex "
             "(a support), m; default: spacing. Differing from spacing inclines the plane "
             "about the actuation rotation axis.",
-            check=lambda v: v >= 0.0,
-            check_doc=">= 0",
+            check=_non_negative,
+            check_doc=">= 0 and <= 1e6",
             when="inclined",
         ),
         "spacing_end": Key(
@@ -255,8 +264,8 @@ SCHEMA: dict = {
             "Distance between consecutive crease planes above the crease's end vertex "
             "(the other support), m; default: spacing_start. Differing from spacing_start "
             "inclines the plane perpendicular to the actuation rotation axis.",
-            check=lambda v: v >= 0.0,
-            check_doc=">= 0",
+            check=_non_negative,
+            check_doc=">= 0 and <= 1e6",
             when="inclined",
         ),
         "angle": Key(
@@ -336,7 +345,7 @@ SCHEMA: dict = {
             "Width of the textile hinge strips centred on the creases, m.",
             default=0.05,
             check=_positive,
-            check_doc="> 0",
+            check_doc="> 0 and <= 1e6",
         ),
     },
     "plane": {
@@ -465,18 +474,28 @@ RULES = (
 
 
 def _is_number(v) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    """A finite real number that a float holds (TOML integers may have any number of digits)."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return False
+    if isinstance(v, int):
+        return abs(v) <= 2**1023
+    return math.isfinite(v)
+
+
+def _short(value, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else f"{text[: limit - 3]}..."
 
 
 def _coerce(section: str, name: str, key: Key, value):
     where = f"{section}.{name}"
 
     def fail(what):
-        raise DesignError(f"{what}, got {value!r}", key=where)
+        raise DesignError(f"{what}, got {_short(value)}", key=where)
 
     if key.kind == "float":
         if not _is_number(value):
-            fail("must be a number")
+            fail("must be a finite number")
         value = float(value)
     elif key.kind == "int":
         if not isinstance(value, int) or isinstance(value, bool):
