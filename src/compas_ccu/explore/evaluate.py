@@ -16,6 +16,10 @@ import time
 
 import numpy as np
 
+from compas_ccu.design.model import Design
+from compas_ccu.explore import metrics as mx
+from compas_ccu.thickness import ThickModel
+
 __all__ = ["evaluate_variant", "STAGES", "row_template"]
 
 #: Stages of an evaluation, in order; each is timed in the column ``t_<stage>`` (seconds).
@@ -24,10 +28,8 @@ STAGES = ("model", "path", "thickness", "collisions", "fe")
 
 def row_template(*, collisions: bool = False, fe: bool = False) -> dict:
     """A row with every column of an evaluation set to None (metrics, status, timings)."""
-    from compas_ccu.explore.metrics import metric_names
-
     row = {"status": None, "stage": None, "error_type": None, "error": None}
-    row.update(dict.fromkeys(metric_names(collisions=collisions, fe=fe)))
+    row.update(dict.fromkeys(mx.metric_names(collisions=collisions, fe=fe)))
     row["seconds"] = None
     row.update({f"t_{s}": None for s in STAGES})
     row["worker"] = None
@@ -71,15 +73,11 @@ def evaluate_variant(
     >>> bad["status"], bad["stage"], bad["error_type"]
     ('failed', 'model', 'DeploymentLimitError')
     """
-    from compas_ccu.explore import metrics as mx
-
     row = row_template(collisions=collisions, fe=fe is not None)
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     start = time.perf_counter()
     stage = "model"
     try:
-        from compas_ccu.design.model import Design
-
         t = time.perf_counter()
         model = Design(document).build()
         structure = model.deploy()
@@ -94,10 +92,8 @@ def evaluate_variant(
 
         stage = "thickness"
         t = time.perf_counter()
-        from compas_ccu.thickness import ThickModel
-
         thick = ThickModel(model)
-        row.update(mx.thickness_metrics(thick, alphas, row["plate_area"]))
+        row.update(mx.thickness_metrics(thick, alphas))
         row["t_thickness"] = time.perf_counter() - t
 
         if collisions:
