@@ -310,8 +310,9 @@ def _cmd_catalog(args) -> int:
         expected = row["expected"] or "-"
         _say(
             args,
-            f"{row['name']:<26} expected {expected:<12} measured {row['global_curvature']:<12} "
-            f"planarity {row['planarity_max']:.1e} m",
+            f"{row['name']:<26} expected {expected:<12} measured "
+            f"{row['global_curvature'] or 'n/a':<12} "
+            f"planarity {row['crease_planarity_path']:.1e} m",
         )
     _say(args, f"wrote {len(result['files'])} files into {Path(args.out)} (table: catalog.md)")
     return 0
