@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
+
 __all__ = ["render_frames", "write_animation", "mp4_available", "ANIMATION_FORMATS"]
 
 ANIMATION_FORMATS = ("gif", "mp4")
@@ -119,7 +121,7 @@ def write_animation(
 
     Raises
     ------
-    ValueError
+    compas_ccu.errors.OptionError
         Unknown format, or MP4 without an encoder (install ``compas_ccu[video]``).
 
     Examples
@@ -135,11 +137,11 @@ def write_animation(
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     if fmt not in ANIMATION_FORMATS:
-        raise ValueError(f"animation format must be one of {ANIMATION_FORMATS}, got {path.name!r}")
+        raise OptionError(f"animation format must be one of {ANIMATION_FORMATS}, got {path.name!r}")
     if not fps > 0:
-        raise ValueError(f"fps must be > 0, got {fps!r}")
+        raise OptionError(f"fps must be > 0, got {fps!r}")
     if fmt == "mp4" and not mp4_available():
-        raise ValueError(
+        raise OptionError(
             "MP4 needs an encoder: install the video extra (pip install 'compas_ccu[video]', "
             "imageio-ffmpeg); GIF works without it"
         )

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
+
 __all__ = ["plot_planarity"]
 
 # SPEC §5: invariants hold to 1e-9 of the structure size
@@ -38,7 +40,7 @@ def plot_planarity(model, *, steps: int = 60, alpha: float | None = None, title=
     from matplotlib.ticker import LogLocator
 
     if int(steps) != steps or steps < 1:
-        raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
+        raise OptionError(f"steps must be an integer >= 1, got {steps!r}")
     target = model.alpha_design if alpha is None else float(alpha)
     alphas = np.linspace(0.0, target, int(steps) + 1)
     dev = model.crease_planarity(alphas)  # (k, c) metres
