@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.analysis import global_curvature
-from compas_ccu.analysis.planarity import planarity_along_path
+from compas_ccu.analysis.planarity import path_alphas, planarity_along_path
 from compas_ccu.errors import OptionError
 from compas_ccu.io import flat_footprint
 from compas_ccu.thickness import ThickModel
@@ -440,18 +440,14 @@ def key_figures(model, structure=None, *, path=None, thickness=None, relax: bool
             raise OptionError("thickness figures are measured along a path: give path as well")
         if thickness is True:
             thickness = ThickModel(model)
-        values.update(thickness_figures(thickness, path_alphas(model, path)))
+        values.update(thickness_figures(thickness, _path_alphas(model, path)))
     return KeyFigures(values)
 
 
-def path_alphas(model, path) -> np.ndarray:
+def _path_alphas(model, path) -> np.ndarray:
     """Reference angles (degrees) of ``path``: a number of states or the angles themselves."""
     if np.ndim(path) == 0:
-        steps = int(path)
-        if steps != path or steps < 1:
-            raise OptionError(f"path must be a number of states >= 1, got {path!r}")
-        top = model.alpha_design
-        return np.linspace(top / steps, top, steps)
+        return path_alphas(model, path)
     return np.atleast_1d(np.asarray(path, dtype=float))
 
 
@@ -570,7 +566,7 @@ def plate_area(model) -> float:
 
 def path_figures(model, path, *, relax: bool = False) -> dict:
     """The path group: crease planarity along the deployment path (see :func:`key_figures`)."""
-    alphas = path_alphas(model, path)
+    alphas = _path_alphas(model, path)
     report = planarity_along_path(model, alphas, relax=relax)
     s = report.summary()
     out = _empty("path")
