@@ -156,7 +156,7 @@ FIGURES = (
                 "curvature_ratio",
                 "float",
                 "",
-                "min |k| / max |k| of the global surface (monoclastic below 1e-3).",
+                "min abs(k) / max abs(k) of the global surface (monoclastic below 1e-3).",
             ),
             (
                 "plane_inclination_axis",
@@ -302,7 +302,7 @@ FIGURES = (
                 "bending_utilisation",
                 "float",
                 "",
-                "Largest |curvature| / (f / (E t / 2)) over "
+                "Largest abs(curvature) / (f / (E t / 2)) over "
                 "all plates and path states (> 1: the plates break).",
             ),
             ("bending_curvature", "float", "1/m", "Largest plate curvature over the path."),
