@@ -81,8 +81,7 @@ def stage_call(stage: str, document: dict, options: dict):
     if stage == "path":
         return lambda: mx.path_metrics(model, alphas)
     if stage == "thickness":
-        area = mx.shape_metrics(model, model.deploy())["plate_area"]
-        return lambda: mx.thickness_metrics(ThickModel(model), alphas, area)
+        return lambda: mx.thickness_metrics(ThickModel(model), alphas)
     thick = ThickModel(model)
     if stage == "collisions":
         return lambda: mx.collision_metrics(thick, alphas)

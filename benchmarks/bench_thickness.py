@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.catalog import CATALOG_DIR
 from compas_ccu.model import load_model
 from compas_ccu.thickness import ThickModel
 
@@ -28,8 +29,11 @@ def best_of(fn, repeats: int = 5) -> float:
 
 
 def bench_design(name: str) -> tuple:
-    """One table row: timings of the thickness model of ``examples/<name>``."""
-    model = load_model(ROOT / "examples" / name)
+    """One table row: timings of the thickness model of ``examples/<name>`` or catalog design
+    ``catalog/<name>``."""
+    catalog = name.startswith("catalog/")
+    file = CATALOG_DIR / name[len("catalog/") :] if catalog else ROOT / "examples" / name
+    model = load_model(file)
     thick = ThickModel(model)
     path = np.linspace(0.0, model.alpha_design, 41)
     verts = len(model.plate_ids) * (2 * model.segments + 2)

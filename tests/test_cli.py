@@ -157,3 +157,104 @@ def test_import_is_cheap():
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     ).stdout
     assert out.strip() == "False"
+
+
+# -- the error policy: input errors are one line (exit 2), anything else is a bug (exit 1) ----
+
+
+def _raising(error):
+    def broken(*args, **kwargs):
+        raise error
+
+    return broken
+
+
+@pytest.mark.parametrize(
+    "error", [ZeroDivisionError("float division by zero"), ValueError("operands could not be")]
+)
+def test_a_bug_prints_its_traceback_and_exits_1(error, monkeypatch, capsys):
+    from compas_ccu.cli import model_commands
+
+    monkeypatch.setattr(model_commands, "key_figures", _raising(error))
+    assert main(["info", VAULT]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("Traceback (most recent call last):")
+    assert f"{type(error).__name__}: {error}" in err
+    assert "this is a bug in compas_ccu" in err and "please report it" in err
+    assert "ccu: error:" not in err
+
+
+def test_a_ccu_error_is_one_line_and_exit_2(monkeypatch, capsys):
+    from compas_ccu.cli import model_commands
+    from compas_ccu.errors import GeometryError
+
+    monkeypatch.setattr(model_commands, "key_figures", _raising(GeometryError("straight crease")))
+    assert main(["info", VAULT]) == 2
+    assert capsys.readouterr().err == "ccu: error: straight crease\n"
+
+
+def test_an_os_error_on_the_users_path_is_one_line_and_exit_2(tmp_path, capsys):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    assert main(["deploy", VAULT, "--out", str(blocker / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ccu: error: ") and "a-file" in err and err.count("\n") == 1
+
+
+def test_usage_errors_and_option_bounds_exit_2(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["deploy", VAULT])  # --out missing: argparse
+    assert exit_.value.code == 2
+    capsys.readouterr()
+    assert main(["path", VAULT, "--steps", "0", "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err == "ccu: error: --steps must be >= 1, got 0\n"
+
+
+def test_a_missing_extra_is_named(monkeypatch, capsys, tmp_path):
+    from compas_ccu.cli import common
+
+    monkeypatch.setattr(common, "missing_modules", lambda names: [n for n in names if n == "ezdxf"])
+    assert main(["fabricate", VAULT, "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err == (
+        "ccu: error: 'ccu fabricate' needs the fab extra (ezdxf not installed): "
+        "pip install 'compas_ccu[fab]'\n"
+    )
+
+
+def test_new_and_attribute_errors_pickle():
+    import pickle
+
+    from compas_ccu.errors import (
+        DeploymentLimitError,
+        MissingExtraError,
+        OptionError,
+        SelfIntersectionError,
+    )
+
+    errors = [
+        OptionError("--steps must be >= 1"),
+        MissingExtraError("needs viz"),
+        DeploymentLimitError("beyond", alpha=95.0, alpha_limit=89.0, vertex=3),
+        SelfIntersectionError("overlap", alpha=80.0, crease=2),
+    ]
+    for error in errors:
+        again = pickle.loads(pickle.dumps(error))
+        assert type(again) is type(error) and str(again) == str(error)
+        assert again.__dict__ == error.__dict__
+
+
+def test_the_commands_are_declared_once_and_help_needs_no_extra():
+    from compas_ccu.cli import COMMANDS, thickness_lines  # noqa: F401 - still exported
+
+    names = [c.name for c in COMMANDS]
+    assert len(names) == len(set(names)) == 13
+    code = (
+        "import sys; from compas_ccu.cli import build_parser; build_parser(); "
+        "print(sorted(m for m in ('matplotlib', 'plotly', 'distributed', 'pyarrow', "
+        "'KratosMultiphysics', 'openseespy', 'ezdxf', 'compas_ccu.viz.report') "
+        "if m in sys.modules))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout
+    assert out.strip() == "[]"

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from compas_ccu.catalog import catalog_path
 from compas_ccu.design import load_design
 from compas_ccu.explore import METRICS, evaluate_variant, metric_names
 from compas_ccu.explore.evaluate import STAGES, row_template
@@ -89,7 +90,7 @@ def test_collision_metrics_of_the_vault():
 
 def test_a_collision_is_reported_with_its_angle():
     """The Fig. 12c funnel closes on itself beyond 70 deg (docs/thickness.md)."""
-    model = load_model(EXAMPLES / "catalog" / "fig12c-funnel.toml")
+    model = load_model(catalog_path("fig12c-funnel"))
     m = collision_metrics(ThickModel(model), np.linspace(70.0, 77.0, 8))
     assert m["collision_free"] is False
     assert 70.0 <= m["collision_alpha"] <= 77.0 and m["max_penetration"] > 0.0

@@ -6,17 +6,25 @@ from __future__ import annotations
 import copy
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from compas_ccu.analysis import global_curvature
 from compas_ccu.analysis.planarity import planarity_along_path
-from compas_ccu.catalog import FAMILIES, catalog_design, catalog_metrics, family, write_examples
+from compas_ccu.catalog import (
+    CATALOG_DIR,
+    catalog_design,
+    catalog_entries,
+    catalog_entry,
+    catalog_metrics,
+    catalog_path,
+)
 from compas_ccu.cli import main
 from compas_ccu.design import Design, load_design
 from compas_ccu.design.inverse import design_from_crease
-from compas_ccu.errors import DesignError, GeometryError
+from compas_ccu.errors import DesignError, GeometryError, OptionError
 from compas_ccu.model import CCUModel, flat_design, load_model, round_trip
 from conftest import EXAMPLES
 
@@ -178,15 +186,15 @@ def test_relaxation_reports_bounded_residuals_where_the_kinematics_is_not_exact(
 @pytest.fixture(scope="module")
 def catalog_rows():
     rows = {}
-    for entry in FAMILIES:
-        model = CCUModel(catalog_design(entry["name"]))
-        rows[entry["name"]] = catalog_metrics(model, steps=6, relax=False)
+    for entry in catalog_entries():
+        model = CCUModel(catalog_design(entry.name))
+        rows[entry.name] = catalog_metrics(model, steps=6, relax=False)
     return rows
 
 
 def test_every_catalog_design_is_built_measured_and_exact_at_its_design_state(catalog_rows):
-    assert len(catalog_rows) == len(FAMILIES) == 15
-    figures = {family(n)["figure"] for n in catalog_rows}
+    assert len(catalog_rows) == len(catalog_entries()) == 15
+    figures = {catalog_entry(n).figure for n in catalog_rows}
     assert {
         "9a",
         "9b",
@@ -204,14 +212,15 @@ def test_every_catalog_design_is_built_measured_and_exact_at_its_design_state(ca
     for name, row in catalog_rows.items():
         assert row["invariant_max_relative"] < 1e-12, name
         assert row["global_curvature"] in ("monoclastic", "synclastic", "anticlastic"), name
-        assert row["alpha_limit"] > row["alpha"] and row["overlap_alpha"] > row["alpha"], name
-        assert row["span"] > 0 and row["rise"] > 0 and row["stack_x"] > 0
+        alpha = row["alpha_design"]
+        assert row["alpha_limit"] > alpha and row["overlap_alpha"] > alpha, name
+        assert row["crease_span"] > 0 and row["crease_rise"] > 0 and row["stack_x"] > 0
 
 
 def test_measured_global_curvature_matches_the_paper_rule(catalog_rows):
-    for entry in FAMILIES:
-        if entry["expected"] is not None:
-            assert catalog_rows[entry["name"]]["global_curvature"] == entry["expected"], entry
+    for entry in catalog_entries():
+        if entry.expected is not None:
+            assert catalog_rows[entry.name]["global_curvature"] == entry.expected, entry
     # monoclastic: the smaller principal curvature vanishes to rounding, not to a fit error
     assert catalog_rows["fig10a-monoclastic"]["curvature_ratio"] < 1e-12
     assert catalog_rows["fig10b-synclastic"]["curvature_ratio"] > 0.1
@@ -243,7 +252,7 @@ def test_freeform_crease_changes_kind_along_it_per_vertex():
 
 
 def test_impossible_freeform_is_refused_before_deployment():
-    doc = copy.deepcopy(family("fig09e-freeform")["document"])
+    doc = catalog_entry("fig09e-freeform").document
     doc["crease"]["points"] = [
         [-1.25, 0],
         [-1.1, 0.7],
@@ -444,12 +453,25 @@ def test_bad_targets_are_refused(layout, target, message):
 # -- catalog files and commands ---------------------------------------------------------------
 
 
-def test_examples_catalog_folder_equals_the_catalog(tmp_path):
-    written = write_examples(tmp_path)
-    for path in written:
-        committed = EXAMPLES / "catalog" / path.name
-        assert committed.read_text() == path.read_text(), path.name
-    assert len(list((EXAMPLES / "catalog").glob("*.toml"))) == len(written)
+def test_catalog_designs_are_package_data_naming_their_paper_figure():
+    import compas_ccu
+
+    assert CATALOG_DIR.parent.parent == Path(compas_ccu.__file__).resolve().parent
+    entries = catalog_entries()
+    assert [e.path.name for e in entries] == sorted(p.name for p in CATALOG_DIR.glob("*.toml"))
+    for entry in entries:
+        design = entry.design()
+        assert design.name == entry.name == entry.path.stem
+        assert design.values["design"]["description"] == f"Fig. {entry.figure}: {entry.title}"
+    assert catalog_entry("fig10b-synclastic").expected == "synclastic"
+    assert catalog_entry("fig11a-constant-apex").expected is None
+    with pytest.raises(OptionError, match=r"no catalog design 'nope'; the catalog has: fig09a"):
+        catalog_entry("nope")
+
+
+def test_catalog_files_are_in_the_package_data():
+    pyproject = (EXAMPLES.parent / "pyproject.toml").read_text(encoding="utf-8")
+    assert '"data/catalog/*.toml"' in pyproject
 
 
 def test_ccu_catalog_writes_every_file_and_the_table(tmp_path, capsys):
@@ -459,7 +481,7 @@ def test_ccu_catalog_writes_every_file_and_the_table(tmp_path, capsys):
     assert "fig10b-synclastic" in out and "measured synclastic" in out
     rows = json.loads((tmp_path / "catalog.json").read_text())
     assert [r["name"] for r in rows] == names
-    assert rows[2]["relaxed_strain"] > 0.0 and not rows[2]["planarity_exact"]
+    assert rows[2]["relaxed_strain"] > 0.0 and not rows[2]["crease_planarity_exact"]
     table = (tmp_path / "catalog.md").read_text()
     assert table.count("\n| fig") == 3 and "global_curvature" in table
     for name in names:
@@ -472,7 +494,7 @@ def test_ccu_catalog_writes_every_file_and_the_table(tmp_path, capsys):
 
 
 def test_ccu_planarity_and_info(tmp_path, capsys):
-    design = EXAMPLES / "catalog" / "fig12a-asymmetric.toml"
+    design = catalog_path("fig12a-asymmetric")
     assert main(["planarity", str(design), "--out", str(tmp_path), "--steps", "6", "--relax"]) == 0
     out = capsys.readouterr().out
     assert "relaxed at alpha" in out and "converged" in out
@@ -480,7 +502,7 @@ def test_ccu_planarity_and_info(tmp_path, capsys):
     assert rows[0] == "alpha_deg,crease,deviation_m" and len(rows) == 1 + 6 * 9
     summary = json.loads((tmp_path / "planarity.json").read_text())
     assert summary["planarity_exact"] is False and len(summary["creases"]) == 9
-    assert main(["info", str(EXAMPLES / "catalog" / "fig11d-target-curves.toml")]) == 0
+    assert main(["info", str(catalog_path("fig11d-target-curves"))]) == 0
     out = capsys.readouterr().out
     assert "global shape      anticlastic" in out
     assert "target fit        planes [1, 3, 7, 9] solved, largest miss 0.00e+00 m" in out

@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from compas_ccu.catalog import catalog_path
 from compas_ccu.errors import SelfIntersectionError
 from compas_ccu.model import load_model
 from compas_ccu.thickness import ThickModel, solid_faces, vertex_offsets
 from compas_ccu.thickness.collision import plate_contacts
-from conftest import EXAMPLES
 
 T = 0.008
 
@@ -70,7 +70,7 @@ def test_flat_stack_and_vault_path_do_not_interpenetrate(vault_model):
 
 @pytest.fixture(scope="module")
 def funnel():
-    model = load_model(EXAMPLES / "catalog" / "fig12c-funnel.toml")
+    model = load_model(catalog_path("fig12c-funnel"))
     return ThickModel(model, thickness=T)
 
 

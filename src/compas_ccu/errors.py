@@ -2,6 +2,9 @@
 
 Every error names the cause and the offending value, so a user can fix the input.
 All derive from :class:`CCUError` (a :class:`ValueError`), so ``except ValueError`` also works.
+The ``ccu`` command prints a CCUError as one line with exit status 2; any other exception is a
+bug in compas_ccu (traceback, exit status 1). Every error pickles (Dask sends them between
+processes): classes with keyword-only attributes define ``__reduce__``.
 """
 
 from __future__ import annotations
@@ -13,6 +16,8 @@ __all__ = [
     "DeploymentLimitError",
     "DesignError",
     "GeometryError",
+    "MissingExtraError",
+    "OptionError",
     "SelfIntersectionError",
     "SweepError",
 ]
@@ -32,6 +37,15 @@ class DevelopabilityError(CCUError):
 
 class GeometryError(CCUError):
     """Input geometry is degenerate or inconsistent (zero-length edge, straight crease, ...)."""
+
+
+class OptionError(CCUError):
+    """An option or argument value is not allowed (a bad ``ccu`` option, a figure format, a
+    number of steps below 1, an unknown catalog design ...); the message names it."""
+
+
+class MissingExtraError(CCUError):
+    """An optional extra (viz, fea, fab, explore) needed for this is not installed."""
 
 
 class DesignError(CCUError):
@@ -61,6 +75,9 @@ class DeploymentLimitError(CCUError):
         self.vertex = vertex
         super().__init__(message)
 
+    def __reduce__(self):
+        return _rebuild, (type(self), self.args, self.__dict__)
+
 
 class SelfIntersectionError(CCUError):
     """A crease overlaps itself in its plane at the requested state (the plates would collide).
@@ -78,6 +95,9 @@ class SelfIntersectionError(CCUError):
         self.crease = crease
         super().__init__(message)
 
+    def __reduce__(self):
+        return _rebuild, (type(self), self.args, self.__dict__)
+
 
 class SweepError(CCUError):
     """A sweep file (``ccu explore``) is invalid, or its output folder belongs to another sweep."""
@@ -85,3 +105,11 @@ class SweepError(CCUError):
     def __init__(self, message: str, *, key: str | None = None):
         self.key = key
         super().__init__(f"{key}: {message}" if key else message)
+
+
+def _rebuild(cls, args, attributes):
+    """Unpickle an error whose ``__init__`` takes keyword-only attributes."""
+    error = CCUError.__new__(cls, *args)
+    error.args = args
+    error.__dict__.update(attributes)
+    return error

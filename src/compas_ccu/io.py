@@ -17,6 +17,9 @@ __all__ = [
     "write_obj",
     "write_compas_json",
     "write_path_table",
+    "write_path",
+    "read_values",
+    "flat_footprint",
 ]
 
 
@@ -85,6 +88,33 @@ def write_path_table(structures, path) -> Path:
                 + [f"{c['planarity']:.3e}" for c in s.creases]
             )
     return path
+
+
+def write_path(structures, out) -> tuple:
+    """Write the states of a deployment path: ``out/states/state_NNNN.json`` (one structure
+    file per state) and the table ``out/path.csv`` (:func:`write_path_table`).
+
+    Returns
+    -------
+    table : Path
+    states : Path
+        The folder of the structure files.
+    """
+    out = Path(out)
+    states = out / "states"
+    states.mkdir(parents=True, exist_ok=True)
+    for k, s in enumerate(structures):
+        write_structure_json(s, states / f"state_{k:04d}.json")
+    return write_path_table(structures, out / "path.csv"), states
+
+
+def read_values(path) -> np.ndarray:
+    """An array of numbers from a ``.npy`` file or, for any other suffix, a JSON file (nested
+    lists). OSError or ValueError say what is wrong with the file."""
+    path = Path(path)
+    if path.suffix == ".npy":
+        return np.load(path)
+    return np.asarray(json.loads(path.read_text()), dtype=float)
 
 
 def flat_footprint(structure) -> tuple:

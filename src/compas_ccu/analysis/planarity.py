@@ -10,10 +10,14 @@ request, relaxes the worst state by least squares to show what the rigid-ruling 
 
 from __future__ import annotations
 
+import csv
+import json
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["PlanarityReport", "planarity_along_path"]
@@ -73,6 +77,31 @@ class PlanarityReport:
             for ci, d in enumerate(row)
         ]
 
+    def write(self, out) -> list:
+        """Write ``planarity.csv`` (every state and crease: ``alpha_deg, crease, deviation_m``)
+        and ``planarity.json`` (:meth:`summary`) into the folder ``out`` (created).
+
+        Returns the two paths.
+        """
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        with open(out / "planarity.csv", "w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(["alpha_deg", "crease", "deviation_m"])
+            writer.writerows(self.rows())
+        with open(out / "planarity.json", "w") as fh:
+            json.dump(self.summary(), fh, indent=1)
+        return [out / "planarity.csv", out / "planarity.json"]
+
+
+def path_alphas(model, steps: int) -> np.ndarray:
+    """``steps`` reference angles (degrees) of the path above the flat stack: ``k alpha / steps``
+    for ``k = 1 .. steps`` up to the design angle ``alpha``."""
+    if isinstance(steps, bool) or int(steps) != steps or steps < 1:
+        raise OptionError(f"steps must be an integer >= 1, got {steps!r}")
+    top = model.alpha_design
+    return np.linspace(top / steps, top, int(steps))
+
 
 def planarity_along_path(model, alphas=None, *, steps: int = 32, relax: bool = False):
     """Measure every crease's distance from its plane along the deployment path.
@@ -82,7 +111,7 @@ def planarity_along_path(model, alphas=None, *, steps: int = 32, relax: bool = F
     model : compas_ccu.model.CCUModel
     alphas : (k,) float, optional
         Reference angles, degrees; default: ``steps`` angles from just above 0 to the design
-        angle.
+        angle (:func:`path_alphas`).
     steps : int
     relax : bool
         Also relax the state with the largest deviation (:meth:`CCUModel.relax`) and report
@@ -101,8 +130,7 @@ def planarity_along_path(model, alphas=None, *, steps: int = 32, relax: bool = F
     (True, 9)
     """
     if alphas is None:
-        top = model.alpha_design
-        alphas = np.linspace(top / steps, top, steps)
+        alphas = path_alphas(model, steps)
     alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
     deviation = model.crease_planarity(alphas)
     kinds = model.crease_kinds()

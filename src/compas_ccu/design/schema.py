@@ -56,9 +56,23 @@ def _fraction(v):
 
 SCHEMA: dict = {
     "design": {
-        "_doc": "Name and description.",
+        "_doc": "Name, description and, for the rule catalog, the paper figure and the "
+        "predicted global curvature class.",
         "name": Key("str", "Design name, used in file names and reports.", default=None),
         "description": Key("str", "Free text.", default=""),
+        "figure": Key(
+            "str",
+            "Paper figure the design reproduces, e.g. '9a' (the rule catalog, "
+            "docs/shape-control.md): `ccu catalog` groups its contact sheets by figure.",
+            default=None,
+        ),
+        "expected": Key(
+            "str",
+            "Global curvature class the paper's rule predicts for the design; `ccu catalog` "
+            "puts it beside the class measured from the deployed structure.",
+            default=None,
+            choices=("monoclastic", "synclastic", "anticlastic"),
+        ),
     },
     "crease": {
         "_doc": "The leading crease profile, in the 2D coordinates (x, y) of the leading crease "
@@ -148,7 +162,7 @@ SCHEMA: dict = {
             "str",
             "Ruling field. 'explicit': the far end of every ruling is given (points), for "
             "state = 'flat' cut patterns such as those written by "
-            "compas_ccu.design.inverse.flat_design.",
+            "compas_ccu.model.flat_design.",
             required=True,
             choices=("orthogonal", "cylindrical", "conical", "angle", "explicit"),
         ),

@@ -18,7 +18,6 @@ import numpy as np
 
 from compas_ccu.design.document import Design
 from compas_ccu.explore import metrics as mx
-from compas_ccu.explore.metrics import metric_names
 from compas_ccu.model import CCUModel
 from compas_ccu.thickness import ThickModel
 
@@ -32,7 +31,7 @@ def row_template(*, collisions: bool = False, fe: bool = False) -> dict:
     """A row with every column of an evaluation set to None (metrics, status, timings)."""
 
     row = {"status": None, "stage": None, "error_type": None, "error": None}
-    row.update(dict.fromkeys(metric_names(collisions=collisions, fe=fe)))
+    row.update(dict.fromkeys(mx.metric_names(collisions=collisions, fe=fe)))
     row["seconds"] = None
     row.update({f"t_{s}": None for s in STAGES})
     row["worker"] = None
@@ -98,7 +97,7 @@ def evaluate_variant(
         t = time.perf_counter()
 
         thick = ThickModel(model)
-        row.update(mx.thickness_metrics(thick, alphas, row["plate_area"]))
+        row.update(mx.thickness_metrics(thick, alphas))
         row["t_thickness"] = time.perf_counter() - t
 
         if collisions:

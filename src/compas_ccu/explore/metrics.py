@@ -1,8 +1,12 @@
 """What a sweep measures on every variant: the catalogue of metrics and how each is computed.
 
 :data:`METRICS` is the single source of truth for the results table's metric columns (name,
-type, unit, meaning); ``docs/explore.md`` lists it. The functions take a built model and return
-plain ``{name: value}`` dicts of Python scalars.
+type, unit, meaning); ``docs/explore.md`` lists it. The shape, path and thickness columns are key
+figures of the design (:mod:`compas_ccu.key_figures`): :data:`KEY_FIGURE_COLUMNS` names the
+figure behind each column (the columns keep the names sweep files and results tables have
+always used: ``span`` is the key figure ``crease_span``) and their type, unit and meaning come
+from the key-figure table. The collision and FE columns are the sweep's own. The functions take
+a built model and return plain ``{column: value}`` dicts of Python scalars.
 """
 
 from __future__ import annotations
@@ -11,9 +15,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from compas_ccu import key_figures as kf
+
 __all__ = [
     "Metric",
     "METRICS",
+    "KEY_FIGURE_COLUMNS",
     "metric_names",
     "shape_metrics",
     "path_metrics",
@@ -33,6 +40,57 @@ class Metric:
     unit: str
     doc: str
     group: str  # "shape", "path", "thickness", "collisions", "fe"
+    figure: str | None = None  # the key figure behind the column, if it is one
+
+
+#: Results columns that are key figures, by group: column -> key figure.
+KEY_FIGURE_COLUMNS = {
+    "shape": {
+        "plates": "plates",
+        "creases": "creases",
+        "alpha_design": "alpha_design",
+        "alpha_max": "alpha_max",
+        "alpha_limit": "alpha_limit",
+        "overlap_alpha": "overlap_alpha",
+        "limit_margin": "limit_margin",
+        "span": "crease_span",
+        "rise": "crease_rise",
+        "rise_to_span": "crease_rise_to_span",
+        "plan_x": "plan_x",
+        "plan_y": "plan_y",
+        "height": "height",
+        "plan_area": "plan_area",
+        "plate_area": "plate_area",
+        "stack_length": "stack_length",
+        "stack_width": "stack_width",
+        "global_curvature": "global_curvature",
+        "invariant_error": "invariant_max_relative",
+    },
+    "path": {
+        "crease_planarity": "crease_planarity_path",
+        "crease_planarity_relative": "crease_planarity_path_relative",
+    },
+    "thickness": {
+        name: name
+        for name in (
+            "thickness",
+            "material",
+            "stack_height",
+            "mass",
+            "bending_utilisation",
+            "bending_curvature",
+        )
+    },
+}
+
+
+def _key_figure_metrics(group: str) -> tuple:
+    out = []
+    for column, name in KEY_FIGURE_COLUMNS[group].items():
+        f = kf.figure(name)
+        doc = f.doc if column == name else f"{f.doc} (key figure `{name}`)"
+        out.append(Metric(column, f.dtype, f.unit, doc, group, name))
+    return tuple(out)
 
 
 def _m(group, rows):
@@ -40,83 +98,9 @@ def _m(group, rows):
 
 
 METRICS = (
-    *_m(
-        "shape",
-        [
-            ("plates", "int", "", "Number of plates."),
-            ("creases", "int", "", "Number of creases."),
-            ("alpha_design", "float", "deg", "Design reflection angle at the reference vertex."),
-            ("alpha_max", "float", "deg", "Largest reflection angle on any crease at the design."),
-            (
-                "alpha_limit",
-                "float",
-                "deg",
-                "Deployment limit (a crease segment stands perpendicular to its plane).",
-            ),
-            ("overlap_alpha", "float", "deg", "Largest alpha before a crease overlaps itself."),
-            (
-                "limit_margin",
-                "float",
-                "deg",
-                "min(alpha_limit, overlap_alpha) - alpha_design: "
-                "how much further the structure could open.",
-            ),
-            ("span", "float", "m", "Chord of the leading crease at the design."),
-            ("rise", "float", "m", "Height of the leading crease above its chord."),
-            ("rise_to_span", "float", "", "rise / span."),
-            ("plan_x", "float", "m", "Extent of the deployed structure along world x."),
-            ("plan_y", "float", "m", "Extent along world y."),
-            ("height", "float", "m", "Extent along world z."),
-            ("plan_area", "float", "m2", "plan_x * plan_y."),
-            ("plate_area", "float", "m2", "Area of all cut patterns (one face)."),
-            ("stack_length", "float", "m", "Flat-folded stack: bounding box in the plane, long."),
-            ("stack_width", "float", "m", "Flat-folded stack: bounding box in the plane, short."),
-            (
-                "global_curvature",
-                "str",
-                "",
-                "Measured global shape: synclastic, anticlastic or "
-                "monoclastic (4 or more plates in a plane layout; else empty).",
-            ),
-            (
-                "invariant_error",
-                "float",
-                "",
-                "Largest relative invariant error at the design "
-                "(isometry, quad planarity, hinges, mirror symmetry), ~1e-15.",
-            ),
-        ],
-    ),
-    *_m(
-        "path",
-        [
-            (
-                "crease_planarity",
-                "float",
-                "m",
-                "Largest distance of a crease from its plane "
-                "over the path from the flat stack to the design (0 for exact designs).",
-            ),
-            ("crease_planarity_relative", "float", "", "crease_planarity / structure size."),
-        ],
-    ),
-    *_m(
-        "thickness",
-        [
-            ("thickness", "float", "m", "Plate thickness ([plates])."),
-            ("material", "str", "", "Plate material ([plates])."),
-            ("stack_height", "float", "m", "Height of the flat-folded stack (sum of thicknesses)."),
-            ("mass", "float", "kg", "plate_area * thickness * density."),
-            (
-                "bending_utilisation",
-                "float",
-                "",
-                "Largest |curvature| / (f / (E t / 2)) over "
-                "all plates and path states (> 1: the plates break).",
-            ),
-            ("bending_curvature", "float", "1/m", "Largest plate curvature over the path."),
-        ],
-    ),
+    *_key_figure_metrics("shape"),
+    *_key_figure_metrics("path"),
+    *_key_figure_metrics("thickness"),
     *_m(
         "collisions",
         [
@@ -179,13 +163,8 @@ def metric(name: str) -> Metric:
     return _BY_NAME[name]
 
 
-def _plate_area(flat: np.ndarray, segments: int) -> float:
-    """Total area (m2) of the (p, 2n + 2, 3) cut patterns (planar quads: half the cross
-    product of the diagonals)."""
-    near, far = flat[:, : segments + 1], flat[:, segments + 1 :]
-    d1 = far[:, 1:] - near[:, :-1]
-    d2 = far[:, :-1] - near[:, 1:]
-    return float(0.5 * np.linalg.norm(np.cross(d1, d2), axis=-1).sum())
+def _columns(group: str, figures: dict) -> dict:
+    return {column: figures[name] for column, name in KEY_FIGURE_COLUMNS[group].items()}
 
 
 def shape_metrics(model, structure) -> dict:
@@ -197,60 +176,17 @@ def shape_metrics(model, structure) -> dict:
     structure : compas_ccu.structure.Structure
         ``model.deploy()``.
     """
-    from compas_ccu.io import flat_footprint
-
-    m = structure.metrics
-    alphas = [a for c in structure.creases for a in c["alpha"]] + list(m["alpha_leading"])
-    bbox = m["bounding_box"]
-    stack = sorted(flat_footprint(structure), reverse=True)
-    overlap = model.overlap_alpha
-    out = {
-        "plates": len(structure.plate_ids),
-        "creases": len(structure.creases),
-        "alpha_design": float(model.alpha_design),
-        "alpha_max": float(max(alphas)),
-        "alpha_limit": float(model.alpha_limit),
-        "overlap_alpha": float(overlap),
-        "limit_margin": float(min(model.alpha_limit, overlap) - model.alpha_design),
-        "span": m["span"],
-        "rise": m["rise"],
-        "rise_to_span": m["rise"] / m["span"],
-        "plan_x": bbox[0],
-        "plan_y": bbox[1],
-        "height": bbox[2],
-        "plan_area": bbox[0] * bbox[1],
-        "plate_area": _plate_area(model.flat(), model.segments),
-        "stack_length": stack[0],
-        "stack_width": stack[1],
-        "global_curvature": None,
-        "invariant_error": structure.max_invariant_error,
-    }
-    planes = model.planes
-    if planes is not None and planes.plates >= 4:
-        from compas_ccu.analysis import global_curvature
-
-        states = model.mechanism.deploy(np.radians([model.alpha_design]))
-        out["global_curvature"] = global_curvature(model.plane_curves(states)[0]).kind
-    return out
+    return _columns("shape", kf.design_state_figures(model, structure))
 
 
 def path_metrics(model, alphas: np.ndarray) -> dict:
     """Crease planarity over the path states ``alphas`` (degrees)."""
-    worst = float(model.crease_planarity(alphas).max()) if model.mechanism.creases else 0.0
-    return {"crease_planarity": worst, "crease_planarity_relative": worst / model.size}
+    return _columns("path", kf.path_figures(model, np.asarray(alphas, dtype=float)))
 
 
-def thickness_metrics(thick, alphas: np.ndarray, plate_area: float) -> dict:
+def thickness_metrics(thick, alphas: np.ndarray) -> dict:
     """Stack, mass and bending check of a :class:`compas_ccu.thickness.ThickModel`."""
-    bend = thick.bending(alphas)
-    return {
-        "thickness": thick.thickness,
-        "material": thick.material.name,
-        "stack_height": float(thick.stack_height),
-        "mass": plate_area * thick.thickness * thick.material.density,
-        "bending_utilisation": float(bend.max),
-        "bending_curvature": float(np.abs(bend.curvature).max()),
-    }
+    return _columns("thickness", kf.thickness_figures(thick, alphas))
 
 
 def collision_metrics(thick, alphas: np.ndarray) -> dict:

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
 from compas_ccu.viz.render import draw_scene, path_frames
 from compas_ccu.viz.views import kind_legend_handles
 
@@ -119,7 +120,7 @@ def write_animation(
 
     Raises
     ------
-    ValueError
+    compas_ccu.errors.OptionError
         Unknown format, or MP4 without an encoder (install ``compas_ccu[video]``).
 
     Examples
@@ -135,11 +136,11 @@ def write_animation(
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     if fmt not in ANIMATION_FORMATS:
-        raise ValueError(f"animation format must be one of {ANIMATION_FORMATS}, got {path.name!r}")
+        raise OptionError(f"animation format must be one of {ANIMATION_FORMATS}, got {path.name!r}")
     if not fps > 0:
-        raise ValueError(f"fps must be > 0, got {fps!r}")
+        raise OptionError(f"fps must be > 0, got {fps!r}")
     if fmt == "mp4" and not mp4_available():
-        raise ValueError(
+        raise OptionError(
             "MP4 needs an encoder: install the video extra (pip install 'compas_ccu[video]', "
             "imageio-ffmpeg); GIF works without it"
         )

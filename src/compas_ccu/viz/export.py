@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from compas_ccu.errors import OptionError
+
 __all__ = ["save_figure", "FIGURE_FORMATS"]
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
@@ -24,7 +26,7 @@ def save_figure(fig, stem, *, formats=("png", "svg"), dpi: int = 150) -> list:
     formats = [formats] if isinstance(formats, str) else list(formats)
     bad = [f for f in formats if f not in FIGURE_FORMATS]
     if bad or not formats:
-        raise ValueError(f"figure formats must be among {FIGURE_FORMATS}, got {formats}")
+        raise OptionError(f"figure formats must be among {FIGURE_FORMATS}, got {formats}")
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
     paths = []

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["plot_planarity"]
@@ -37,7 +38,7 @@ def plot_planarity(model, *, steps: int = 60, alpha: float | None = None, title=
     from matplotlib.ticker import LogLocator
 
     if int(steps) != steps or steps < 1:
-        raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
+        raise OptionError(f"steps must be an integer >= 1, got {steps!r}")
     target = model.alpha_design if alpha is None else float(alpha)
     alphas = np.linspace(0.0, target, int(steps) + 1)
     dev = model.crease_planarity(alphas)  # (k, c) metres

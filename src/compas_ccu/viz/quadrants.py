@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.design.variants import quadrant_design
+from compas_ccu.errors import OptionError
 from compas_ccu.model import CCUModel
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.render import draw_scene
@@ -30,7 +31,7 @@ def quadrant_pairs(structure) -> dict:
     missing = sorted({"Q1", "Q2", "Q3", "Q4"} - set(out))
     if missing:
         kinds = [c["kind"] for c in structure.creases]
-        raise ValueError(
+        raise OptionError(
             f"not a four-quadrant structure: no crease for {', '.join(missing)} "
             f"(crease kinds {kinds}); build one with compas_ccu.design.variants.quadrant_design"
         )

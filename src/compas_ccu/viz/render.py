@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
 from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 from compas_ccu.viz import colors as C
@@ -101,7 +102,7 @@ def camera(view) -> Camera:
     try:
         return VIEWS[view]
     except KeyError:
-        raise ValueError(f"unknown view {view!r}; expected one of {sorted(VIEWS)}") from None
+        raise OptionError(f"unknown view {view!r}; expected one of {sorted(VIEWS)}") from None
 
 
 def _face_values(values: np.ndarray, scene) -> np.ndarray:
@@ -111,7 +112,7 @@ def _face_values(values: np.ndarray, scene) -> np.ndarray:
         return values
     if values.shape == scene.vertices.shape[:2]:
         return values[np.arange(p)[:, None, None], scene.faces].mean(axis=-1)
-    raise ValueError(
+    raise OptionError(
         f"per-vertex values must have shape {scene.vertices.shape[:2]} (plates, vertices) or "
         f"{(p, n)} (plates, faces), got {values.shape}"
     )
@@ -185,7 +186,9 @@ def draw_scene(
     crease_values = None
     if isinstance(color_by, str):
         if color_by not in COLOR_MODES:
-            raise ValueError(f"color_by must be one of {COLOR_MODES} or an array, got {color_by!r}")
+            raise OptionError(
+                f"color_by must be one of {COLOR_MODES} or an array, got {color_by!r}"
+            )
         if color_by == "curvature":
             values = _face_values(np.abs(plate_curvature(scene.vertices)), scene)
             cmap = cmap or C.SEQUENTIAL_CMAP
@@ -303,14 +306,14 @@ class PathFrames:
 def path_frames(model, count, alpha=None, view="perspective", *, what="count") -> PathFrames:
     """``count`` states from α = 0 to ``alpha`` (default: the design α), framed together.
 
-    Raises ValueError naming ``what`` for a count below 2 and for ``alpha <= 0``.
+    Raises OptionError naming ``what`` for a count below 2 and for ``alpha <= 0``.
     """
 
     if int(count) != count or count < 2:
-        raise ValueError(f"{what} must be an integer >= 2, got {count!r}")
+        raise OptionError(f"{what} must be an integer >= 2, got {count!r}")
     target = model.alpha_design if alpha is None else float(alpha)
     if not target > 0.0:
-        raise ValueError(f"alpha must be > 0 degrees, got {target!r}")
+        raise OptionError(f"alpha must be > 0 degrees, got {target!r}")
     alphas = np.linspace(0.0, target, int(count))
     structures = model.path(alphas)
     scenes = [scene_from_structure(s, ground=True) for s in structures]

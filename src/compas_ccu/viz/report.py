@@ -1,7 +1,8 @@
 """The design report: one folder with ``index.html``, the viewer, the figures and the data.
 
 ``write_report`` runs every picture of the toolkit on one design and writes a page that shows
-them with the key figures of the design and links to every file written.
+them with the key figures of the design (:mod:`compas_ccu.key_figures`) and links to every file
+written.
 """
 
 from __future__ import annotations
@@ -14,7 +15,23 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["write_report", "Report", "design_figures"]
+from compas_ccu import __version__
+from compas_ccu.errors import CCUError, OptionError
+from compas_ccu.io import write_compas_json, write_obj, write_path_table, write_structure_json
+from compas_ccu.key_figures import KeyFigures, key_figures
+from compas_ccu.thickness import ThickModel
+from compas_ccu.thickness.model import collision_text
+from compas_ccu.viz.animation import mp4_available, write_animation
+from compas_ccu.viz.colors import KIND_COLORS
+from compas_ccu.viz.export import save_figure
+from compas_ccu.viz.patterns import plot_cut_patterns
+from compas_ccu.viz.planarity import plot_planarity
+from compas_ccu.viz.quadrants import plot_quadrants
+from compas_ccu.viz.sequence import plot_deployment_sequence
+from compas_ccu.viz.viewer import write_viewer
+from compas_ccu.viz.views import plot_views
+
+__all__ = ["write_report", "Report"]
 
 FIGURES = (
     ("views-kind", "3D views, creases coloured by kind"),
@@ -40,49 +57,16 @@ class Report:
     skipped : dict
         Picture name to the reason it could not be made (e.g. no MP4 encoder).
     figures : dict
-        Key figures of the design shown on the page.
+        Key figures of the design shown on the page
+        (:meth:`compas_ccu.key_figures.KeyFigures.to_dict`, the path figures over the ``steps``
+        intervals of the path) and under ``thickness`` the thick-plate summary
+        (:meth:`compas_ccu.thickness.ThickModel.summary`).
     """
 
     index: Path
     files: list = field(default_factory=list)
     skipped: dict = field(default_factory=dict)
     figures: dict = field(default_factory=dict)
-
-
-def design_figures(model, structure, path_structures) -> dict:
-    """Key figures of a design at its design state and along its deployment path."""
-    from compas_ccu.io import flat_footprint
-
-    m = structure.metrics
-    kinds = structure.crease_kind_counts()
-    alphas = [np.asarray(c["alpha"], dtype=float) for c in structure.creases]
-    alphas.append(np.asarray(m["alpha_leading"], dtype=float))
-    allv = np.concatenate(alphas)
-    planarity = max(s.metrics["crease_planarity_max"] for s in path_structures)
-    width, height = flat_footprint(structure)
-    return {
-        "name": model.design.name,
-        "description": model.design.values["design"].get("description") or "",
-        "span": m["span"],
-        "rise": m["rise"],
-        "bounding_box": m["bounding_box"],
-        "plates": len(structure.plate_ids),
-        "creases": len(structure.creases),
-        "creases_by_kind": kinds,
-        "segments": model.segments,
-        "alpha_design": model.alpha_design,
-        "alpha_min": float(allv.min()),
-        "alpha_max": float(allv.max()),
-        "alpha_limit": model.alpha_limit,
-        "overlap_alpha": model.overlap_alpha,
-        "flat_stack": [width, height],
-        "size": m["size"],
-        "isometry_relative": m["isometry_relative"],
-        "quad_planarity_relative": m["quad_planarity_relative"],
-        "hinge_gap_relative": m["hinge_gap_relative"],
-        "mirror_error_relative": m["mirror_error_relative"],
-        "crease_planarity_path_max": planarity,
-    }
 
 
 def write_report(
@@ -118,34 +102,24 @@ def write_report(
     --------
     >>> from compas_ccu.design import load_design
     >>> import tempfile
-    >>> r = write_report(load_design("examples/cone.toml").build(), tempfile.mkdtemp(),
+    >>> r = write_report(load_model("examples/cone.toml"), tempfile.mkdtemp(),
     ...                  steps=4, frames=3)
     >>> r.index.name, r.figures["plates"]
     ('index.html', 2)
     """
-    from compas_ccu.errors import CCUError
-    from compas_ccu.io import (
-        write_compas_json,
-        write_obj,
-        write_path_table,
-        write_structure_json,
-    )
-    from compas_ccu.viz.animation import mp4_available, write_animation
-    from compas_ccu.viz.export import save_figure
-
     if int(steps) != steps or steps < 1:
-        raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
+        raise OptionError(f"steps must be an integer >= 1, got {steps!r}")
     formats = tuple(dict.fromkeys(("png", *formats)))
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     report = Report(index=out / "index.html")
     started = time.perf_counter()
     structure = model.deploy()
-    path_structures = model.path(np.linspace(0.0, model.alpha_design, int(steps) + 1))
-    report.figures = design_figures(model, structure, path_structures)
+    alphas = np.linspace(0.0, model.alpha_design, int(steps) + 1)
+    path_structures = model.path(alphas)
+    figures_of_design = key_figures(model, structure, path=alphas)
+    report.figures = figures_of_design.to_dict()
     try:
-        from compas_ccu.thickness import ThickModel
-
         report.figures["thickness"] = ThickModel(model).summary(path_states=int(steps) + 1)
     except CCUError as exc:
         report.skipped["thickness"] = str(exc)
@@ -182,8 +156,6 @@ def write_report(
         return run
 
     def viewer():
-        from compas_ccu.viz.viewer import write_viewer
-
         report.files.append(write_viewer(model, out / "viewer.html", steps=steps))
 
     tasks = [("data files", data)]
@@ -201,19 +173,13 @@ def write_report(
             report.skipped[label] = str(exc)
     bar.close()
     elapsed = time.perf_counter() - started
-    page = _page(model, structure, report, figures, elapsed)
+    page = _page(figures_of_design, structure, report, figures, elapsed)
     report.index.write_text(page, encoding="utf-8")
     report.files.append(report.index)
     return report
 
 
 def _make_figure(name, model, structure):
-    from compas_ccu.viz.patterns import plot_cut_patterns
-    from compas_ccu.viz.planarity import plot_planarity
-    from compas_ccu.viz.quadrants import plot_quadrants
-    from compas_ccu.viz.sequence import plot_deployment_sequence
-    from compas_ccu.viz.views import plot_views
-
     if name.startswith("views-"):
         return plot_views(structure, color_by=name.split("-", 1)[1])
     if name == "cut-patterns":
@@ -224,7 +190,7 @@ def _make_figure(name, model, structure):
         return plot_quadrants(model.design)
     if name == "planarity":
         return plot_planarity(model)
-    raise ValueError(f"unknown figure {name!r}")
+    raise OptionError(f"unknown figure {name!r}")
 
 
 # -- the page --------------------------------------------------------------------------------
@@ -254,37 +220,33 @@ def _rel(path: Path, root: Path) -> str:
     return path.relative_to(root).as_posix()
 
 
-def _page(model, structure, report: Report, figures: dict, elapsed: float) -> str:
-    from compas_ccu import __version__
-    from compas_ccu.viz.colors import KIND_COLORS
-
+def _page(k: KeyFigures, structure, report: Report, figures: dict, elapsed: float) -> str:
     e = html.escape
-    f = report.figures
     root = report.index.parent
     kinds = ", ".join(
-        f'<span class="kind" style="background:{KIND_COLORS.get(k, "#888")}"></span>{v} {e(k)}'
-        for k, v in sorted(f["creases_by_kind"].items())
+        f'<span class="kind" style="background:{KIND_COLORS.get(c, "#888")}"></span>{v} {e(c)}'
+        for c, v in k.crease_kind_counts().items()
     )
-    bbox = " × ".join(f"{v:.3f}" for v in f["bounding_box"])
+    bbox = " × ".join(f"{v:.3f}" for v in (k.plan_x, k.plan_y, k.height))
     rows = [
-        ("Span (leading crease chord)", f"{f['span']:.4f} m"),
-        ("Rise", f"{f['rise']:.4f} m"),
+        ("Span (leading crease chord)", f"{k.crease_span:.4f} m"),
+        ("Rise", f"{k.crease_rise:.4f} m"),
         ("Bounding box (x × y × z)", f"{bbox} m"),
-        ("Plates", str(f["plates"])),
-        ("Creases", f"{f['creases']} ({kinds})" if f["creases"] else "0"),
-        ("Segments per crease", str(f["segments"])),
-        ("Design α (reference vertex)", f"{f['alpha_design']:g}°"),
-        ("α along the creases", f"{f['alpha_min']:.3f}° … {f['alpha_max']:.3f}°"),
-        ("Deployment limit", f"{f['alpha_limit']:.4f}°"),
-        ("First self-overlap of a crease", f"{f['overlap_alpha']:.4f}°"),
-        ("Flat-folded stack footprint", " × ".join(f"{v:.3f}" for v in f["flat_stack"]) + " m"),
+        ("Plates", str(k.plates)),
+        ("Creases", f"{k.creases} ({kinds})" if k.creases else "0"),
+        ("Segments per crease", str(k.segments)),
+        ("Design α (reference vertex)", f"{k.alpha_design:g}°"),
+        ("α along the creases", f"{k.alpha_min:.3f}° … {k.alpha_max:.3f}°"),
+        ("Deployment limit", f"{k.alpha_limit:.4f}°"),
+        ("First self-overlap of a crease", f"{k.overlap_alpha:.4f}°"),
+        ("Flat-folded stack footprint", f"{k.stack_x:.3f} × {k.stack_y:.3f} m"),
     ]
     inv = [
-        ("Isometry (quad sides and diagonals)", f["isometry_relative"]),
-        ("Quad planarity", f["quad_planarity_relative"]),
-        ("Hinge coincidence", f["hinge_gap_relative"]),
-        ("Mirror symmetry", f["mirror_error_relative"]),
-        ("Crease planarity, largest along the path", f["crease_planarity_path_max"] / f["size"]),
+        ("Isometry (quad sides and diagonals)", k.isometry_relative),
+        ("Quad planarity", k.quad_planarity_relative),
+        ("Hinge coincidence", k.hinge_gap_relative),
+        ("Mirror symmetry", k.mirror_error_relative),
+        ("Crease planarity, largest along the path", k.crease_planarity_path_relative),
     ]
     key_rows = "\n".join(f"<tr><th>{e(a)}</th><td class=num>{b}</td></tr>" for a, b in rows)
     inv_rows = "\n".join(f"<tr><th>{e(a)}</th><td class=num>{b:.1e}</td></tr>" for a, b in inv)
@@ -343,19 +305,19 @@ def _page(model, structure, report: Report, figures: dict, elapsed: float) -> st
         for p in files
         if p != report.index
     )
-    description = f'<p class="sub">{e(f["description"])}</p>' if f["description"] else ""
-    thick = _thickness_section(f.get("thickness"))
+    description = f'<p class="sub">{e(k.description)}</p>' if k.description else ""
+    thick = _thickness_section(report.figures.get("thickness"))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
-<title>{e(f["name"])}: compas_ccu report</title><style>{_CSS}</style></head>
+<title>{e(k.name)}: compas_ccu report</title><style>{_CSS}</style></head>
 <body>
-<h1>{e(f["name"])}</h1>{description}
+<h1>{e(k.name)}</h1>{description}
 <p class="sub">compas_ccu {e(__version__)} · curved-crease unfolding report · written in
 {elapsed:.1f} s</p>
 <h2 id="viewer">Interactive viewer</h2>{viewer}
 <h2 id="key-figures">Key figures</h2><table>{key_rows}</table>
-<h3>Invariant errors (relative to the structure size {f["size"]:.3f} m; SPEC §5 bar 1e-9)</h3>
+<h3>Invariant errors (relative to the structure size {k.size:.3f} m; SPEC §5 bar 1e-9)</h3>
 <table>{inv_rows}</table>
 <h3>Creases at the design state</h3>
 <table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
@@ -371,8 +333,6 @@ def _page(model, structure, report: Report, figures: dict, elapsed: float) -> st
 
 def _thickness_section(t) -> str:
     """The page's "Thickness and bending" section from ``ThickModel.summary()``."""
-    from compas_ccu.thickness.model import collision_text
-
     if not t:
         return ""
     e = html.escape

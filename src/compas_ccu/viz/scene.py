@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
 from compas_ccu.kinematics.plates import plate_rulings
 
 __all__ = ["Scene", "scene_from_structure", "ground_offset"]
@@ -101,7 +102,7 @@ def scene_from_structure(structure, *, state: str = "deployed", ground: bool = F
     ((4, 3), 0.0)
     """
     if state not in ("deployed", "flat"):
-        raise ValueError(f"state must be 'deployed' or 'flat', got {state!r}")
+        raise OptionError(f"state must be 'deployed' or 'flat', got {state!r}")
     vertices = np.array(structure.deployed if state == "deployed" else structure.flat, dtype=float)
     if ground:
         vertices = vertices + ground_offset(vertices)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+from compas_ccu.errors import OptionError
 from compas_ccu.viz.render import draw_scene
 from compas_ccu.viz.scene import scene_from_structure
 
@@ -50,15 +51,15 @@ def plot_contact_sheet(
 
     structures = list(structures)
     if not structures:
-        raise ValueError("a contact sheet needs at least one structure")
+        raise OptionError("a contact sheet needs at least one structure")
     count = len(structures)
     for name, seq in (("titles", titles), ("captions", captions)):
         if seq is not None and len(seq) != count:
-            raise ValueError(f"{name} must have one entry per structure ({count}), got {len(seq)}")
+            raise OptionError(f"{name} must have one entry per structure ({count}), got {len(seq)}")
     if columns is None:
         columns = math.ceil(math.sqrt(count))
     if int(columns) != columns or columns < 1:
-        raise ValueError(f"columns must be an integer >= 1, got {columns!r}")
+        raise OptionError(f"columns must be an integer >= 1, got {columns!r}")
     columns = int(columns)
     rows = math.ceil(count / columns)
     fig = Figure(figsize=(3.4 * columns, 3.1 * rows + 0.5), layout="constrained")

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
 from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.tolerances import EXACT_RELATIVE
 from compas_ccu.viz.colors import (
@@ -198,15 +199,15 @@ def _scene_layout(ranges, ratio) -> dict:
 # -- the figure ------------------------------------------------------------------------------
 def _check_arguments(model, steps, alpha) -> float:
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
-        raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
+        raise OptionError(f"steps must be an integer >= 1, got {steps!r}")
     if alpha is None:
         return float(model.alpha_design)
     try:
         value = float(alpha)
     except (TypeError, ValueError):
-        raise ValueError(f"alpha must be a number of degrees > 0, got {alpha!r}") from None
+        raise OptionError(f"alpha must be a number of degrees > 0, got {alpha!r}") from None
     if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"alpha must be a finite angle > 0 degrees, got {alpha!r}")
+        raise OptionError(f"alpha must be a finite angle > 0 degrees, got {alpha!r}")
     return value
 
 
@@ -351,7 +352,7 @@ def viewer_figure(
 
     Raises
     ------
-    ValueError
+    compas_ccu.errors.OptionError
         ``steps`` is not an integer >= 1 or ``alpha`` is not a finite angle > 0 (the message
         names the value).
     compas_ccu.errors.DeploymentLimitError, compas_ccu.errors.SelfIntersectionError

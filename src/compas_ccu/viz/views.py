@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from compas_ccu.errors import OptionError
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.render import add_colorbar, draw_scene
 from compas_ccu.viz.scene import scene_from_structure
@@ -66,7 +67,7 @@ def plot_views(
 
     views = list(views)
     if not views:
-        raise ValueError("views must name at least one view")
+        raise OptionError("views must name at least one view")
     scene = scene_from_structure(structure, ground=ground)
     fig = Figure(figsize=figsize, layout="constrained")
     if len(views) == 1:

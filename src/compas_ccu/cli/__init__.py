@@ -1,0 +1,74 @@
+"""Command line interface: ``ccu deploy | path | info | planarity | catalog | validate | fabricate |
+explore | figures | animate | view | sheet | report``.
+
+Every command takes a design TOML file (see ``docs/design-files.md``) or a sweep file. The
+commands are declared as data, one module per group (:mod:`.model_commands`, :mod:`.pictures`,
+:mod:`.catalog`, :mod:`.fea`, :mod:`.fabrication`, :mod:`.explore`; the parser is built by
+:mod:`.parser`); each parses its options, calls the library and formats the result
+(:mod:`.text`).
+
+Errors: a :class:`compas_ccu.errors.CCUError` (a bad design, option or state; a missing extra)
+or an OSError on the user's files is printed as one line ``ccu: error: ...`` naming the cause
+and the value, with exit status 2, like argparse's usage errors. Anything else is a bug in
+compas_ccu: the traceback and a request to report it, exit status 1.
+"""
+
+from __future__ import annotations
+
+import sys
+import traceback
+
+from compas_ccu.cli import catalog, explore, fabrication, fea, model_commands, pictures
+from compas_ccu.cli.parser import build_parser as _build_parser
+from compas_ccu.cli.parser import check_options
+from compas_ccu.cli.text import thickness_lines
+from compas_ccu.errors import CCUError
+
+__all__ = ["main", "build_parser", "COMMANDS", "thickness_lines"]
+
+#: Every command, in the order ``ccu --help`` lists them.
+_ALL = {
+    c.name: c
+    for module in (model_commands, pictures, catalog, fea, explore, fabrication)
+    for c in module.COMMANDS
+}
+_ORDER = ("deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
+_ORDER += ("catalog", "validate", "explore", "fabricate", "report")
+COMMANDS = tuple(_ALL[name] for name in _ORDER)
+
+BUG = (
+    "ccu: this is a bug in compas_ccu, not a problem with your input: please report it with "
+    "the command you ran and the traceback above"
+)
+
+
+def build_parser():
+    """The ``ccu`` argument parser."""
+    return _build_parser(COMMANDS)
+
+
+def _fail(message: str) -> int:
+    print(f"ccu: error: {message}", file=sys.stderr)
+    return 2
+
+
+def _os_message(exc: OSError) -> str:
+    if exc.filename is not None and exc.strerror:
+        return f"{exc.filename}: {exc.strerror}"
+    return str(exc)
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``ccu`` command: the exit status."""
+    args = build_parser().parse_args(argv)
+    try:
+        check_options(args.spec, args)
+        return args.spec.run(args)
+    except CCUError as exc:
+        return _fail(str(exc))
+    except OSError as exc:
+        return _fail(_os_message(exc))
+    except Exception:
+        traceback.print_exc()
+        print(BUG, file=sys.stderr)
+        return 1

@@ -1,0 +1,54 @@
+"""What the command modules share: loading a design, printing, the extras a command needs."""
+
+from __future__ import annotations
+
+import importlib.util
+
+from compas_ccu.errors import MissingExtraError, OptionError
+
+__all__ = ["load_model", "say", "missing_modules", "need_extra", "need_viz", "comma_list"]
+
+#: Modules of the optional extras the commands check for before they import them.
+VIZ = ("matplotlib", "plotly", "tqdm")
+FAB = ("ezdxf", "rhino3dm", "trimesh")
+
+
+def load_model(path):
+    """Load, validate and build the design file ``path``."""
+    return load_model(path)
+
+
+def say(args, text: str) -> None:
+    """Print ``text`` unless the command runs with ``--quiet``."""
+    if not getattr(args, "quiet", False):
+        print(text)
+
+
+def missing_modules(names) -> list:
+    """The modules of ``names`` that are not installed."""
+    return [m for m in names if importlib.util.find_spec(m) is None]
+
+
+def need_extra(command: str, extra: str, modules) -> None:
+    """MissingExtraError unless ``modules`` of the extra ``extra`` are installed."""
+    missing = missing_modules(modules)
+    if missing:
+        raise MissingExtraError(
+            f"'ccu {command}' needs the {extra} extra ({', '.join(missing)} not installed): "
+            f"pip install 'compas_ccu[{extra}]'"
+        )
+
+
+def need_viz(command: str) -> None:
+    """MissingExtraError unless the viz extra is installed."""
+    need_extra(command, "viz", VIZ)
+
+
+def comma_list(text: str, allowed, option: str) -> list:
+    """The distinct items of a comma list, each one of ``allowed`` (OptionError otherwise)."""
+    items = [f.strip().lower() for f in text.split(",") if f.strip()]
+    bad = [f for f in items if f not in allowed]
+    if bad or not items:
+        allowed = ", ".join(allowed)
+        raise OptionError(f"{option} must be a comma list of {allowed}, got {text!r}")
+    return list(dict.fromkeys(items))

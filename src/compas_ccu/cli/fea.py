@@ -1,0 +1,159 @@
+"""``ccu validate``: the deployment checked by a nonlinear FE engine (the ``fea`` extra).
+
+The FE modules are imported inside the command: ``ccu --help`` and the other commands do not
+load them.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from compas_ccu.cli.common import load_model, missing_modules, say
+from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
+
+__all__ = ["COMMANDS"]
+
+
+def _write_failure(out: Path, model, args, exc) -> None:
+    """validation.json of a deployment that did not converge (the step and the residual)."""
+    failure = {
+        "format": "ccu.validation",
+        "version": 1,
+        "design": model.design.name,
+        "engine": args.engine,
+        "mode": args.mode,
+        "converged": False,
+        "failed_step": exc.step,
+        "residual": exc.residual,
+        "message": str(exc),
+    }
+    with open(out / "validation.json", "w") as fh:
+        json.dump(failure, fh, indent=1)
+
+
+def validate(args) -> int:
+    from compas_ccu.fea.problem import ConvergenceError
+    from compas_ccu.fea.record import agreement, remember
+    from compas_ccu.fea.validation import validate as run_validation
+
+    model = load_model(args.design)
+    options = dict(
+        engine=args.engine,
+        mode=args.mode,
+        element_size=args.element_size,
+        steps=args.steps,
+        alpha=args.alpha,
+        material=args.material,
+        thickness=args.thickness,
+        orthotropic=args.orthotropic,
+        hinge_stiffness=args.hinge_stiffness,
+        control=args.control,
+        checks=not args.no_checks,
+        area_load=args.area_load,
+    )
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    say(args, f"validating {model.design.name} with {args.engine} ({args.mode}) ...")
+    try:
+        v = run_validation(model, **options)
+    except ConvergenceError as exc:
+        _write_failure(out, model, args, exc)
+        raise
+    figures = not args.no_figures and not missing_modules(["matplotlib"])
+    files = v.write(out, figures=figures)
+    summary = v.summary()
+    if args.compare:
+        other = "opensees" if args.engine == "kratos" else "kratos"
+        say(args, f"cross-checking with {other} ...")
+        w = run_validation(model, **{**options, "engine": other})
+        w.write(out / other, figures=False)
+        summary["agreement"] = agreement(v, w)
+        with open(out / "validation.json", "w") as fh:
+            json.dump(summary, fh, indent=1)
+    remember(args.design, summary, out)
+    for line in _summary_lines(summary):
+        say(args, line)
+    for f in files:
+        say(args, f"wrote {f}")
+    return 0
+
+
+def _summary_lines(summary: dict) -> list:
+    d, st, sol = summary["deviation"], summary["stresses"], summary["solver"]
+    lines = [
+        f"deviation from the kinematic model at alpha = {summary['alpha']:.4g} deg: max "
+        f"{d['max_percent']:.3f} %, mean {d['mean_percent']:.4f} % of the span "
+        f"{summary['span']:.3f} m (max along the path {d['max_percent_along_path']:.3f} %)",
+        f"stresses: bending {st['max_bending_MPa']:.2f} MPa, membrane "
+        f"{st['max_membrane_MPa']:.2f} MPa, moment {st['max_moment_Nm_per_m']:.1f} Nm/m",
+    ]
+    c = summary["checks"]
+    if c:
+        lines.append(
+            f"checks (self-weight + {c['load']['area_load_N_per_m2']:.0f} N/m2): deflection "
+            f"{c['deflection_max_m'] * 1e3:.2f} mm <= {c['deflection_limit_m'] * 1e3:.2f} mm "
+            f"{'ok' if c['deflection_ok'] else 'EXCEEDED'}, utilisation "
+            f"{c['utilisation_max']:.2f} {'ok' if c['utilisation_ok'] else 'EXCEEDED'}"
+            + (
+                f", buckling factor {c['buckling_factor']:.3g}"
+                if c.get("buckling_factor") is not None
+                else ""
+            )
+        )
+    if "agreement" in summary:
+        a = summary["agreement"]
+        lines.append(
+            f"engines agree: positions within {a['position_max_percent']:.2e} % of span, "
+            f"deviation {a['deviation_max_relative']:.1e}, moment {a['moment_max_relative']:.1e}"
+            " (relative)"
+        )
+    lines.append(
+        f"{summary['mesh']['elements']} elements, {sol['steps']} steps, "
+        f"{sum(sol['iterations'])} iterations, {sol['cuts']} cuts, {sol['wall_time_s']:.1f} s"
+    )
+    return lines
+
+
+COMMANDS = (
+    Command(
+        "validate",
+        "validate the deployment with a nonlinear FE engine",
+        "Mesh the plates as quad shells (8 mm plywood by default), tie the hinges, "
+        "deploy geometrically nonlinearly and compare with the kinematic model; then check "
+        "the deployed state under self-weight + an area load. Writes validation.json, "
+        "fe_results.npz and fe_stress / fe_deviation / fe_curves pictures into --out.",
+        (
+            DESIGN,
+            OUT,
+            option("--engine", choices=("kratos", "opensees"), default="kratos", help=None),
+            option(
+                "--mode", choices=("displacement", "actuation"), default="displacement", help=None
+            ),
+            option("--element-size", type=float, default=0.1, help="m (default 0.1)"),
+            option("--steps", type=int, default=8, help="deployment steps (default 8)"),
+            option("--alpha", type=float, default=None, help="target alpha, degrees"),
+            option("--material", default="plywood", help="material name (default plywood)"),
+            option("--thickness", type=float, default=0.008, help="m (default 0.008)"),
+            option("--orthotropic", action="store_true", help="E1 along the crease, E2 across"),
+            option(
+                "--hinge-stiffness",
+                type=float,
+                default=0.0,
+                help="rotational hinge spring, Nm/rad/m",
+            ),
+            option(
+                "--control",
+                choices=("supports", "edges"),
+                default="supports",
+                help="nodes that follow the kinematic path (displacement mode)",
+            ),
+            option("--area-load", type=float, default=1500.0, help="check load, N/m2 (1500)"),
+            option("--no-checks", action="store_true", help="skip the structural checks"),
+            option("--compare", action="store_true", help="cross-check with the other engine"),
+            option("--no-figures", action="store_true", help="skip the pictures"),
+            QUIET,
+        ),
+        validate,
+    ),
+)

@@ -1,0 +1,226 @@
+"""``ccu figures | animate | view | sheet | report``: pictures of designs (the ``viz`` extra).
+
+The viz modules are imported inside the commands, after the check for the extra, so that
+``ccu --help`` and the other commands work without it.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from compas_ccu.cli.common import comma_list, load_model, need_viz, say
+from compas_ccu.cli.parser import DESIGN, OUT, QUIET, QUIET_PROGRESS, Command, option
+from compas_ccu.errors import OptionError
+from compas_ccu.io import read_values
+
+__all__ = ["COMMANDS", "FIGURE_NAMES", "COLOR_BY"]
+
+#: Figure types of ``ccu figures --only``.
+FIGURE_NAMES = ("views", "cut-patterns", "sequence", "quadrants", "planarity")
+#: Colourings of ``ccu figures --color-by``.
+COLOR_BY = ("kind", "curvature", "alpha")
+
+
+def _colorings(args) -> list:
+    """(name, colour_by) of the 3D views: --values (an array from a file) or --color-by."""
+    if args.values:
+        try:
+            return [("values", read_values(args.values))]
+        except (OSError, ValueError) as exc:
+            raise OptionError(f"cannot read --values {args.values!r}: {exc}") from None
+    colorings = [(c, c) for c in args.color_by.split(",")]
+    for name, _ in colorings:
+        if name not in COLOR_BY:
+            raise OptionError(f"--color-by must be kind, curvature or alpha, got {name!r}")
+    return colorings
+
+
+def figures(args) -> int:
+    need_viz("figures")
+    from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
+    from compas_ccu.viz.patterns import plot_cut_patterns
+    from compas_ccu.viz.planarity import plot_planarity
+    from compas_ccu.viz.quadrants import plot_quadrants
+    from compas_ccu.viz.sequence import plot_deployment_sequence
+    from compas_ccu.viz.views import plot_views
+
+    formats = comma_list(args.format, FIGURE_FORMATS, "--format")
+    only = comma_list(args.only, FIGURE_NAMES, "--only") if args.only else list(FIGURE_NAMES)
+    model = load_model(args.design)
+    structure = model.deploy(args.alpha)
+    alpha = structure.alpha
+    out = Path(args.out)
+    written = []
+    if "views" in only:
+        for name, color_by in _colorings(args):
+            fig = plot_views(structure, color_by=color_by, label=args.label)
+            written += save_figure(fig, out / f"views-{name}", formats=formats)
+    makers = {
+        "cut-patterns": lambda: plot_cut_patterns(structure),
+        "sequence": lambda: plot_deployment_sequence(model, alpha=alpha),
+        "quadrants": lambda: plot_quadrants(model.design, alpha=alpha),
+        "planarity": lambda: plot_planarity(model, alpha=alpha),
+    }
+    for name in only:
+        if name in makers:
+            written += save_figure(makers[name](), out / name, formats=formats)
+    for path in written:
+        say(args, f"wrote {path}")
+    return 0
+
+
+def animate(args) -> int:
+    need_viz("animate")
+    from compas_ccu.viz.animation import ANIMATION_FORMATS, mp4_available, write_animation
+
+    if args.format is None:
+        formats = ["gif"] + (["mp4"] if mp4_available() else [])
+    else:
+        formats = comma_list(args.format, ANIMATION_FORMATS, "--format")
+    model = load_model(args.design)
+    out = Path(args.out)
+    for fmt in formats:
+        path = write_animation(
+            model,
+            out / f"deployment.{fmt}",
+            frames=args.frames,
+            fps=args.fps,
+            alpha=args.alpha,
+            progress=not args.quiet,
+        )
+        say(args, f"wrote {path} ({args.frames} frames)")
+    if args.format is None and "mp4" not in formats:
+        say(args, "no MP4 encoder (pip install 'compas_ccu[video]'): wrote the GIF only")
+    return 0
+
+
+def view(args) -> int:
+    need_viz("view")
+    from compas_ccu.viz.viewer import write_viewer
+
+    model = load_model(args.design)
+    path = write_viewer(model, Path(args.out) / "viewer.html", steps=args.steps, alpha=args.alpha)
+    say(args, f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, works offline)")
+    return 0
+
+
+def sheet(args) -> int:
+    need_viz("sheet")
+    from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
+    from compas_ccu.viz.sheet import plot_contact_sheet
+
+    formats = comma_list(args.format, FIGURE_FORMATS, "--format")
+    structures = [load_model(d).deploy() for d in args.designs]
+    fig = plot_contact_sheet(structures, columns=args.columns, title=args.title)
+    for path in save_figure(fig, Path(args.out) / "contact-sheet", formats=formats):
+        say(args, f"wrote {path}")
+    return 0
+
+
+def report(args) -> int:
+    need_viz("report")
+    from compas_ccu.viz.report import write_report
+
+    model = load_model(args.design)
+    written = write_report(
+        model, args.out, steps=args.steps, frames=args.frames, progress=not args.quiet
+    )
+    for name, reason in sorted(written.skipped.items()):
+        print(f"ccu: warning: {name} not produced: {reason}", file=sys.stderr)
+    say(args, f"wrote {len(written.files)} files into {Path(args.out)}")
+    say(args, f"report: {written.index.resolve()}")
+    return 0
+
+
+FORMATS = option("--format", default="png,svg", help="png, svg, pdf (default png,svg)")
+
+COMMANDS = (
+    Command(
+        "figures",
+        "write the figures of a design (PNG, SVG)",
+        "Write into --out: 3D views (views-<colouring>), the cut patterns, the "
+        "deployment sequence, the four quadrants of the leading crease and the crease "
+        "planarity along the path.",
+        (
+            DESIGN,
+            OUT,
+            option("--alpha", type=float, default=None, help="state to show, degrees"),
+            option(
+                "--color-by",
+                default="kind,curvature,alpha",
+                help="colourings of the 3D views: kind, curvature, alpha (comma list; default all)",
+            ),
+            option(
+                "--values",
+                default=None,
+                help="colour the 3D views by a per-vertex (plates, vertices) or per-face (plates, "
+                "faces) array from a .npy or JSON file instead",
+            ),
+            option("--label", default=None, help="colour bar label for --values"),
+            option("--only", default=None, help="comma list of " + ", ".join(FIGURE_NAMES)),
+            FORMATS,
+            QUIET,
+        ),
+        figures,
+    ),
+    Command(
+        "animate",
+        "animate the deployment (GIF, MP4)",
+        "Write --out/deployment.gif (and .mp4 where an encoder is available) from "
+        "the flat-folded stack to the design alpha.",
+        (
+            DESIGN,
+            OUT,
+            option("--frames", type=int, default=48, help="number of frames (default 48)"),
+            option("--fps", type=float, default=12.0, help="frames per second (default 12)"),
+            option("--alpha", type=float, default=None, help="last state, degrees"),
+            option("--format", default=None, help="gif, mp4 (default: gif, and mp4 if possible)"),
+            QUIET_PROGRESS,
+        ),
+        animate,
+    ),
+    Command(
+        "view",
+        "write the interactive 3D viewer page",
+        "Write --out/viewer.html: one self-contained page (works offline) with "
+        "orbit / zoom, a deployment slider and toggles for plates, creases, rulings and cut "
+        "patterns.",
+        (
+            DESIGN,
+            OUT,
+            option("--steps", type=int, default=24, help="slider steps (default 24)"),
+            option("--alpha", type=float, default=None, help="last state, degrees"),
+            QUIET,
+        ),
+        view,
+    ),
+    Command(
+        "sheet",
+        "contact sheet of several designs",
+        "Write --out/contact-sheet.png (and .svg): one perspective per design.",
+        (
+            option("designs", nargs="+", help="design TOML files"),
+            OUT,
+            option("--columns", type=int, default=None, help="columns (default: about square)"),
+            option("--title", default=None, help="sheet title"),
+            FORMATS,
+            QUIET,
+        ),
+        sheet,
+    ),
+    Command(
+        "report",
+        "write the design report (index.html)",
+        "Write --out/index.html with the viewer, the figures, the animation, the "
+        "key figures of the design and links to every file written (data, figures, viewer).",
+        (
+            DESIGN,
+            OUT,
+            option("--steps", type=int, default=24, help="deployment path steps (default 24)"),
+            option("--frames", type=int, default=48, help="animation frames (default 48)"),
+            QUIET_PROGRESS,
+        ),
+        report,
+    ),
+)

@@ -1,0 +1,118 @@
+"""Text of the ``ccu`` commands: the lines of ``ccu info`` and of the thickness summary.
+
+Only formatting: the numbers come from the library (:mod:`compas_ccu.key_figures`,
+:meth:`compas_ccu.thickness.ThickModel.summary`, :func:`compas_ccu.fea.record.last_validation`).
+"""
+
+from __future__ import annotations
+
+from compas_ccu.thickness.model import collision_text
+
+__all__ = ["info_lines", "thickness_lines", "validation_lines"]
+
+
+def info_lines(k) -> list:
+    """``ccu info`` lines of the key figures ``k`` (:class:`compas_ccu.key_figures.KeyFigures`
+    with the path figures): design, limits, shape, stack, invariants, layout, planarity."""
+    lines = [
+        f"design            {k.name}",
+        f"plates            {k.plates}",
+        f"creases           {k.creases}" + (f" ({k.crease_kinds})" if k.crease_kinds else ""),
+        f"segments          {k.segments} per crease",
+        f"design alpha      {k.alpha_design:g} deg at reference vertex {k.reference_vertex}",
+        f"deployment limit  {k.alpha_limit:.4f} deg (crease segment {k.limit_vertex} "
+        "perpendicular to its plane)",
+        f"overlap limit     {k.overlap_alpha:.4f} deg (largest alpha before a crease "
+        "overlaps itself)",
+        f"span              {k.crease_span:.4f} m (leading crease chord)",
+        f"rise              {k.crease_rise:.4f} m",
+        f"bounding box      {k.plan_x:.3f} x {k.plan_y:.3f} x {k.height:.3f} m",
+        f"flat stack        {k.stack_x:.3f} x {k.stack_y:.3f} m footprint",
+        f"invariants        max relative error {k.invariant_max_relative:.1e}, crease planarity "
+        f"{k.crease_planarity_design:.1e} m",
+        f"layout            {k.layout}",
+    ]
+    if k.plane_inclination_axis is not None:
+        lines.append(
+            f"plane inclination about the actuation axis {k.plane_inclination_axis:.3f} deg, "
+            f"perpendicular {k.plane_inclination_perpendicular:.3f} deg (largest between "
+            "neighbours)"
+        )
+    if k.global_curvature is not None:
+        lines.append(
+            f"global shape      {k.global_curvature} (principal curvatures "
+            f"{k.principal_curvature_1:.4g}, {k.principal_curvature_2:.4g} 1/m at the centre)"
+        )
+    state = (
+        "exact"
+        if k.crease_planarity_exact
+        else f"at alpha = {k.crease_planarity_path_alpha:.4g} deg"
+    )
+    lines.append(
+        f"path planarity    {k.crease_planarity_path:.2e} m largest crease deviation over "
+        f"{k.path_states} states ({state}; 'ccu planarity' for the table)"
+    )
+    if k.target_fit_planes is not None:
+        lines.append(
+            f"target fit        planes [{k.target_fit_planes}] solved, largest miss "
+            f"{k.target_fit_max:.2e} m"
+        )
+    return lines
+
+
+def thickness_lines(summary: dict) -> list:
+    """Text lines of a :meth:`compas_ccu.thickness.ThickModel.summary` (info, fabricate)."""
+    b, c = summary["bending"], summary["collisions"]
+    pairs = summary["pairing"]
+    lines = [
+        f"thickness         {summary['thickness'] * 1e3:.4g} mm {summary['material']}, flat "
+        f"stack {summary['stack_height'] * 1e3:.4g} mm (order {summary['stack_order']})",
+        f"axis-shift hinges {pairs.count('intrados')} intrados-intrados, "
+        f"{pairs.count('extrados')} extrados-extrados; offset crease correction "
+        f"{max(summary['correction_design'], default=0.0) * 1e3:.3g} mm at the design, hinge "
+        f"gap along the path {summary['hinge_gap_max_path'] * 1e3:.3g} mm",
+    ]
+    text = collision_text(c)
+    lines.append(
+        "collisions        "
+        + (
+            f"** {text} **"
+            if c["first"]
+            else text.replace("none", "none from the flat stack to the design", 1)
+        )
+    )
+    worst = b["worst"]
+    lines.append(
+        f"bending check     max curvature {b['max_curvature']:.3g} 1/m, utilisation "
+        f"{b['max_utilisation']:.2f} (plate {worst['plate']} at alpha {worst['alpha']:.3g} deg; "
+        f"limit f/(E t/2) >= {b['curvature_limit_min']:.3g} 1/m)"
+        + ("  ** EXCEEDED: the plates would break **" if b["exceeded"] else "")
+    )
+    return lines
+
+
+def validation_lines(record: dict | None) -> list:
+    """``ccu info`` lines on the last FE validation record of a design file, if any."""
+    if record is None:
+        return ["FE validation     none yet ('ccu validate' to run one)"]
+    d = record["deviation"]
+    c = record.get("checks") or {}
+    line = (
+        f"FE validation     {record['engine']} {record['mode']}, alpha {record['alpha']:.4g} deg: "
+        f"deviation max {d['max_percent']:.3f} % / mean {d['mean_percent']:.3f} % of span, "
+        f"bending {record['stresses']['max_bending_MPa']:.1f} MPa"
+    )
+    lines = [line]
+    if c:
+        lines.append(
+            f"FE checks         deflection {c['deflection_max_m'] * 1e3:.2f} mm (limit "
+            f"{c['deflection_limit_m'] * 1e3:.2f} mm), utilisation {c['utilisation_max']:.2f}"
+            + (
+                f", buckling factor {c['buckling_factor']:.3g}"
+                if c.get("buckling_factor") is not None
+                else ""
+            )
+            + ("" if c["deflection_ok"] and c["utilisation_ok"] else "  ** NOT OK **")
+        )
+    lines.append(f"                  ({record['when']}, {record['out']})")
+    return lines

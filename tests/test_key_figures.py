@@ -1,0 +1,183 @@
+"""Key figures: one definition, and ``ccu info``, the report, the sweep columns and the catalog
+table all show the same numbers."""
+
+from __future__ import annotations
+
+import json
+import pickle
+import re
+
+import numpy as np
+import pytest
+
+from compas_ccu.catalog import COLUMNS, catalog_metrics, catalog_path
+from compas_ccu.cli import main
+from compas_ccu.design import load_design
+from compas_ccu.errors import OptionError
+from compas_ccu.explore import evaluate_variant
+from compas_ccu.explore.metrics import KEY_FIGURE_COLUMNS, METRICS
+from compas_ccu.key_figures import (
+    FIGURES,
+    GROUPS,
+    KeyFigures,
+    figures_markdown,
+    key_figures,
+)
+from compas_ccu.model import load_model
+from conftest import EXAMPLES
+
+DESIGNS = {
+    "vault": EXAMPLES / "vault.toml",
+    "fig09a-arc": catalog_path("fig09a-arc"),
+}
+
+
+@pytest.fixture(scope="module", params=sorted(DESIGNS))
+def design(request):
+    path = DESIGNS[request.param]
+    model = load_model(path)
+    return request.param, path, model, key_figures(model, path=24)
+
+
+def _info(path, capsys) -> dict:
+    """span, rise, height and the invariant error as ``ccu info`` prints them."""
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    return {
+        "span": re.search(r"^span +(\S+) m", out, re.M).group(1),
+        "rise": re.search(r"^rise +(\S+) m", out, re.M).group(1),
+        "height": re.search(r"^bounding box +\S+ x \S+ x (\S+) m", out, re.M).group(1),
+        "invariant": re.search(r"max relative error (\S+),", out).group(1),
+    }
+
+
+def test_info_report_sweep_and_catalog_agree(design, capsys, tmp_path):
+    name, path, model, k = design
+    # the numbers themselves: the leading crease (2.5 m chord, 1 m rise) of a 1.046 m high vault
+    assert k.crease_span == pytest.approx(2.5, abs=1e-12)
+    assert k.crease_rise == pytest.approx(1.0, abs=1e-12)
+    assert k.height == pytest.approx(1.0456247529798, abs=1e-12)
+    assert 1e-16 < k.invariant_max_relative < 1e-15
+    # ccu info
+    info = _info(path, capsys)
+    assert info == {
+        "span": f"{k.crease_span:.4f}",
+        "rise": f"{k.crease_rise:.4f}",
+        "height": f"{k.height:.3f}",
+        "invariant": f"{k.invariant_max_relative:.1e}",
+    }
+    # the sweep's columns (the historical names span, rise, invariant_error)
+    row = evaluate_variant(load_design(path).document, path_states=5)
+    assert row["status"] == "ok", row["error"]
+    assert row["span"] == k.crease_span and row["rise"] == k.crease_rise
+    assert row["height"] == k.height and row["invariant_error"] == k.invariant_max_relative
+    # the catalog's table
+    table = catalog_metrics(model, steps=24, relax=False)
+    assert table == k.to_dict()
+    if name == "fig09a-arc":
+        assert main(["catalog", "--out", str(tmp_path), "--only", name, "--no-figures"]) == 0
+        (row,) = json.loads((tmp_path / "catalog.json").read_text())
+        for figure in ("crease_span", "crease_rise", "height", "invariant_max_relative"):
+            assert row[figure] == k[figure], figure
+
+
+def test_the_report_shows_the_same_key_figures(design, tmp_path):
+    pytest.importorskip("matplotlib")
+    from compas_ccu.viz.report import write_report
+
+    name, path, model, k = design
+    report = write_report(model, tmp_path, steps=2, frames=2, formats=("png",))
+    for figure in ("crease_span", "crease_rise", "height", "invariant_max_relative"):
+        assert report.figures[figure] == k[figure], figure
+    text = " ".join(report.index.read_text(encoding="utf-8").split())
+    assert f"Span (leading crease chord)</th><td class=num>{k.crease_span:.4f} m" in text
+    assert f"Rise</th><td class=num>{k.crease_rise:.4f} m" in text
+    assert f"× {k.height:.3f} m</td>" in text
+
+
+def test_the_invariant_figure_is_relative_once():
+    """max_invariant_error is already relative to the size: the catalog divided it again."""
+    model = load_model(catalog_path("fig09a-arc"))
+    s = model.deploy()
+    m = s.metrics
+    absolute = max(m[k] for k in ("isometry", "quad_planarity", "hinge_gap", "mirror_error"))
+    k = key_figures(model, s)
+    assert k.invariant_max_relative == pytest.approx(absolute / model.size, rel=1e-12)
+    assert k.invariant_max_relative == s.max_invariant_error
+    assert 4e-16 < k.invariant_max_relative < 5e-16  # 4.5e-16, not 1.5e-16 = 4.5e-16 / 2.96 m
+    assert catalog_metrics(model, steps=2, relax=False)["invariant_max_relative"] == (
+        k.invariant_max_relative
+    )
+
+
+def test_crease_rise_and_height_are_two_figures(design):
+    _, _, model, k = design
+    s = model.deploy()
+    assert k.crease_rise == s.metrics["rise"] and k.crease_span == s.metrics["span"]
+    assert k.height == float(np.ptp(np.asarray(s.deployed)[..., 2]))
+    assert k.height - k.crease_rise > 0.04  # the plates reach above the leading crease
+
+
+def test_key_figures_are_plain_json_read_only_and_pickle(design):
+    _, _, _, k = design
+    d = k.to_dict()
+    assert list(d) == [f.name for f in FIGURES] == list(k)
+    assert json.loads(json.dumps(d)) == d
+    kinds = {"float": float, "int": int, "bool": bool, "str": str}
+    for f in FIGURES:
+        assert d[f.name] is None or type(d[f.name]) is kinds[f.dtype], f.name
+    assert k.crease_kinds == "4 anticlastic, 5 synclastic"
+    assert k.crease_kind_counts() == {"anticlastic": 4, "synclastic": 5}
+    with pytest.raises(AttributeError):
+        k.crease_span = 3.0
+    assert pickle.loads(pickle.dumps(k)) == k
+    assert k.group("path")["path_states"] == 24
+    with pytest.raises(OptionError, match=r"no key figure 'rise'; the key figures are: name"):
+        KeyFigures(rise=1.0)
+
+
+def test_options_are_checked(vault_model):
+    with pytest.raises(OptionError, match=r"key figures describe the design state"):
+        key_figures(vault_model, vault_model.deploy(20.0))
+    with pytest.raises(OptionError, match=r"measured along a path"):
+        key_figures(vault_model, thickness=True)
+    with pytest.raises(OptionError, match=r"steps must be an integer >= 1, got 0"):
+        key_figures(vault_model, path=0)
+
+
+def test_thickness_and_path_figures(vault_model):
+    alphas = np.linspace(0.0, 30.0, 21)
+    k = key_figures(vault_model, path=alphas, thickness=True)
+    assert k.path_states == 21 and k.crease_planarity_exact and k.crease_planarity_path < 1e-13
+    assert k.thickness == 0.008 and k.material == "plywood"
+    assert k.stack_height == pytest.approx(0.08, abs=1e-15)
+    assert k.mass == pytest.approx(k.plate_area * 0.008 * 600.0, rel=1e-13)
+    assert 0.0 < k.bending_utilisation < 1.0
+    assert k.relaxed_strain is None  # exact designs are not relaxed
+
+
+def test_every_figure_is_defined_once_and_documented():
+    names = [f.name for f in FIGURES]
+    assert len(names) == len(set(names))
+    assert {f.group for f in FIGURES} == set(GROUPS)
+    assert {f.dtype for f in FIGURES} <= {"float", "int", "bool", "str"}
+    doc = (EXAMPLES.parent / "docs" / "key-figures.md").read_text(encoding="utf-8")
+    table = doc.split("<!-- figures:begin")[1].split("-->", 1)[1].split("<!-- figures:end -->")[0]
+    assert table.strip() == figures_markdown().strip()  # regenerate: see the comment in the docs
+    readme = (EXAMPLES.parent / "README.md").read_text(encoding="utf-8")
+    assert "docs/key-figures.md" in readme
+
+
+def test_sweep_and_catalog_columns_are_key_figures():
+    by_name = {f.name: f for f in FIGURES}
+    for group, columns in KEY_FIGURE_COLUMNS.items():
+        for column, name in columns.items():
+            metric = next(m for m in METRICS if m.name == column)
+            f = by_name[name]
+            assert (metric.group, metric.figure, metric.dtype, metric.unit) == (
+                group,
+                name,
+                f.dtype,
+                f.unit,
+            )
+    assert set(COLUMNS) - {"name", "figure", "expected"} <= set(by_name)
