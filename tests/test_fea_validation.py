@@ -186,7 +186,7 @@ def test_actuation_refuses_a_prebend_beyond_the_target(cone):
 
 
 def test_fea_modules_form_layers_and_only_output_draws():
-    """No import of compas_ccu inside a function (but viz in output), none of a private name."""
+    """No import of compas_ccu inside a function, none of a private name; only output draws."""
     root = Path(__file__).resolve().parents[1] / "src" / "compas_ccu" / "fea"
     for path in sorted(root.rglob("*.py")):
         tree = ast.parse(path.read_text())
@@ -196,10 +196,9 @@ def test_fea_modules_form_layers_and_only_output_draws():
             if not isinstance(node, ast.ImportFrom) or not module.startswith("compas_ccu"):
                 continue
             assert not any(a.name.startswith("_") for a in node.names), (path.name, module)
+            assert id(node) in top, (path.name, module)
             if module.startswith("compas_ccu.viz"):
-                assert path.name == "output.py" and id(node) not in top, path.name
-            else:
-                assert id(node) in top, (path.name, module)
+                assert path.name == "output.py", path.name
 
 
 # -- checks ---------------------------------------------------------------------------------------

@@ -31,6 +31,8 @@ from compas_ccu.errors import OptionError
 from compas_ccu.io import write_structure_json
 from compas_ccu.key_figures import key_figures
 from compas_ccu.model import CCUModel
+from compas_ccu.viz.export import save_figure
+from compas_ccu.viz.sheet import plot_contact_sheet
 
 __all__ = [
     "CATALOG_DIR",
@@ -253,11 +255,9 @@ def _write_tables(out: Path, rows: list) -> list:
 
 def _write_sheets(out: Path, structures: dict) -> list:
     try:
-        from compas_ccu.viz.export import save_figure
-        from compas_ccu.viz.sheet import plot_contact_sheet
+        import matplotlib.pyplot as plt
     except ImportError:  # pragma: no cover - viz extra missing
         return []
-    import matplotlib.pyplot as plt
 
     files = []
     groups: dict = {}

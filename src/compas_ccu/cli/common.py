@@ -5,17 +5,13 @@ from __future__ import annotations
 import importlib.util
 
 from compas_ccu.errors import MissingExtraError, OptionError
+from compas_ccu.model import load_model
 
 __all__ = ["load_model", "say", "missing_modules", "need_extra", "need_viz", "comma_list"]
 
 #: Modules of the optional extras the commands check for before they import them.
 VIZ = ("matplotlib", "plotly", "tqdm")
 FAB = ("ezdxf", "rhino3dm", "trimesh")
-
-
-def load_model(path):
-    """Load, validate and build the design file ``path``."""
-    return load_model(path)
 
 
 def say(args, text: str) -> None:

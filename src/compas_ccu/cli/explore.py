@@ -11,6 +11,7 @@ import sys
 from compas_ccu.cli.common import missing_modules, say
 from compas_ccu.cli.parser import QUIET_PROGRESS, Command, option
 from compas_ccu.errors import MissingExtraError, OptionError
+from compas_ccu.explore import load_sweep, run_sweep
 
 __all__ = ["COMMANDS"]
 
@@ -35,7 +36,6 @@ def _stop(signum, frame):  # SIGTERM: stop like Ctrl-C (the cluster shuts down c
 
 
 def explore(args) -> int:
-    from compas_ccu.explore import load_sweep, run_sweep
 
     _check(args)
     sweep = load_sweep(args.sweep)

@@ -7,6 +7,7 @@ from pathlib import Path
 from compas_ccu.cli.common import FAB, load_model, need_extra, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
 from compas_ccu.cli.text import thickness_lines
+from compas_ccu.fabrication.fabricate import fabricate as write_fabrication
 
 __all__ = ["COMMANDS"]
 
@@ -14,7 +15,6 @@ __all__ = ["COMMANDS"]
 def fabricate(args) -> int:
     need_extra("fabricate", "fab", FAB)
     need_extra("fabricate", "viz", ("matplotlib",))  # the assembly sheet
-    from compas_ccu.fabrication.fabricate import fabricate as write_fabrication
 
     model = load_model(args.design)
     manifest = write_fabrication(

@@ -11,6 +11,9 @@ from pathlib import Path
 
 from compas_ccu.cli.common import load_model, missing_modules, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
+from compas_ccu.fea.problem import ConvergenceError
+from compas_ccu.fea.record import agreement, remember
+from compas_ccu.fea.validation import validate as run_validation
 
 __all__ = ["COMMANDS"]
 
@@ -33,9 +36,6 @@ def _write_failure(out: Path, model, args, exc) -> None:
 
 
 def validate(args) -> int:
-    from compas_ccu.fea.problem import ConvergenceError
-    from compas_ccu.fea.record import agreement, remember
-    from compas_ccu.fea.validation import validate as run_validation
 
     model = load_model(args.design)
     options = dict(

@@ -15,6 +15,8 @@ from compas_ccu.fea.record import last_validation
 from compas_ccu.io import write_compas_json, write_obj, write_path, write_structure_json
 from compas_ccu.key_figures import key_figures
 from compas_ccu.thickness import ThickModel
+from compas_ccu.viz.export import save_figure
+from compas_ccu.viz.planarity import plot_planarity
 
 __all__ = ["COMMANDS", "INFO_PATH_STATES", "INFO_THICKNESS_STATES"]
 
@@ -88,8 +90,6 @@ def planarity(args) -> int:
     files = report.write(args.out)
     if args.figure:
         need_viz("planarity --figure")
-        from compas_ccu.viz.export import save_figure
-        from compas_ccu.viz.planarity import plot_planarity
 
         fig = plot_planarity(model, steps=args.steps)
         files += save_figure(fig, Path(args.out) / "planarity")

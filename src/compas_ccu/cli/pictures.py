@@ -13,6 +13,16 @@ from compas_ccu.cli.common import comma_list, load_model, need_viz, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, QUIET_PROGRESS, Command, option
 from compas_ccu.errors import OptionError
 from compas_ccu.io import read_values
+from compas_ccu.viz.animation import ANIMATION_FORMATS, mp4_available, write_animation
+from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
+from compas_ccu.viz.patterns import plot_cut_patterns
+from compas_ccu.viz.planarity import plot_planarity
+from compas_ccu.viz.quadrants import plot_quadrants
+from compas_ccu.viz.report import write_report
+from compas_ccu.viz.sequence import plot_deployment_sequence
+from compas_ccu.viz.sheet import plot_contact_sheet
+from compas_ccu.viz.viewer import write_viewer
+from compas_ccu.viz.views import plot_views
 
 __all__ = ["COMMANDS", "FIGURE_NAMES", "COLOR_BY"]
 
@@ -38,12 +48,6 @@ def _colorings(args) -> list:
 
 def figures(args) -> int:
     need_viz("figures")
-    from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
-    from compas_ccu.viz.patterns import plot_cut_patterns
-    from compas_ccu.viz.planarity import plot_planarity
-    from compas_ccu.viz.quadrants import plot_quadrants
-    from compas_ccu.viz.sequence import plot_deployment_sequence
-    from compas_ccu.viz.views import plot_views
 
     formats = comma_list(args.format, FIGURE_FORMATS, "--format")
     only = comma_list(args.only, FIGURE_NAMES, "--only") if args.only else list(FIGURE_NAMES)
@@ -72,7 +76,6 @@ def figures(args) -> int:
 
 def animate(args) -> int:
     need_viz("animate")
-    from compas_ccu.viz.animation import ANIMATION_FORMATS, mp4_available, write_animation
 
     if args.format is None:
         formats = ["gif"] + (["mp4"] if mp4_available() else [])
@@ -97,7 +100,6 @@ def animate(args) -> int:
 
 def view(args) -> int:
     need_viz("view")
-    from compas_ccu.viz.viewer import write_viewer
 
     model = load_model(args.design)
     path = write_viewer(model, Path(args.out) / "viewer.html", steps=args.steps, alpha=args.alpha)
@@ -107,8 +109,6 @@ def view(args) -> int:
 
 def sheet(args) -> int:
     need_viz("sheet")
-    from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
-    from compas_ccu.viz.sheet import plot_contact_sheet
 
     formats = comma_list(args.format, FIGURE_FORMATS, "--format")
     structures = [load_model(d).deploy() for d in args.designs]
@@ -120,7 +120,6 @@ def sheet(args) -> int:
 
 def report(args) -> int:
     need_viz("report")
-    from compas_ccu.viz.report import write_report
 
     model = load_model(args.design)
     written = write_report(

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu import key_figures as kf
+from compas_ccu.fea.validation import validate
 
 __all__ = [
     "Metric",
@@ -208,7 +209,6 @@ def fe_metrics(model, thick, options: dict) -> dict:
     compas_ccu.fea.ConvergenceError
         The FE deployment did not converge (the sweep records it as the variant's error).
     """
-    from compas_ccu.fea.validation import validate
 
     v = validate(model, thickness=thick.thickness, material=thick.material, **options)
     s = v.summary()

@@ -37,6 +37,8 @@ from compas_ccu.design.document import load_design, read_toml
 from compas_ccu.design.schema import SCHEMA
 from compas_ccu.errors import DesignError, SweepError
 from compas_ccu.explore.metrics import metric_names
+from compas_ccu.fea.problem import FEError
+from compas_ccu.fea.validation import FESettings
 
 __all__ = ["Parameter", "Variant", "Sweep", "load_sweep", "SAMPLINGS"]
 
@@ -284,8 +286,6 @@ class Sweep:
             return None
         table = self._table(document, "fe")
         self._known(table, FE_KEYS, "fe")
-        from compas_ccu.fea.problem import FEError
-        from compas_ccu.fea.validation import FESettings
 
         options = {"engine": "kratos", "element_size": 0.25, "steps": 4, **table}
         try:

@@ -13,6 +13,7 @@ import numpy as np
 
 from compas_ccu.fea.comparison import Comparison
 from compas_ccu.fea.stresses import signed_bending_stress
+from compas_ccu.viz.fea import plot_fe_curves, plot_fe_shape
 
 __all__ = ["write_results", "write_figures"]
 
@@ -75,8 +76,6 @@ def write_figures(out, comparison: Comparison) -> list:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from compas_ccu.viz.fea import plot_fe_curves, plot_fe_shape
 
     h = comparison.history
     os.makedirs(out, exist_ok=True)

@@ -127,7 +127,7 @@ def key_figures(model, structure=None, *, path=None, thickness=None, relax: bool
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> figures = key_figures(load_model("examples/vault.toml"), path=8)
     >>> round(figures.crease_span, 9), round(figures.crease_rise, 9), round(figures.height, 4)
     (2.5, 1.0, 1.0456)

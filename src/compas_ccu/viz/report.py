@@ -100,7 +100,7 @@ def write_report(
 
     Examples
     --------
-    >>> from compas_ccu.design import load_design
+    >>> from compas_ccu.model import load_model
     >>> import tempfile
     >>> r = write_report(load_model("examples/cone.toml"), tempfile.mkdtemp(),
     ...                  steps=4, frames=3)
