@@ -10,7 +10,8 @@ import compas
 import pytest
 
 from compas_ccu.design import Design, load_design
-from compas_ccu.design.schema import RULES, SCHEMA, validate
+from compas_ccu.design.rules import RULES
+from compas_ccu.design.schema import SCHEMA, validate
 from compas_ccu.design.sections import SECTION_TYPES, DesignSections
 from compas_ccu.errors import DesignError
 from conftest import EXAMPLES

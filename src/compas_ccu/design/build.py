@@ -231,7 +231,7 @@ def build(design) -> DesignGeometry:
     Parameters
     ----------
     design : compas_ccu.design.Design
-        A validated design (its schema rules, :data:`compas_ccu.design.schema.RULES`, hold).
+        A validated design (its schema rules, :data:`compas_ccu.design.rules.RULES`, hold).
 
     Raises
     ------

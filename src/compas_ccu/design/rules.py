@@ -1,0 +1,121 @@
+"""The rules between design keys: keys required only for some types, refused combinations.
+
+:func:`compas_ccu.design.schema.validate` checks them, in the order of :data:`RULES`, once every
+key is valid on its own; ``docs/design-files.md`` lists them (generated).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+__all__ = ["Rule", "RULES", "MULTI_CREASE"]
+
+MULTI_CREASE = ("parallel", "inclined", "radial")
+
+
+@dataclass(frozen=True)
+class Rule:
+    """A rule between keys that the table of keys cannot say: a key required only for some
+    types, or a combination of values that is refused.
+
+    ``applies(values)`` says whether the rule is in force for validated values (defaults filled
+    in); then ``holds(values)`` must be true, else the error names ``key`` with ``message``
+    (a string, or a function of the values for a message that quotes them).
+    """
+
+    key: str
+    doc: str
+    applies: Callable = field(compare=False)
+    holds: Callable = field(compare=False)
+    message: Any = field(default="", compare=False)
+
+
+def _required(section: str, name: str, when: str, applies: Callable) -> Rule:
+    return Rule(
+        f"{section}.{name}",
+        f"required for {when}",
+        applies,
+        lambda v: v[section][name] is not None,
+        f"required for {when}",
+    )
+
+
+def _ruling_type(kind):
+    return lambda v: v["rulings"]["type"] == kind
+
+
+def _layout_type(*kinds):
+    return lambda v: v["layout"]["type"] in kinds
+
+
+def _has_target(v) -> bool:
+    return any(value is not None for value in v["target"].values())
+
+
+#: The conditional rules, checked in this order after every key has been checked on its own.
+RULES = (
+    _required("rulings", "direction", "type 'cylindrical'", _ruling_type("cylindrical")),
+    _required("rulings", "apex", "type 'conical'", _ruling_type("conical")),
+    _required("rulings", "gamma", "type 'angle'", _ruling_type("angle")),
+    _required("rulings", "points", "type 'explicit'", _ruling_type("explicit")),
+    Rule(
+        "rulings.points",
+        "explicit rulings need crease.state = 'flat' and layout type 'single'",
+        _ruling_type("explicit"),
+        lambda v: v["crease"]["state"] == "flat" and v["layout"]["type"] == "single",
+        lambda v: (
+            "explicit rulings describe a cut pattern: they need crease.state = 'flat' and "
+            f"layout type 'single', got state {v['crease']['state']!r} and layout "
+            f"{v['layout']['type']!r}"
+        ),
+    ),
+    Rule(
+        "[target]",
+        "target curves need layout type 'parallel' or 'inclined'",
+        _has_target,
+        _layout_type("parallel", "inclined"),
+        lambda v: (
+            f"target curves need layout type 'parallel' or 'inclined', got {v['layout']['type']!r}"
+        ),
+    ),
+    Rule(
+        "target.support_end",
+        "needs target.support as well",
+        lambda v: v["target"]["support_end"] is not None,
+        lambda v: v["target"]["support"] is not None,
+        "needs target.support as well",
+    ),
+    Rule(
+        "crease.state",
+        "multi-crease layouts need crease.state = 'deployed'",
+        _layout_type(*MULTI_CREASE),
+        lambda v: v["crease"]["state"] == "deployed",
+        lambda v: (
+            f"layout '{v['layout']['type']}' needs crease.state = 'deployed': the crease "
+            "planes are placed at the design state"
+        ),
+    ),
+    _required(
+        "layout",
+        "width",
+        "layout type 'single'",
+        lambda v: v["layout"]["type"] == "single" and v["rulings"]["type"] != "explicit",
+    ),
+    Rule(
+        "layout.plates",
+        "required for layout types 'parallel', 'inclined' and 'radial'",
+        _layout_type(*MULTI_CREASE),
+        lambda v: v["layout"]["plates"] is not None,
+        lambda v: f"required for layout type '{v['layout']['type']}'",
+    ),
+    Rule(
+        "layout.spacing",
+        "required for layout types 'parallel' and 'inclined'",
+        _layout_type("parallel", "inclined"),
+        lambda v: v["layout"]["spacing"] is not None,
+        lambda v: f"required for layout type '{v['layout']['type']}'",
+    ),
+    _required("layout", "angle", "layout type 'radial'", _layout_type("radial")),
+    _required("layout", "axis", "layout type 'radial'", _layout_type("radial")),
+)
