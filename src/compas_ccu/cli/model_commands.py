@@ -119,7 +119,7 @@ COMMANDS = (
         "deploy",
         "deploy a design to one reflection angle",
         "Deploy DESIGN to --alpha and write structure.json "
-        "(SPEC §4), structure.obj and structure.compas.json into --out.",
+        "(docs/structure-json.md), structure.obj and structure.compas.json into --out.",
         (
             DESIGN,
             option(
@@ -162,7 +162,7 @@ COMMANDS = (
         "Measure how far every crease leaves its plane from alpha = 0 to the design "
         "alpha; write planarity.csv (every state and crease) and planarity.json (per-crease "
         "maximum). With --relax, also relax the worst state by least squares and report "
-        "the residuals (SPEC §2 fallback).",
+        "the residuals (the fallback of docs/shape-control.md).",
         (
             DESIGN,
             OUT,

@@ -317,7 +317,7 @@ def _page(k: KeyFigures, structure, report: Report, figures: dict, elapsed: floa
 {elapsed:.1f} s</p>
 <h2 id="viewer">Interactive viewer</h2>{viewer}
 <h2 id="key-figures">Key figures</h2><table>{key_rows}</table>
-<h3>Invariant errors (relative to the structure size {k.size:.3f} m; SPEC §5 bar 1e-9)</h3>
+<h3>Invariant errors (relative to the structure size {k.size:.3f} m; exactness bar 1e-9, docs/geometry.md §3)</h3>
 <table>{inv_rows}</table>
 <h3>Creases at the design state</h3>
 <table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
