@@ -2,10 +2,10 @@
 
 Every plate of a model is a strip of planar quads between two boundary curves, one quad per crease
 segment. Each quad is divided into ``along × across[p]`` bilinear sub-quads; because every quad is
-planar and congruent to its cut quad at every state (docs/geometry.md §3), a material point keeps its bilinear
-parameters exactly, and :meth:`ShellMesh.kinematic` gives the exact kinematic position of every FE
-node at any reflection angle. Hinge nodes are duplicated: plate a and plate b have their own node
-at every crease point; :attr:`ShellMesh.ties` pairs them.
+planar and congruent to its cut quad at every state (docs/geometry.md §3), a material point keeps
+its bilinear parameters exactly, and :meth:`ShellMesh.kinematic` gives the exact kinematic position
+of every FE node at any reflection angle. Hinge nodes are duplicated: plate a and plate b have their
+own node at every crease point; :attr:`ShellMesh.ties` pairs them.
 
 >>> from compas_ccu.design import load_design
 >>> from compas_ccu.model import CCUModel

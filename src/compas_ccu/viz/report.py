@@ -308,26 +308,18 @@ def _page(k: KeyFigures, structure, report: Report, figures: dict, elapsed: floa
     description = f'<p class="sub">{e(k.description)}</p>' if k.description else ""
     thick = _thickness_section(report.figures.get("thickness"))
     return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<title>{e(k.name)}: compas_ccu report</title><style>{_CSS}</style></head>
-<body>
-<h1>{e(k.name)}</h1>{description}
-<p class="sub">compas_ccu {e(__version__)} · curved-crease unfolding report · written in
-{elapsed:.1f} s</p>
-<h2 id="viewer">Interactive viewer</h2>{viewer}
-<h2 id="key-figures">Key figures</h2><table>{key_rows}</table>
-<h3>Invariant errors (relative to the structure size {k.size:.3f} m; exactness bar 1e-9, docs/geometry.md §3)</h3>
-<table>{inv_rows}</table>
-<h3>Creases at the design state</h3>
+<html lang="en"><head><meta charset="utf-8"> <meta name="viewport" content="width=device-width,
+initial-scale=1"> <title>{e(k.name)}: compas_ccu report</title><style>{_CSS}</style></head> <body>
+<h1>{e(k.name)}</h1>{description} <p class="sub">compas_ccu {e(__version__)} · curved-crease
+unfolding report · written in {elapsed:.1f} s</p> <h2 id="viewer">Interactive viewer</h2>{viewer}
+<h2 id="key-figures">Key figures</h2><table>{key_rows}</table> <h3>Invariant errors (relative to the
+structure size {k.size:.3f} m; exactness bar 1e-9, docs/geometry.md §3)</h3>
+<table>{inv_rows}</table> <h3>Creases at the design state</h3>
 <table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
-<th>planarity</th></tr>{crease_rows}</table>
-{thick}
-{anim}
-<h2 id="figures">Figures</h2>{"".join(figs)}
-{"<h2>Not produced</h2><ul>" + skipped + "</ul>" if skipped else ""}
-<h2 id="files">Files</h2><table>{file_rows}</table>
-</body></html>
+<th>planarity</th></tr>{crease_rows}</table> {thick} {anim} <h2
+id="figures">Figures</h2>{"".join(figs)} {
+        "<h2>Not produced</h2><ul>" + skipped + "</ul>" if skipped else ""
+    } <h2 id="files">Files</h2><table>{file_rows}</table> </body></html>
 """
 
 
