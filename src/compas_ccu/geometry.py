@@ -75,6 +75,16 @@ def fit_planes(points: np.ndarray, orient: np.ndarray):
     return origin, normal, deviation
 
 
+def _direction(vector, key: str) -> np.ndarray:
+    """A unit direction from a vector of any finite non-zero size (scaled before the norm, so
+    neither 1e-200 nor 1e200 under- or overflows)."""
+    v = np.asarray(vector, dtype=float)
+    scale = float(np.abs(v).max()) if v.size else 0.0
+    if not (np.all(np.isfinite(v)) and scale > 0.0):
+        raise DesignError(f"must be a finite non-zero direction, got {list(vector)}", key=key)
+    return unit(v / scale)
+
+
 def plane_frame(origin, xaxis, yaxis):
     """World frame of a plane: origin (3,) and the rows x, y, normal (3, 3).
 
@@ -83,10 +93,10 @@ def plane_frame(origin, xaxis, yaxis):
     Raises
     ------
     DesignError
-        ``yaxis`` is parallel to ``xaxis`` (names the design key ``plane.yaxis``).
+        An axis is zero or not finite, or ``yaxis`` is parallel to ``xaxis`` (names the key).
     """
-    x = unit(np.asarray(xaxis, dtype=float))
-    y = np.asarray(yaxis, dtype=float)
+    x = _direction(xaxis, "plane.xaxis")
+    y = _direction(yaxis, "plane.yaxis")
     y = y - (y @ x) * x
     if np.linalg.norm(y) < ZERO_LENGTH:
         raise DesignError(

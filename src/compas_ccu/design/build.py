@@ -92,6 +92,37 @@ class DesignGeometry:
     target_fit: TargetFit | None = None
 
 
+def _check_crease(points: np.ndarray) -> None:
+    """Refuse a sampled crease that is not finite, doubles back on itself or is closed."""
+    if not np.all(np.isfinite(points)):
+        i = int(np.flatnonzero(~np.isfinite(points).all(axis=1))[0])
+        raise DesignError(
+            f"the profile cannot be computed for these values: crease vertex {i} is "
+            f"{points[i].tolist()}",
+            key="[crease]",
+        )
+    edges = np.diff(points, axis=0)
+    lengths = np.linalg.norm(edges, axis=1)
+    total = float(lengths.sum())
+    if np.any(lengths <= ZERO_LENGTH * total):
+        i = int(np.flatnonzero(lengths <= ZERO_LENGTH * total)[0])
+        raise DesignError(f"crease vertices {i} and {i + 1} coincide", key="[crease]")
+    u = edges / lengths[:, None]
+    back = np.einsum("ij,ij->i", u[:-1], u[1:]) <= -1.0 + EXACT_RELATIVE
+    if back.any():
+        i = int(np.flatnonzero(back)[0]) + 1
+        raise DesignError(
+            f"the crease doubles back on itself at vertex {i} (a 180 deg turn): a crease "
+            "must run forward",
+            key="[crease]",
+        )
+    if np.linalg.norm(points[-1] - points[0]) <= EXACT_RELATIVE * total:
+        raise DesignError(
+            "the crease is closed (its end points coincide); a CCU crease is an open curve",
+            key="[crease]",
+        )
+
+
 def _side_flip(points: np.ndarray, side: str, reference: int) -> float:
     if side == "left":
         return 1.0
@@ -102,11 +133,23 @@ def _side_flip(points: np.ndarray, side: str, reference: int) -> float:
         reference = 1 if reference == 0 else len(points) - 2
     t = turn[reference]
     if abs(t) < ZERO_LENGTH:
-        raise DesignError(
-            f"the crease is straight at the reference vertex {reference}, so '{side}' is "
-            "undefined; use side = 'left' or 'right'",
-            key="rulings.side",
-        )
+        # straight at the reference vertex (a straight stretch of a polyline): the side the
+        # crease turns to as a whole
+        t = float(turn.sum())
+        if abs(t) < EXACT_RELATIVE:
+            left = math.degrees(turn[turn > 0.0].sum())
+            right = -math.degrees(turn[turn < 0.0].sum())
+            how = (
+                "the crease is straight"
+                if max(left, right) < math.degrees(EXACT_RELATIVE)
+                else f"the crease is straight at the reference vertex {reference} and turns as "
+                f"much to the left ({left:.4g} deg) as to the right ({right:.4g} deg)"
+            )
+            raise DesignError(
+                f"'{side}' is undefined: {how}; use side = 'left' or 'right' (of the profile "
+                "direction)",
+                key="rulings.side",
+            )
     centre_left = t > 0.0
     return 1.0 if centre_left == (side == "inside") else -1.0
 
@@ -241,15 +284,23 @@ def build(design) -> DesignGeometry:
     """
     crease, rulings, layout = design.crease, design.rulings, design.layout
     spec = {k: getattr(crease, k) for k in PROFILE_KEYS if getattr(crease, k) is not None}
+    n = crease.segments
     try:
         profile = profile_from_dict(spec)
+        if crease.profile == "polyline" and len(crease.points) == n + 1:
+            points = np.asarray(crease.points, dtype=float)  # the vertices as given
+        else:
+            points = np.asarray(profile.sample(n), dtype=float)
     except ProfileError as exc:
         raise DesignError(str(exc), key="[crease]") from exc
-    n = crease.segments
-    if crease.profile == "polyline" and len(crease.points) == n + 1:
-        points = np.asarray(crease.points, dtype=float)  # the vertices as given
-    else:
-        points = np.asarray(profile.sample(n), dtype=float)
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
+        # the profile solvers (elliptic integrals, root finding, eigenvalues) fail only for
+        # extreme values; say which section, not the solver's words alone
+        raise DesignError(
+            f"the {crease.profile} profile cannot be computed for these values ({exc})",
+            key="[crease]",
+        ) from exc
+    _check_crease(points)
     reference = int(round(crease.reference * n))
     state = crease.state
     if rulings.type == "explicit":

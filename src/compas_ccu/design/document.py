@@ -114,6 +114,13 @@ def read_toml(path, *, error=DesignError, what: str = "design") -> dict:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise error(f"cannot read {what} file {str(path)!r}: {exc.strerror}") from exc
+    except UnicodeDecodeError as exc:
+        bom = {b"\xff\xfe": "UTF-16", b"\xfe\xff": "UTF-16"}.get(path.read_bytes()[:2])
+        saved = f" (it looks saved as {bom})" if bom else ""
+        raise error(
+            f"{what} file {str(path)!r} is not UTF-8 text{saved}: TOML files are UTF-8; "
+            f"save it as UTF-8 (byte {exc.start} is {exc.object[exc.start : exc.start + 1]!r})"
+        ) from exc
     try:
         return parse_toml(text)
     except Exception as exc:  # tomllib.TOMLDecodeError

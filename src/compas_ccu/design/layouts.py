@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.errors import DesignError
-from compas_ccu.tolerances import ZERO_LENGTH
+from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = [
     "PlaneLayout",
@@ -177,7 +177,7 @@ def _radial(layout: dict, m: int, k0: int, local: np.ndarray) -> PlaneLayout:
     axis = float(layout["axis"])
     theta = np.r_[0.0, np.cumsum(angles)]
     theta -= theta[k0]
-    if theta[-1] - theta[0] >= 2.0 * math.pi:
+    if theta[-1] - theta[0] >= 2.0 * math.pi * (1.0 - EXACT_RELATIVE):
         raise DesignError(
             f"the planes turn by {math.degrees(theta[-1] - theta[0]):.6g} deg in total; a "
             "radial layout is an open ring of less than 360 deg",

@@ -1,0 +1,89 @@
+"""Inputs that used to give NaN geometry, overflow, a solver's words or an unnamed decode error
+now give a DesignError naming the key (issue: zero silent failures)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from compas_ccu.design import Design, load_design
+from compas_ccu.errors import DesignError
+from compas_ccu.model import CCUModel
+
+BASE = {
+    "crease": {"profile": "arc", "span": 2.5, "rise": 1.0, "segments": 16},
+    "rulings": {"type": "orthogonal"},
+    "deployment": {"alpha": 30.0},
+    "layout": {"width": 0.3},
+}
+
+
+def build(**sections):
+    doc = {**BASE, **sections}
+    return CCUModel(Design(doc))
+
+
+@pytest.mark.parametrize(
+    "plane,message",
+    [
+        ({"xaxis": [0, 0, 0]}, r"plane\.xaxis: must be a finite non-zero direction"),
+        ({"yaxis": [0.0, 0.0, 0.0]}, r"plane\.yaxis: must be a finite non-zero direction"),
+        ({"xaxis": [1, 0, 0], "yaxis": [2, 0, 0]}, r"plane\.yaxis: must not be parallel"),
+    ],
+)
+def test_degenerate_plane_axes_are_refused(plane, message):
+    with pytest.raises(DesignError, match=message):
+        build(plane=plane)
+
+
+@pytest.mark.parametrize("size", [1e-200, 1e200])
+def test_plane_axes_of_any_finite_size_are_directions(size):
+    model = build(plane={"xaxis": [size, 0.0, 0.0], "yaxis": [0.0, 0.0, size]})
+    s = model.deploy()
+    assert np.isfinite(s.deployed).all()
+    assert s.max_invariant_error < 1e-12
+    assert np.allclose(model.axes, [[1, 0, 0], [0, 0, 1], [0, -1, 0]])
+
+
+@pytest.mark.parametrize(
+    "crease,message",
+    [
+        (
+            {"profile": "polyline", "points": [[0, 0], [1, 1], [0, 0]], "segments": 2},
+            r"\[crease\]: the crease doubles back on itself at vertex 1",
+        ),
+        (
+            {"profile": "polyline", "points": [[0, 0], [1, 0], [1, 1], [0, 0]], "segments": 3},
+            r"\[crease\]: the crease is closed",
+        ),
+        ({"profile": "arc", "span": 10**400, "rise": 1.0}, r"crease\.span: must be a finite"),
+        ({"profile": "arc", "span": 1e308, "rise": 1.0}, r"crease\.span: must be > 0 and <= 1e6"),
+        ({"profile": "catenary", "span": 2.0, "rise": 1e-12}, r"the crease is straight"),
+    ],
+)
+def test_impossible_creases_are_named(crease, message):
+    with pytest.raises(DesignError, match=message):
+        build(crease=crease)
+
+
+def test_a_full_ring_of_radial_planes_is_refused():
+    with pytest.raises(DesignError, match=r"layout\.angle: the planes turn by 360 deg in total"):
+        build(layout={"type": "radial", "plates": 36, "angle": 10.0, "axis": 3.0})
+
+
+def test_inside_on_a_straight_stretch_is_judged_from_the_whole_crease():
+    """A polyline whose reference vertex sits on a straight stretch: 'inside' is the side the
+    crease turns to as a whole, as 'left' says explicitly."""
+    points = [[-1.2, 0.0], [-0.6, 0.5], [-0.2, 0.6], [0.0, 0.6], [0.2, 0.6], [0.6, 0.5], [1.2, 0]]
+    crease = {"profile": "polyline", "points": points, "segments": 6}
+    inside = build(crease=crease, rulings={"type": "orthogonal", "side": "inside"})
+    right = build(crease=crease, rulings={"type": "orthogonal", "side": "right"})
+    assert inside.flip == right.flip == -1.0
+    assert np.array_equal(inside.deploy().deployed, right.deploy().deployed)
+
+
+def test_a_utf16_design_file_is_named(tmp_path):
+    path = tmp_path / "windows.toml"
+    path.write_text('[crease]\nprofile = "arc"\n', encoding="utf-16")
+    with pytest.raises(DesignError, match=r"windows\.toml' is not UTF-8 text \(it looks saved as"):
+        load_design(path)
