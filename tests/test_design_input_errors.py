@@ -9,6 +9,7 @@ import pytest
 from compas_ccu.design import Design, load_design
 from compas_ccu.errors import DesignError
 from compas_ccu.model import CCUModel
+from compas_ccu.strips.intrinsics import QUAD_LENGTH_PAIRS
 
 BASE = {
     "crease": {"profile": "arc", "span": 2.5, "rise": 1.0, "segments": 16},
@@ -87,3 +88,31 @@ def test_a_utf16_design_file_is_named(tmp_path):
     path.write_text('[crease]\nprofile = "arc"\n', encoding="utf-16")
     with pytest.raises(DesignError, match=r"windows\.toml' is not UTF-8 text \(it looks saved as"):
         load_design(path)
+
+
+def _written_isometry(structure) -> float:
+    """Largest quad side / diagonal length change of the written numbers, deployed vs cut."""
+    pairs = QUAD_LENGTH_PAIRS
+    worst = 0.0
+    for faces, flat, deployed in zip(structure.faces, structure.flat, structure.deployed):
+        a, b = flat[faces], deployed[faces]
+        cut = np.linalg.norm(a[:, pairs[:, 1]] - a[:, pairs[:, 0]], axis=-1)
+        built = np.linalg.norm(b[:, pairs[:, 1]] - b[:, pairs[:, 0]], axis=-1)
+        worst = max(worst, float(np.abs(built - cut).max()))
+    return worst
+
+
+def test_georeferenced_coordinates_report_the_invariants_of_the_written_numbers():
+    """At 5e6 m (UTM northings) float64 holds the vault to ~1e-9 m: the reported invariants are
+    those of the world coordinates, not the 1e-16 of the local frame."""
+    local = build().deploy()
+    far = build(plane={"origin": [5e6, 5e6, 0.0]}).deploy()
+    assert local.metrics["isometry_relative"] < 1e-15
+    assert 1e-12 < far.metrics["isometry_relative"] < 1e-9
+    written = _written_isometry(far)
+    assert written == pytest.approx(far.metrics["isometry"], rel=0.5)
+
+
+def test_coordinates_too_far_for_the_exactness_bar_are_refused():
+    with pytest.raises(DesignError, match=r"plane\.origin: world coordinates 1e\+08 m from the"):
+        build(plane={"origin": [1e8, 0.0, 0.0]})

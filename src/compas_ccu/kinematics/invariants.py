@@ -16,22 +16,35 @@ from compas_ccu.kinematics.checks import self_intersecting
 from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import quad_lengths
 
-__all__ = ["invariant_errors", "overlapping_creases", "overlap_limit", "INVARIANT_KEYS"]
+__all__ = [
+    "invariant_errors",
+    "overlapping_creases",
+    "overlap_limit",
+    "INVARIANT_KEYS",
+    "EXACT_KEYS",
+]
 
 #: The scalar invariant errors of a state, metres (each also reported relative to the size).
 INVARIANT_KEYS = ("isometry", "quad_planarity", "hinge_gap", "mirror_error", "leading_in_plane")
 
+#: The invariants that are exact (round-off) in every state of every design.
+EXACT_KEYS = ("isometry", "quad_planarity", "hinge_gap", "mirror_error", "leading_in_plane")
 
-def invariant_errors(mechanism, states, reference_lengths: np.ndarray) -> dict:
+
+def invariant_errors(mechanism, states, reference_lengths: np.ndarray, *, frame=None) -> dict:
     """Invariant errors of ``k`` placed states, metres.
 
     Parameters
     ----------
     mechanism : compas_ccu.kinematics.mechanism.Mechanism
     states : compas_ccu.kinematics.mechanism.MechanismStates
+        In the local frame of the leading crease plane.
     reference_lengths : (p, n, 6) float
         Side and diagonal lengths of every quad at the design state
         (:func:`compas_ccu.strips.intrinsics.quad_lengths`).
+    frame : compas_ccu.geometry.PlaneFrame, optional
+        Measure on the world coordinates of this frame (what files hold) instead of the local
+        ones: far from the origin the world coordinates round coarser than the local ones.
 
     Returns
     -------
@@ -40,21 +53,30 @@ def invariant_errors(mechanism, states, reference_lengths: np.ndarray) -> dict:
         ``hinge_gap``, ``mirror_error``, ``leading_in_plane``, and ``crease_planarity`` (k, c).
     """
     near, far = states.near, states.far
+    origins, normals = states.plane_origins, states.plane_normals
+    lead_origin, lead_normal = np.zeros(3), np.array([0.0, 0.0, 1.0])
+    if frame is not None:
+        near, far = frame.to_world(near), frame.to_world(far)
+        origins, normals = frame.to_world(origins), frame.vector_to_world(normals)
+        lead_origin, lead_normal = frame.origin, frame.axes[2]
     lengths = quad_lengths(near, far)
     isometry = np.abs(lengths - reference_lengths[None]).max(axis=(1, 2, 3))
     a, b, c, d = near[..., :-1, :], near[..., 1:, :], far[..., 1:, :], far[..., :-1, :]
     normal = unit(np.cross(b - a, d - a))
     planarity = np.abs(dot(c - a, normal)).max(axis=(1, 2))
-    gaps, mirror = [], []
+    gaps, mirror, crease_planarity = [], [], []
     for ci, crease in enumerate(mechanism.creases):
         pa, pb = crease.plate_a, crease.plate_b
         hinge_a, other_a = boundary_rows(near[:, pa], far[:, pa], crease.boundary_a)
         away_a = other_a - hinge_a
         away_b = far[:, pb] - near[:, pb]
         gaps.append(np.linalg.norm(near[:, pb] - hinge_a, axis=-1).max(axis=1))
+        crease_planarity.append(
+            np.abs(dot(hinge_a - origins[:, ci, None], normals[:, ci, None])).max(axis=1)
+        )
         # mirror symmetry: plate b's ruling points reflected in the crease plane land on
         # plate a's ruling lines (CCF: on their continuation)
-        nrm = states.plane_normals[:, ci]
+        nrm = normals[:, ci]
         ta = np.linalg.norm(away_a, axis=-1)
         tb = np.linalg.norm(away_b, axis=-1)
         t = np.minimum(ta, tb)
@@ -62,7 +84,7 @@ def invariant_errors(mechanism, states, reference_lengths: np.ndarray) -> dict:
         pb_pts = near[:, pb] + away_b * (t / tb)[..., None]
         if crease.relation == "ccf":
             pb_pts = 2.0 * near[:, pb] - pb_pts
-        origin = states.plane_origins[:, ci]
+        origin = origins[:, ci]
         dist = np.einsum("kmi,ki->km", pb_pts - origin[:, None], nrm)
         reflected = pb_pts - 2.0 * dist[..., None] * nrm[:, None, :]
         mirror.append(np.linalg.norm(reflected - pa_pts, axis=-1).max(axis=1))
@@ -72,8 +94,10 @@ def invariant_errors(mechanism, states, reference_lengths: np.ndarray) -> dict:
         "quad_planarity": planarity,
         "hinge_gap": np.max(gaps, axis=0) if gaps else zeros,
         "mirror_error": np.max(mirror, axis=0) if mirror else zeros,
-        "crease_planarity": states.planarity,
-        "leading_in_plane": np.abs(near[:, 0, :, 2]).max(axis=1),
+        "crease_planarity": (
+            np.stack(crease_planarity, axis=1) if frame is not None else states.planarity
+        ),
+        "leading_in_plane": np.abs(dot(near[:, 0] - lead_origin, lead_normal)).max(axis=1),
     }
 
 

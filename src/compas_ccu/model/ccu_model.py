@@ -18,10 +18,16 @@ from compas.data import Data
 
 from compas_ccu.design import Design, load_design
 from compas_ccu.design.build import build
-from compas_ccu.errors import DeploymentLimitError, GeometryError, SelfIntersectionError
+from compas_ccu.errors import (
+    DeploymentLimitError,
+    DesignError,
+    GeometryError,
+    SelfIntersectionError,
+)
 from compas_ccu.geometry import PlaneFrame, plane_frame
 from compas_ccu.kinematics.checks import crossing_rulings
 from compas_ccu.kinematics.invariants import (
+    EXACT_KEYS,
     INVARIANT_KEYS,
     invariant_errors,
     overlap_limit,
@@ -278,6 +284,17 @@ class CCUModel(Data):
                 f"{self.alpha_design:.6g} deg (reference vertex {self.reference}); this is a bug "
                 "in compas_ccu, please report it with the design file"
             )
+        design = self.invariants(st)
+        worst = max(float(design[key][0]) for key in EXACT_KEYS)
+        if not worst <= EXACT_RELATIVE * self.size:
+            far = float(np.abs(self.frame.origin).max())
+            raise DesignError(
+                f"world coordinates {far:.3g} m from the origin hold this {self.size:.3g} m "
+                f"structure only to {worst:.2g} m, more than the exactness bar of "
+                f"{EXACT_RELATIVE:g} of its size; place it nearer the origin (and move it "
+                "into place in CAD)",
+                key="plane.origin",
+            )
         self.deploy(check=True)  # raises SelfIntersectionError with the crease and the angle
 
     def overlapping(self, states) -> np.ndarray:
@@ -292,8 +309,9 @@ class CCUModel(Data):
         return self._overlap_alpha
 
     def invariants(self, states) -> dict:
-        """Invariant errors of ``k`` placed states, metres (:func:`invariant_errors`)."""
-        return invariant_errors(self.mechanism, states, self.reference_lengths)
+        """Invariant errors of ``k`` placed states, metres, measured on the world coordinates
+        that the structures and files hold (:func:`invariant_errors`)."""
+        return invariant_errors(self.mechanism, states, self.reference_lengths, frame=self.frame)
 
     # -- deployment ----------------------------------------------------------------------------
     def deploy(self, alpha: float | None = None, *, check: bool = True) -> Structure:
