@@ -19,10 +19,11 @@ import sys
 import traceback
 
 from compas_ccu.cli import catalog, explore, fabrication, fea, model_commands, pictures
+from compas_ccu.cli.parser import OUT, check_options
 from compas_ccu.cli.parser import build_parser as _build_parser
-from compas_ccu.cli.parser import check_options
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.errors import CCUError
+from compas_ccu.outputs import check_output_folder, staged_folder
 
 __all__ = ["main", "build_parser", "COMMANDS", "thickness_lines"]
 
@@ -58,12 +59,24 @@ def _os_message(exc: OSError) -> str:
     return str(exc)
 
 
+def _run(args) -> int:
+    """Run the command; one that writes an output folder writes it as one transaction."""
+    if args.spec.name == "explore" or OUT not in args.spec.options:
+        if getattr(args, "out", None) is not None:
+            check_output_folder(args.out)
+        return args.spec.run(args)
+    final = args.out
+    with staged_folder(final) as stage:
+        args.out, args.final_out, args.staging = str(stage), final, str(stage)
+        return args.spec.run(args)
+
+
 def main(argv=None) -> int:
     """Entry point of the ``ccu`` command: the exit status."""
     args = build_parser().parse_args(argv)
     try:
         check_options(args.spec, args)
-        return args.spec.run(args)
+        return _run(args)
     except CCUError as exc:
         return _fail(str(exc))
     except OSError as exc:

@@ -15,9 +15,13 @@ FAB = ("ezdxf", "rhino3dm", "trimesh")
 
 
 def say(args, text: str) -> None:
-    """Print ``text`` unless the command runs with ``--quiet``."""
+    """Print ``text`` unless the command runs with ``--quiet``.
+
+    Paths in the staging folder are printed as the output folder they are moved into.
+    """
     if not getattr(args, "quiet", False):
-        print(text)
+        staging = getattr(args, "staging", None)
+        print(text.replace(staging, args.final_out) if staging else text)
 
 
 def missing_modules(names) -> list:

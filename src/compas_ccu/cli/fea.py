@@ -7,6 +7,7 @@ load them.
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 from compas_ccu.cli.common import load_model, missing_modules, say
@@ -58,8 +59,10 @@ def validate(args) -> int:
     try:
         v = run_validation(model, **options)
     except ConvergenceError as exc:
+        # the failure record is a result: it is written, and the command fails with the cause
         _write_failure(out, model, args, exc)
-        raise
+        print(f"ccu: error: {exc}", file=sys.stderr)
+        return 2
     figures = not args.no_figures and not missing_modules(["matplotlib"])
     files = v.write(out, figures=figures)
     summary = v.summary()
@@ -71,7 +74,7 @@ def validate(args) -> int:
         summary["agreement"] = agreement(v, w)
         with open(out / "validation.json", "w") as fh:
             json.dump(summary, fh, indent=1)
-    remember(args.design, summary, out)
+    remember(args.design, summary, getattr(args, "final_out", out))
     for line in _summary_lines(summary):
         say(args, line)
     for f in files:
