@@ -5,7 +5,6 @@ The explore modules are imported inside the command, after the check for the ext
 
 from __future__ import annotations
 
-import signal
 import sys
 
 from compas_ccu.cli.common import missing_modules, say
@@ -31,10 +30,6 @@ def _check(args) -> None:
         raise OptionError("--in-process runs without Dask: drop --scheduler / --workers")
 
 
-def _stop(signum, frame):  # SIGTERM: stop like Ctrl-C (the cluster shuts down cleanly)
-    raise KeyboardInterrupt
-
-
 def explore(args) -> int:
 
     _check(args)
@@ -47,20 +42,17 @@ def explore(args) -> int:
         + f") of {sweep.base_path.name} over {', '.join(sweep.parameter_names)}"
         + (f"; {sweep.duplicates} repeated samples dropped" if sweep.duplicates else ""),
     )
-    previous = signal.signal(signal.SIGTERM, _stop)
-    try:
-        result = run_sweep(
-            sweep,
-            args.out,
-            scheduler=args.scheduler,
-            workers=args.workers,
-            in_process=args.in_process,
-            progress=not args.quiet,
-            plots=plots,
-            dashboard=args.dashboard,
-        )
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    # Ctrl-C and SIGTERM stop between two variants (run_sweep listens for them)
+    result = run_sweep(
+        sweep,
+        args.out,
+        scheduler=args.scheduler,
+        workers=args.workers,
+        in_process=args.in_process,
+        progress=not args.quiet,
+        plots=plots,
+        dashboard=args.dashboard,
+    )
     where = {"in-process": "in this process", "local": f"{result.workers} local Dask workers"}
     runner = where.get(result.scheduler, f"{result.workers} workers of {result.scheduler}")
     if result.reused:

@@ -15,7 +15,9 @@ import itertools
 import json
 import logging
 import os
+import signal
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,6 +31,44 @@ from compas_ccu.explore.results import Journal, write_table
 from compas_ccu.explore.summary import summarise
 
 __all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRORS", "WORKER_ENV"]
+__all__ += ["StopRequest"]
+
+#: How often the client looks for finished variants and for a stop request, seconds.
+POLL_SECONDS = 0.05
+
+
+class StopRequest:
+    """Ctrl-C (SIGINT) and SIGTERM as a request to stop between two variants.
+
+    Inside ``with stop:`` (in the main thread) the two signals set :attr:`requested` instead of
+    raising wherever the program happens to be, so a result is never half recorded: the journal
+    and the table always agree. A second signal stops at once (KeyboardInterrupt).
+    """
+
+    def __init__(self):
+        self._event = threading.Event()
+        self._previous = {}
+
+    @property
+    def requested(self) -> bool:
+        return self._event.is_set()
+
+    def _handle(self, signum, frame):
+        if self._event.is_set():
+            raise KeyboardInterrupt
+        self._event.set()
+
+    def __enter__(self) -> StopRequest:
+        if threading.current_thread() is threading.main_thread():
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self._previous[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)
+        self._previous.clear()
+
 
 #: Errors of the cluster rather than of the design: such variants are computed again on resume.
 CLUSTER_ERRORS = ("KilledWorker", "CancelledError", "FutureCancelledError", "CommClosedError")
@@ -314,13 +354,17 @@ def run_sweep(
     own_client = cluster = None
     label, count, startup = "in-process", 1, 0.0
     t0 = time.perf_counter()
+    stop = StopRequest()
     try:
         if not todo:
             pass
         elif in_process:
             t0 = time.perf_counter()
-            for v in todo:
-                record(v, evaluate_variant(sweep.document_for(v), **options))
+            with stop:
+                for v in todo:
+                    if stop.requested:
+                        break
+                    record(v, evaluate_variant(sweep.document_for(v), **options))
         else:
             if client is None:
                 own_client, cluster, label, count = _connect(
@@ -332,10 +376,12 @@ def run_sweep(
                 count = len(client.scheduler_info().get("workers", {}))
             startup = time.perf_counter() - t0
             t0 = time.perf_counter()
-            _run_on_dask(use, sweep, todo, options, record, window=window or 0)
-    except KeyboardInterrupt:
+            with stop:
+                _run_on_dask(use, sweep, todo, options, record, window=window or 0, stop=stop)
+    except KeyboardInterrupt:  # a second Ctrl-C, or one while the cluster starts
         interrupted = True
     finally:
+        interrupted = interrupted or stop.requested
         seconds = time.perf_counter() - t0
         bar.close()
         if own_client is not None:
@@ -370,12 +416,15 @@ def run_sweep(
     return result
 
 
-def _run_on_dask(client, sweep, todo: list, options: dict, record, *, window: int = 0) -> None:
+def _run_on_dask(
+    client, sweep, todo: list, options: dict, record, *, window: int = 0, stop=None
+) -> None:
     """Keep up to ``window`` variants in flight (default: 8 per worker, at least 64), record
     each result as it completes and submit the next, so the client and the scheduler hold a
     bounded number of tasks however large the sweep."""
     from distributed import as_completed
 
+    stop = StopRequest() if stop is None else stop
     workers = len(client.scheduler_info().get("workers", {})) or 1
     window = window or max(64, 8 * workers)
     queue = iter(todo)
@@ -394,21 +443,26 @@ def _run_on_dask(client, sweep, todo: list, options: dict, record, *, window: in
     first = [submit(v) for v in itertools.islice(queue, window)]
     flow = as_completed(first)
     try:
-        for future in flow:
-            v = pending.pop(future)
-            if future.status == "finished":
-                row = future.result()
-            else:
-                try:
-                    exc = future.exception()
-                except BaseException as cancelled:  # a cancelled future raises instead
-                    exc = cancelled
-                row = _cluster_failure(exc, options)
-            future.release()
-            record(v, row)
-            nxt = next(queue, None)
-            if nxt is not None:
-                flow.add(submit(nxt))
+        while pending and not stop.requested:
+            batch = flow.next_batch(block=False)
+            if not batch:  # wait a little, listening for a stop request
+                time.sleep(POLL_SECONDS)
+                continue
+            for future in batch:
+                v = pending.pop(future)
+                if future.status == "finished":
+                    row = future.result()
+                else:
+                    try:
+                        exc = future.exception()
+                    except Exception as cancelled:  # a cancelled future raises instead
+                        exc = cancelled
+                    row = _cluster_failure(exc, options)
+                future.release()
+                record(v, row)
+                nxt = next(queue, None)
+                if nxt is not None:
+                    flow.add(submit(nxt))
     finally:
         for future in pending:  # interrupted: forget the rest on the cluster
             future.cancel()
