@@ -77,7 +77,7 @@ def test_3dm_layers_and_solids(fabricated, vault_model):
 def test_fold_file_has_the_structure(fabricated, vault_model):
     out, _ = fabricated
     fold = read_fold(out / "vault.fold")
-    assert fold["file_spec"] == 1.1
+    assert fold["file_spec"] == 1.2
     n = vault_model.segments
     assert len(fold["faces_vertices"]) == 10 * n
     assignments = set(fold["edges_assignment"])

@@ -7,7 +7,7 @@ Layout of ``OUT``::
     <name>.3dm                Rhino: plates, creases, rulings, solids, cut patterns, stack (m)
     solids.obj, solids.glb    the thick plates at the design state (OBJ doubles, glTF float32)
     stack.obj                 the flat-folded stack
-    <name>.fold               FOLD 1.1: folded form, cut patterns, flat-folded stack
+    <name>.fold               FOLD 1.2: folded form, cut patterns, flat-folded stack
     assembly.svg, assembly.pdf   plate numbering and stacking order
     fabrication.json          what was written and the checks (stack, corrections, collisions,
                               bending)
