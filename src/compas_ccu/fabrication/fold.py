@@ -95,7 +95,14 @@ from compas_ccu.fabrication.meshes import crease_line, layout_offsets
 from compas_ccu.geometry import dot, unit
 from compas_ccu.tolerances import EXACT_RELATIVE
 
-__all__ = ["ASSIGNMENTS", "crease_fold_angles", "fold_document", "read_fold", "write_fold"]
+__all__ = [
+    "ASSIGNMENTS",
+    "crease_fold_angles",
+    "fold_document",
+    "fold_json",
+    "read_fold",
+    "write_fold",
+]
 
 #: The edge assignments this writer uses.
 ASSIGNMENTS = ("B", "M", "V", "F", "U")
@@ -486,6 +493,20 @@ def fold_document(
     return doc
 
 
+def fold_json(doc: dict, *, indent=None) -> str:
+    """A FOLD document as strict JSON text (``ValueError`` on NaN / inf, which JSON lacks).
+
+    Parameters
+    ----------
+    doc : dict
+        :func:`fold_document`.
+    indent : int or None, keyword-only
+        JSON indentation (None: compact).
+    """
+    separators = (",", ":") if indent is None else None
+    return json.dumps(doc, indent=indent, separators=separators, allow_nan=False)
+
+
 def write_fold(
     data,
     path,
@@ -495,7 +516,7 @@ def write_fold(
     gap: float = 0.1,
     indent=None,
 ) -> Path:
-    """Write :func:`fold_document` as a ``.fold`` JSON file.
+    """Write :func:`fold_document` as a ``.fold`` file (strict JSON, :func:`fold_json`).
 
     Parameters
     ----------
@@ -512,9 +533,7 @@ def write_fold(
     """
     path = Path(path)
     doc = fold_document(data, hinges=hinges, merge_tol=merge_tol, gap=gap)
-    separators = (",", ":") if indent is None else None
-    text = json.dumps(doc, indent=indent, separators=separators, allow_nan=False)
-    path.write_text(text, encoding="utf-8")
+    path.write_text(fold_json(doc, indent=indent), encoding="utf-8")
     return path
 
 
