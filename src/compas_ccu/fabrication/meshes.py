@@ -269,6 +269,27 @@ def write_obj(data, path, *, state: str = "deployed") -> Path:
     return path
 
 
+_ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
+
+
+def _buffer_view_targets(tree: dict) -> None:
+    """Set every mesh buffer view's ``target`` (vertex / index data) in a glTF JSON tree.
+
+    Optional in glTF, but the Khronos validator hints at every view without it; trimesh leaves
+    it out (its ``tree_postprocessor`` hook calls this before packing the GLB).
+    """
+    views = tree.get("bufferViews", [])
+    accessors = tree.get("accessors", [])
+    for mesh in tree.get("meshes", []):
+        for primitive in mesh.get("primitives", []):
+            for accessor in primitive.get("attributes", {}).values():
+                views[accessors[accessor]["bufferView"]]["target"] = _ARRAY_BUFFER
+            if "indices" in primitive:
+                views[accessors[primitive["indices"]]["bufferView"]]["target"] = (
+                    _ELEMENT_ARRAY_BUFFER
+                )
+
+
 def write_gltf(data, path, *, state: str = "deployed") -> Path:
     """Write the closed plate solids as a binary glTF (``.glb``) through trimesh.
 
@@ -306,5 +327,5 @@ def write_gltf(data, path, *, state: str = "deployed") -> Path:
             "up": "+Y (world +Z; glTF (x, y, z) = world (x, z, -y))",
         }
     )
-    path.write_bytes(scene.export(file_type="glb"))
+    path.write_bytes(scene.export(file_type="glb", tree_postprocessor=_buffer_view_targets))
     return path
