@@ -71,8 +71,18 @@ lint: setup
 	$(BIN)/ruff format --check src tests benchmarks
 	$(BIN)/lint-imports --no-cache
 
-test: setup browser lint
+test: setup browser lint validators
 	$(BIN)/python -m pytest -q
+
+# npm readers the tests check the fabrication files with (glTF-Validator, FOLD, dxf-parser), from
+# tools/validators/package-lock.json; without node / npm those tests fail (CCU_SKIP_VALIDATORS=1)
+.PHONY: validators
+validators: tools/validators/node_modules/.installed
+
+tools/validators/node_modules/.installed: tools/validators/package.json tools/validators/package-lock.json
+	@if command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1; then \
+	  npm ci --prefix tools/validators --no-audit --no-fund --loglevel=error && touch $@; \
+	else echo "make validators: node / npm not found: install Node.js >= 18; the validator tests will fail (CCU_SKIP_VALIDATORS=1 skips them)" >&2; fi
 
 # the quick loop while editing: every test not marked slow, and ruff
 test-fast: setup

@@ -74,6 +74,40 @@ def test_plate_files_units_layers_version(data, plate_files):
         assert len(set(colors)) == len(colors)
 
 
+def _geometry_box(doc):
+    """Bounding box of every polyline / line vertex and text insertion point, mm."""
+    pts = []
+    for e in doc.modelspace():
+        kind = e.dxftype()
+        if kind == "LWPOLYLINE":
+            pts += [tuple(p[:2]) for p in e.get_points("xy")]
+        elif kind == "LINE":
+            pts += [tuple(e.dxf.start)[:2], tuple(e.dxf.end)[:2]]
+        elif kind == "TEXT":
+            pts.append(tuple(e.dxf.align_point)[:2])
+    pts = np.array(pts, dtype=float)
+    return pts.min(axis=0), pts.max(axis=0)
+
+
+def test_header_extents_are_the_entities(data, plate_files, hinge_file):
+    """$EXTMIN / $EXTMAX bound the drawing (not ezdxf's +-1e20 placeholders)."""
+    for path in [*plate_files, hinge_file[0]]:
+        doc = ezdxf.readfile(path)
+        lo = np.array(doc.header["$EXTMIN"][:2], dtype=float)
+        hi = np.array(doc.header["$EXTMAX"][:2], dtype=float)
+        glo, ghi = _geometry_box(doc)
+        assert (lo <= glo + 1e-9).all() and (hi >= ghi - 1e-9).all(), path
+        size = np.linalg.norm(ghi - glo)
+        # tight: only text may stick out, by less than 5 % of the drawing
+        assert np.linalg.norm(lo - glo) < 0.05 * size and np.linalg.norm(hi - ghi) < 0.05 * size
+        assert doc.header["$EXTMIN"][2] == doc.header["$EXTMAX"][2] == 0.0
+    for i, path in enumerate(plate_files):  # plates: the labels are inside, the box is the cut
+        doc = ezdxf.readfile(path)
+        outline = data.outline(i) * 1000.0
+        np.testing.assert_allclose(doc.header["$EXTMIN"][:2], outline.min(axis=0), atol=1e-9)
+        np.testing.assert_allclose(doc.header["$EXTMAX"][:2], outline.max(axis=0), atol=1e-9)
+
+
 def test_cut_outline_in_mm(data, plate_files):
     worst = 0.0
     for i, path in enumerate(plate_files):

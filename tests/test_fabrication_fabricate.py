@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -15,9 +16,11 @@ pytest.importorskip("trimesh")
 
 from compas_ccu.cli import main  # noqa: E402
 from compas_ccu.fabrication.dxf import read_plate_dxf  # noqa: E402
+from compas_ccu.fabrication.fabricate import fabricate  # noqa: E402
 from compas_ccu.fabrication.fold import read_fold  # noqa: E402
 from compas_ccu.fabrication.rhino import read_3dm_summary  # noqa: E402
 from compas_ccu.thickness import ThickModel  # noqa: E402
+from compas_ccu.thickness.model import collision_text  # noqa: E402
 
 VAULT = str(EXAMPLES / "vault.toml")
 
@@ -77,7 +80,7 @@ def test_3dm_layers_and_solids(fabricated, vault_model):
 def test_fold_file_has_the_structure(fabricated, vault_model):
     out, _ = fabricated
     fold = read_fold(out / "vault.fold")
-    assert fold["file_spec"] == 1.1
+    assert fold["file_spec"] == 1.2
     n = vault_model.segments
     assert len(fold["faces_vertices"]) == 10 * n
     assignments = set(fold["edges_assignment"])
@@ -107,3 +110,56 @@ def test_bad_values_refused(tmp_path, capsys, option, message):
     assert main(["fabricate", VAULT, "--out", str(tmp_path / "x"), *option]) == 2
     assert message in capsys.readouterr().err
     assert not (tmp_path / "x" / "fabrication.json").exists()
+
+
+# ------------------------------------------------ the Python API: checks first, strict JSON
+
+
+def _strict_json(text: str):
+    def refuse(name):
+        raise ValueError(f"non-standard JSON constant {name}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"hinge_width": 1e6}, "too large for the curvature"),
+        ({"hinge_width": -0.01}, "hinge width must be a finite number > 0"),
+        ({"thickness": 0.0}, "thickness must be a finite length > 0"),
+        ({"material": "balsa"}, "unknown material 'balsa'"),
+    ],
+)
+def test_nothing_is_written_before_every_check_passed(vault_model, tmp_path, options, message):
+    out = tmp_path / "fab"
+    with pytest.raises(ValueError, match=re.escape(message)):
+        fabricate(vault_model, out, **options)
+    assert not out.exists()  # not even the folder
+
+
+def test_two_plates_write_strict_json_without_a_clearance(cone_model, tmp_path):
+    """The cone's two plates share their one crease: no plate pair to measure a clearance on."""
+    manifest = fabricate(cone_model, tmp_path)
+    text = (tmp_path / "fabrication.json").read_text()
+    assert "Infinity" not in text and "NaN" not in text
+    data = _strict_json(text)
+    assert data == json.loads(json.dumps(manifest))
+    c = data["collisions"]
+    assert c["min_clearance"] is None and c["closest"] is None
+    assert c["clearance_pairs"] == 0 and c["interpenetration"] is False
+    words = collision_text(c)
+    assert words == "none; no plate pair to check (every pair of plates shares a crease)"
+    assert "inf" not in words
+    for name in data["files"]:
+        if name.endswith((".json", ".fold")):
+            _strict_json((tmp_path / name).read_text())
+
+
+def test_collision_text_with_pairs_but_no_clearance():
+    summary = {"first": None, "min_clearance": None, "clearance_pairs": 3, "closest": None}
+    assert collision_text(summary) == (
+        "none; no plate lies over another one it shares no crease with"
+    )
+    summary.update(min_clearance=0.008, closest={"plates": [0, 2], "alpha": 0.0})
+    assert collision_text(summary) == "none; min clearance 8 mm (plates 0/2 at alpha 0 deg)"

@@ -1,4 +1,4 @@
-"""FOLD 1.1 writer (compas_ccu.fabrication.fold)."""
+"""FOLD 1.2 writer (compas_ccu.fabrication.fold)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from compas_ccu.fabrication import fabrication_data
 from compas_ccu.fabrication.fold import crease_fold_angles, fold_document, read_fold, write_fold
 from compas_ccu.fabrication.meshes import crease_line
+from compas_ccu.model import load_model
+from conftest import EXAMPLES
 
 TOL = 1e-5  # 0.01 mm
 
@@ -40,7 +43,9 @@ def directed_edges(faces):
 
 
 def test_required_keys_and_metadata(doc, data):
-    assert doc["file_spec"] == 1.1
+    # edges_faces uses null for the missing right face of a boundary edge: FOLD 1.2
+    assert doc["file_spec"] == 1.2
+    assert any(None in ef for ef in doc["edges_faces"])
     assert doc["file_creator"] == "compas_ccu"
     assert doc["file_classes"] == ["singleModel"]
     assert len(doc["file_frames"]) == 2
@@ -76,7 +81,7 @@ def test_counts_assignments_and_euler(doc, data):
         assert all(len(q) == 4 and len(set(q)) == 4 for q in f["faces_vertices"])
         assert set(f["edges_assignment"]) <= {"B", "M", "V", "F", "U"}
         assert len(f["edges_assignment"]) == len(f["edges_vertices"]) == len(f["edges_foldAngle"])
-        assert Counter(f["edges_assignment"])["F"] == p * (n - 1)
+        assert Counter(f["edges_ccu:kind"])["ruling"] == p * (n - 1)
         assert f["faces_ccu:plate"] == [pid for pid in data.plate_ids for _ in range(n)]
         edges = {tuple(sorted(e)) for e in f["edges_vertices"]}
         assert len(edges) == len(f["edges_vertices"])  # no duplicate edges
@@ -90,8 +95,11 @@ def test_counts_assignments_and_euler(doc, data):
     for f in (doc, doc["file_frames"][1]):  # the two 3D frames: one sheet
         a = Counter(f["edges_assignment"])
         creases = np.array(f["edges_ccu:crease"])
-        assert a["M"] + a["V"] == crease_segments == (creases >= 0).sum()
-        assert a["U"] == 0
+        kinds = np.array(f["edges_ccu:kind"])
+        assert (kinds == "crease").sum() == crease_segments == (creases >= 0).sum()
+        # every crease and every (bent) ruling is folded
+        assert a["M"] + a["V"] == crease_segments + p * (n - 1)
+        assert a["U"] == a["F"] == 0
         # hinge vertices merged: one vertex per crease vertex pair
         V, E, F = (len(f[k]) for k in ("vertices_coords", "edges_vertices", "faces_vertices"))
         assert f["ccu:unmergedCreases"] == []
@@ -111,6 +119,7 @@ def test_counts_assignments_and_euler(doc, data):
     V, E, F = (len(cp[k]) for k in ("vertices_coords", "edges_vertices", "faces_vertices"))
     assert V == p * (2 * n + 2) and V - E + F == p
     assert Counter(cp["edges_assignment"]) == {"B": p * (2 * n + 2), "F": p * (n - 1)}
+    assert set(cp["edges_foldAngle"]) == {0.0}
     assert (np.array(cp["edges_ccu:crease"]) >= 0).sum() == 2 * crease_segments
 
 
@@ -202,36 +211,81 @@ def test_mountain_valley_and_fold_angles(doc, data):
     a = np.array(doc["edges_assignment"])
     angle = np.array(doc["edges_foldAngle"])
     crease = np.array(doc["edges_ccu:crease"])
-    measured = signed_fold_angles(doc)
-    np.testing.assert_allclose(measured, doc["edges_ccu:measuredFoldAngle"], atol=1e-9)
-    # the sign of edges_foldAngle matches the assignment and the geometry of the file
+    kind = np.array(doc["edges_ccu:kind"])
+    # every edge's angle is the one of the file's own coordinates (creases and rulings)
+    np.testing.assert_allclose(angle, signed_fold_angles(doc), rtol=0, atol=1e-9)
+    # the sign of edges_foldAngle matches the assignment (FOLD spec)
     assert (angle[a == "V"] > 0).all() and (angle[a == "M"] < 0).all()
     assert (angle[np.isin(a, ["B", "F", "U"])] == 0).all()
-    assert (measured[a == "V"] > 90).all() and (measured[a == "M"] < -90).all()
-    # rulings: the smooth bending of the plates, a small discrete angle, not a crease
-    assert 0.0 < np.abs(measured[a == "F"]).max() < 3.0
+    assert set(kind[a == "B"]) == {"outline"}
+    # creases: the hinge vertices are snapped by t / 2, which tilts the hinge quads: the file's
+    # angle is 116-117 degrees, the plates' own mid-surfaces give 180 - 2 alpha = 120
+    creases = kind == "crease"
+    assert 116.0 < np.abs(angle[creases]).min() and np.abs(angle[creases]).max() < 117.2
+    own = np.array(doc["edges_ccu:plateFoldAngle"])
+    # rulings: the smooth bending of the plates, a small discrete angle, on both sides of the file
+    rulings = kind == "ruling"
+    assert 1.2 < np.abs(angle[rulings]).min() and np.abs(angle[rulings]).max() < 1.3
+    assert 1.2 < np.abs(own[rulings]).min() and np.abs(own[rulings]).max() < 1.3
+    assert set(a[rulings]) <= {"M", "V"}
     design = crease_fold_angles(data)  # on the plates' own mid-surfaces, no snapping
     for c in data.creases:
         m = crease == c["id"]
         assert m.sum() == len(c["vertices"][0]) - 1
         assert len(set(a[m])) == 1
-        # |FOLD angle| = 180 - dihedral, and it agrees with the geometry to the quad approximation
-        np.testing.assert_allclose(np.abs(angle[m]), 180.0 - c["fold_angle"], atol=1e-12)
+        np.testing.assert_allclose(np.abs(own[m]), 180.0 - c["fold_angle"], atol=0.05)
         np.testing.assert_allclose(np.abs(design[c["id"]]), 180.0 - c["fold_angle"], atol=0.05)
+        np.testing.assert_allclose(np.abs(own[m]), np.abs(design[c["id"]]), atol=1e-9)
         assert np.sign(design[c["id"]]).tolist() == np.sign(angle[m]).tolist()
+        assert np.sign(own[m]).tolist() == np.sign(angle[m]).tolist()
         # seen from above a vault, the synclastic (ridge) creases are mountains
         assert a[m][0] == {"synclastic": "M", "anticlastic": "V"}[c["kind"]]
     # the corrugation alternates along the chain of plates
     chain = sorted(data.creases, key=lambda c: min(c["plates"]))
     kinds = [a[crease == c["id"]][0] for c in chain]
     assert all(k1 != k2 for k1, k2 in zip(kinds[:-1], kinds[1:]))
-    # the stack keeps every crease's assignment, folded through 180 degrees
+    # the stack keeps every crease's assignment, folded nearly through 180 degrees (the snapped
+    # hinge quads tilt by about t / 2 over a ruling), its own plates exactly through 180
     st = doc["file_frames"][1]
     sa, sc = np.array(st["edges_assignment"]), np.array(st["edges_ccu:crease"])
+    sang = np.array(st["edges_foldAngle"])
+    np.testing.assert_allclose(sang, signed_fold_angles(st), rtol=0, atol=1e-9)
     for c in data.creases:
         assert set(sa[sc == c["id"]]) == set(a[crease == c["id"]])
-    sang = np.array(st["edges_foldAngle"])
-    np.testing.assert_array_equal(np.abs(sang[sc >= 0]), 180.0)
+    assert 176.0 < np.abs(sang[sc >= 0]).min() and np.abs(sang[sc >= 0]).max() < 180.0
+    sown = np.array(st["edges_ccu:plateFoldAngle"])
+    np.testing.assert_array_equal(np.abs(sown[sc >= 0]), 180.0)
+    assert (np.sign(sown[sc >= 0]) == np.sign(sang[sc >= 0])).all()
+    # the vault's quads stay planar after the snap
+    assert doc["ccu:maxFaceWarp"] < 1e-9 and st["ccu:maxFaceWarp"] < 1e-9
+
+
+def face_warp(frame):
+    x = np.array(frame["vertices_coords"])
+    q = x[np.array(frame["faces_vertices"])]
+    n1 = np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0])
+    n2 = np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 0])
+    sin = np.linalg.norm(np.cross(n1, n2), axis=1)
+    return np.degrees(np.arctan2(sin, np.einsum("ij,ij->i", n1, n2)))
+
+
+@pytest.mark.parametrize("name", ["fig12a-asymmetric", "fig12c-funnel", "cone"])
+def test_fold_angles_agree_with_the_coordinates_on_every_layout(name):
+    """Inclined and radial layouts: alpha varies along the creases, so no single angle per
+    crease describes them (the old per-crease 2 * mean(alpha) was off by up to 20 degrees)."""
+    path = EXAMPLES / ("cone.toml" if name == "cone" else f"catalog/{name}.toml")
+    data = fabrication_data(load_model(path))
+    doc = fold_document(data)
+    for frame in (doc, doc["file_frames"][1]):
+        angle = np.array(frame["edges_foldAngle"])
+        np.testing.assert_allclose(angle, signed_fold_angles(frame), rtol=0, atol=1e-9)
+        a = np.array(frame["edges_assignment"])
+        assert (angle[a == "V"] > 0).all() and (angle[a == "M"] < 0).all()
+        assert (angle[np.isin(a, ["B", "F", "U"])] == 0).all()
+        kind = np.array(frame["edges_ccu:kind"])
+        assert set(a[kind == "crease"]) <= {"M", "V"}
+        assert frame["ccu:maxFaceWarp"] == pytest.approx(face_warp(frame).max(), abs=1e-9)
+    json.dumps(doc, allow_nan=False)
 
 
 def test_strict_merge_keeps_thick_creases_apart(data):
@@ -242,7 +296,8 @@ def test_strict_merge_keeps_thick_creases_apart(data):
     assert all(0.5 * data.thickness < g < data.thickness for g in gaps.values())
     assert d["ccu:snappedCreases"] == []
     assert len(d["vertices_coords"]) == p * (2 * n + 2)
-    assert Counter(d["edges_assignment"]) == {"B": p * (2 * n + 2), "F": p * (n - 1)}
+    assert Counter(d["edges_assignment"])["B"] == p * (2 * n + 2)
+    assert Counter(d["edges_ccu:kind"]) == {"outline": p * (2 * n + 2), "ruling": p * (n - 1)}
     x = np.array(d["vertices_coords"]).reshape(p, 2 * n + 2, 3)
     np.testing.assert_array_equal(x, data.deployed_mid)
     V, E, F = (len(d[k]) for k in ("vertices_coords", "edges_vertices", "faces_vertices"))
@@ -262,8 +317,8 @@ def test_coinciding_creases_merge_without_snapping(data):
         for v, pairs in enumerate(d["vertices_ccu:plateVertices"]):
             for pid, k in pairs:
                 np.testing.assert_array_equal(x[v], mid[data.index(pid), k])
-        a = Counter(d["edges_assignment"])
-        assert a["M"] + a["V"] == 576
+        a = np.array(d["edges_assignment"])[np.array(d["edges_ccu:kind"]) == "crease"]
+        assert len(a) == 576 and set(a) <= {"M", "V"}
 
 
 def test_far_apart_plates_are_not_snapped(data):

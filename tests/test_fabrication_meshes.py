@@ -146,9 +146,18 @@ def test_glb_round_trip_nodes_and_float32_coordinates(data, tmp_path):
         np.testing.assert_allclose(transform, np.eye(4), atol=0)
         g = scene.geometry[geometry]
         expected = np.concatenate([data.solids[i, 0], data.solids[i, 1]])
-        err = np.abs(g.vertices - expected).max()
+        # glTF is Y up: (x, y, z) = world (x, z, -y)
+        world = g.vertices[:, [0, 2, 1]] * [1.0, -1.0, 1.0]
+        err = np.abs(world - expected).max()
         assert err <= 1e-5 * size
         assert g.is_watertight and g.is_winding_consistent
+        assert g.volume > 0  # still outward-oriented after the rotation
+    # the vault stands upright in a Y-up viewer: its rise is along +y, its span along x
+    points = np.concatenate([g.vertices for g in scene.geometry.values()])
+    world = np.concatenate([data.solids.reshape(-1, 3)])
+    assert np.ptp(points[:, 1]) == pytest.approx(np.ptp(world[:, 2]), rel=1e-6)
+    assert np.ptp(points[:, 0]) == pytest.approx(np.ptp(world[:, 0]), rel=1e-6)
+    assert points[:, 1].max() == pytest.approx(world[:, 2].max(), rel=1e-6)
 
 
 def test_layout_offsets_do_not_overlap(data):

@@ -14,6 +14,11 @@ Plate files (:func:`write_plate_dxf`) have four layers:
     mark ("UP" and a small triangle pointing up the text), inside the plate.
 
 The hinge file (:func:`write_hinge_dxf`) has ``HINGE_CUT``, ``HINGE_CREASE`` and ``LABEL``.
+
+Every file's header extents ``$EXTMIN`` / ``$EXTMAX`` (and the model space's extents and initial
+view) are set to the bounding box of its entities (``ezdxf.bbox.extents`` in its fast mode: exact
+for the polylines and lines, text estimated from its height and length), so "zoom extents" works
+in every CAD tool; ezdxf leaves them at the +-1e20 placeholders otherwise.
 ezdxf is imported inside the functions (``pip install ezdxf``).
 """
 
@@ -56,6 +61,21 @@ def _new_doc(layers: dict):
         doc.layers.add(name, color=color)
     doc.appids.add(APPID)
     return doc
+
+
+def _save(doc, path: Path) -> None:
+    """Set the header / model space extents and the initial view from the entities, and save."""
+    from ezdxf import bbox, zoom
+
+    msp = doc.modelspace()
+    box = bbox.extents(msp, fast=True)
+    if box.has_data:
+        lo, hi = box.extmin, box.extmax
+        doc.header["$EXTMIN"] = (lo.x, lo.y, lo.z)
+        doc.header["$EXTMAX"] = (hi.x, hi.y, hi.z)
+        msp.reset_extents((lo.x, lo.y, lo.z), (hi.x, hi.y, hi.z))
+        zoom.center(msp, box.center, box.size)
+    doc.saveas(path)
 
 
 def _xy(points) -> list:
@@ -236,7 +256,7 @@ def write_plate_dxf(data, i: int, path) -> Path:
             )
         else:
             text(s, centre, r * h)
-    doc.saveas(path)
+    _save(doc, path)
     return path
 
 
@@ -377,7 +397,7 @@ def write_hinge_dxf(strips, path, *, name: str = "hinges", gap: float | None = N
             dxfattribs={"layer": "LABEL"},
         )
         title.set_placement((0.0, 0.6 * width * MM), align=TextEntityAlignment.BOTTOM_LEFT)
-    doc.saveas(path)
+    _save(doc, path)
     return moves
 
 

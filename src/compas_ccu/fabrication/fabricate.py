@@ -7,7 +7,7 @@ Layout of ``OUT``::
     <name>.3dm                Rhino: plates, creases, rulings, solids, cut patterns, stack (m)
     solids.obj, solids.glb    the thick plates at the design state (OBJ doubles, glTF float32)
     stack.obj                 the flat-folded stack
-    <name>.fold               FOLD 1.1: folded form, cut patterns, flat-folded stack
+    <name>.fold               FOLD 1.2: folded form, cut patterns, flat-folded stack
     assembly.svg, assembly.pdf   plate numbering and stacking order
     fabrication.json          what was written and the checks (stack, corrections, collisions,
                               bending)
@@ -15,13 +15,14 @@ Layout of ``OUT``::
 
 from __future__ import annotations
 
+import importlib.util
 import json
 from pathlib import Path
 
 from compas_ccu.errors import SelfIntersectionError
 from compas_ccu.fabrication import fabrication_data
 from compas_ccu.fabrication.dxf import write_hinge_dxf, write_plate_dxf
-from compas_ccu.fabrication.fold import write_fold
+from compas_ccu.fabrication.fold import fold_document, fold_json
 from compas_ccu.fabrication.hinges import hinge_strips
 from compas_ccu.fabrication.meshes import write_gltf, write_obj
 from compas_ccu.fabrication.rhino import write_3dm
@@ -29,6 +30,18 @@ from compas_ccu.fabrication.sheet import write_assembly_sheet
 from compas_ccu.thickness import ThickModel
 
 __all__ = ["fabricate"]
+
+#: Third-party modules the writers import (the ``fab`` and ``viz`` extras, and shapely).
+REQUIRED_MODULES = ("ezdxf", "rhino3dm", "trimesh", "shapely", "matplotlib")
+
+
+def _require_modules() -> None:
+    missing = [m for m in REQUIRED_MODULES if importlib.util.find_spec(m) is None]
+    if missing:
+        raise ModuleNotFoundError(
+            f"ccu fabricate needs {', '.join(missing)}: pip install 'compas_ccu[fab,viz]'; "
+            "nothing was written"
+        )
 
 
 def fabricate(
@@ -42,6 +55,11 @@ def fabricate(
     allow_collisions: bool = False,
 ) -> dict:
     """Write the fabrication files of ``model`` at its design state into ``out``.
+
+    Every check runs before the first file (or the folder ``out``) is written: the writers'
+    modules are importable, the thickness, material and hinge width are possible (the hinge
+    strips are built, so a strip too wide for a crease's curvature is refused too), the thick
+    plates do not interpenetrate, and ``fabrication.json`` is composed as strict JSON.
 
     Parameters
     ----------
@@ -64,8 +82,10 @@ def fabricate(
         The thick plates interpenetrate along the path (unless ``allow_collisions``).
     GeometryError, MaterialError
         Impossible thickness, hinge width or material.
+    ModuleNotFoundError
+        A writer's module (the ``fab`` / ``viz`` extras) is missing.
     """
-
+    _require_modules()
     thick = ThickModel(model, thickness=thickness, material=material, grain=grain)
     summary = thick.summary()
     first = summary["collisions"]["first"]
@@ -79,24 +99,19 @@ def fabricate(
             crease=None,
         )
     data = fabrication_data(model, thick=thick, hinge_width=hinge_width)
-    out = Path(out)
-    (out / "plates").mkdir(parents=True, exist_ok=True)
+    strips = hinge_strips(data)  # refuses a hinge width too large for a crease's curvature
+    fold = fold_json(fold_document(data))
     stem = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in data.name) or "design"
-    files = [
-        write_plate_dxf(data, i, out / "plates" / f"plate_{pid}.dxf")
-        for i, pid in enumerate(data.plate_ids)
-    ]
-    strips = hinge_strips(data)
-    write_hinge_dxf(strips, out / "hinges.dxf", name=data.name)
-    files += [
-        out / "hinges.dxf",
-        write_3dm(data, out / f"{stem}.3dm"),
-        write_obj(data, out / "solids.obj", state="deployed"),
-        write_gltf(data, out / "solids.glb", state="deployed"),
-        write_obj(data, out / "stack.obj", state="stack"),
-        write_fold(data, out / f"{stem}.fold"),
-        write_assembly_sheet(data, out / "assembly.svg"),
-        write_assembly_sheet(data, out / "assembly.pdf"),
+    plates = [f"plates/plate_{pid}.dxf" for pid in data.plate_ids]
+    names = plates + [
+        "hinges.dxf",
+        f"{stem}.3dm",
+        "solids.obj",
+        "solids.glb",
+        "stack.obj",
+        f"{stem}.fold",
+        "assembly.svg",
+        "assembly.pdf",
     ]
     manifest = {
         "format": "ccu.fabrication",
@@ -104,11 +119,26 @@ def fabricate(
         "design": data.name,
         "alpha": data.alpha,
         "units": {"dxf": "mm", "3dm": "m", "obj": "m", "glb": "m", "fold": "m"},
-        "files": [str(Path(f).relative_to(out)) for f in files] + ["fabrication.json"],
+        "files": names + ["fabrication.json"],
         "plates": len(data.plate_ids),
         "hinge_width": data.hinge_width,
         "hinge_strips": len(strips),
         **summary,
     }
-    (out / "fabrication.json").write_text(json.dumps(manifest, indent=1), encoding="utf-8")
+    text = json.dumps(manifest, indent=1, allow_nan=False)
+
+    # --- every check passed: write
+    out = Path(out)
+    (out / "plates").mkdir(parents=True, exist_ok=True)
+    for i, name in enumerate(plates):
+        write_plate_dxf(data, i, out / name)
+    write_hinge_dxf(strips, out / "hinges.dxf", name=data.name)
+    write_3dm(data, out / f"{stem}.3dm")
+    write_obj(data, out / "solids.obj", state="deployed")
+    write_gltf(data, out / "solids.glb", state="deployed")
+    write_obj(data, out / "stack.obj", state="stack")
+    (out / f"{stem}.fold").write_text(fold, encoding="utf-8")
+    write_assembly_sheet(data, out / "assembly.svg")
+    write_assembly_sheet(data, out / "assembly.pdf")
+    (out / "fabrication.json").write_text(text, encoding="utf-8")
     return manifest

@@ -1,8 +1,11 @@
-"""FOLD 1.1 output (https://github.com/edemaine/fold): :func:`fold_document`, :func:`write_fold`.
+"""FOLD 1.2 output (https://github.com/edemaine/fold): :func:`fold_document`, :func:`write_fold`.
 
-A ``.fold`` file is JSON; floats are written with Python's shortest round-trip ``repr``, so
-every coordinate reads back bit-for-bit. Three frames, all in metres, with the same faces in the
-same order (face ``f = i * n + j`` is quad ``j`` of plate ``i``, array order):
+A ``.fold`` file is strict JSON (no NaN / Infinity); floats are written with Python's shortest
+round-trip ``repr``, so every coordinate reads back bit-for-bit. ``file_spec`` is 1.2: boundary
+edges have ``null`` as their right face in ``edges_faces`` (``[left, null]``), which FOLD allows
+since version 1.2; nothing else of 1.2 (join / cut edges) is used. Three frames, all in metres,
+with the same faces in the same order (face ``f = i * n + j`` is quad ``j`` of plate ``i``, array
+order):
 
 0. key frame, ``["foldedForm"]`` / ``"3D"``: the deployed mid-surfaces at the design state
    (``data.deployed_mid``), the two plates of every crease sharing its hinge vertices (see
@@ -17,7 +20,8 @@ same order (face ``f = i * n + j`` is quad ``j`` of plate ``i``, array order):
    ``"edges_ccu:crease"``.
 2. ``file_frames[1]``, ``["foldedForm"]`` / ``"3D"``: the flat-folded stack, mid-surfaces of
    ``data.stack_solids`` (mean of the lower and upper faces), hinges as in frame 0, every crease
-   folded through 180 degrees.
+   folded nearly through 180 degrees (the snapped hinge vertices tilt the hinge quads: 176 to
+   177 degrees for the vault).
 
 Hinges. The crease vertices of the two plates of a crease are merged into one vertex when their
 mid-surface rows coincide to ``merge_tol`` (1e-9 m). Thick plates do not do that: their hinge
@@ -40,26 +44,41 @@ first plate and then the whole connected sheet is flipped if needed so that the 
 normal of the design state points to world +z (the outside / top of a vault). The stack frame uses
 the same flips, so a face shows the same side of the material in both 3D frames.
 
-Mountain / valley rule. For every crease segment, with the consistently oriented quads of plate
-``a`` (``L``, left: it runs the segment ``u -> v``) and plate ``b`` (``R``), their normals
-``nL``, ``nR`` (from the quad diagonals) at the design state and ``e = (v - u) / |v - u|``,
-the signed fold angle is ``theta = atan2(-(nL x nR) . e, nL . nR)``: positive when the normals
-point into each other (valley), negative when they point away (mountain), as in the FOLD spec.
-``"V"`` if ``theta > 0``, ``"M"`` if ``theta < 0``, ``"U"`` when ``|(nL x nR) . e| < 1e-9``
-(sign ambiguous: flat, or folded through 180 degrees). It is measured on the plates' own
-mid-surfaces (independent of the hinge merging) at the design state and kept for the stack: a
-crease does not change from mountain to valley along the deployment (its dihedral stays in
-``(0, 180)``). ``edges_foldAngle`` is FOLD's deviation from flatness, so for a crease it is
-``sign(theta) * (180 - fold_angle)``: the crease record's ``fold_angle`` is the dihedral between
-the plates with 0 = closed flat (stack: 0, FOLD angle +-180). ``"edges_ccu:measuredFoldAngle"``
-is the signed angle measured on the frame's own coordinates (for snapped creases it includes the
-small tilt of the snapped quads). Interior rulings are ``"F"`` (angle 0), outline edges ``"B"``:
-a ruling is where the smoothly bent plate is sampled, not a crease; its small discrete bend
-(about 1 degree per segment for the vault) is only in ``"edges_ccu:measuredFoldAngle"``.
+Fold angles and mountain / valley. Every edge's ``edges_foldAngle`` is measured on the frame's
+own ``vertices_coords``, so the file agrees with itself: a reader (or a folding simulator) that
+recomputes the angles from the coordinates finds the written ones (to round-off, 3e-14 deg). For
+an interior edge ``u -> v`` with its left face ``L`` (the face that runs ``u -> v``, first in
+``edges_faces``) and right face ``R``, their unit Newell normals ``nL``, ``nR`` (for a quad
+``a b c d``: ``(c - a) x (d - b)``) and ``e = (v - u) / |v - u|``, the fold angle is
+``theta = atan2(-(nL x nR) . e, nL . nR)`` in degrees: FOLD's deviation from flatness, positive
+when the normals point into each other (valley), negative when they point away (mountain), as in
+the FOLD spec. Assignment: ``"V"`` if ``theta > 0``, ``"M"`` if ``theta < 0``, ``"B"`` (angle 0)
+for outline edges. When ``|(nL x nR) . e| < 1e-9`` (``EXACT_RELATIVE``, the sign test margin of
+unit vectors) the two faces are coplanar: the edge is ``"F"`` with angle 0 if they lie side by
+side, and if they lie on each other (folded through exactly 180 degrees: thin plates in the
+stack) a crease keeps the sign it has at the design state (:func:`crease_fold_angles`, measured
+on the plates' own mid-surfaces) with ``+-180``, anything else is ``"U"`` (angle 0).
+
+Rulings are edges too: a ruling is where the smoothly bent plate is sampled, and the quads on
+either side of it meet at a small angle (1.24 to 1.28 degrees for the vault at the design
+state). They are therefore ``"M"`` / ``"V"`` with their measured angle, like the creases, and
+``"F"`` only where the plate is flat to the tolerance above (the 2D crease-pattern frame). What
+an edge is in the design is in ``"edges_ccu:kind"``: ``"crease"``, ``"ruling"`` or ``"outline"``.
+The crease-pattern frame is flat: its rulings are ``"F"`` and its crease edges ``"B"``.
+
+The snapped hinge vertices are not on the plates' mid-surfaces, so the file's crease angles are
+not the plates' dihedral: ``"edges_ccu:plateFoldAngle"`` is the same signed angle measured
+between the two faces' own (unsnapped) mid-surface quads, the fold angle of the thick model
+(119.989 degrees for the vault's 2 alpha = 60 degree creases, whose file angles are 116.2 to
+117.1 degrees). Snapping also warps quads whose two crease rows move to different faces of a
+plate (any non-orthogonal layout); ``"ccu:maxFaceWarp"`` is the largest angle between the two
+triangles ``a b c`` / ``a c d`` of a quad of the frame (0 for the vault, 0.53 degrees for the
+fig12c funnel), which a simulator that triangulates the quads sees as a small facet fold.
 
 Custom fields (``ccu:`` namespace): ``faces_ccu:plate`` (plate id), ``faces_ccu:quad`` (quad
 index ``j``), ``faces_ccu:flipped``, ``edges_ccu:crease`` (crease id or -1),
-``edges_ccu:measuredFoldAngle`` (deg), ``vertices_ccu:plateVertices`` (``[plate id, k]`` pairs of
+``edges_ccu:kind``, ``edges_ccu:plateFoldAngle`` (deg), ``ccu:maxFaceWarp`` (deg),
+``vertices_ccu:plateVertices`` (``[plate id, k]`` pairs of
 the plate vertices merged into each vertex), ``ccu:snappedCreases``, ``ccu:unmergedCreases``,
 ``ccu:hinges``, ``ccu:mergeTolerance``, ``ccu:offsets`` and, at file level, ``ccu:design``,
 ``ccu:alpha``, ``ccu:thickness``, ``ccu:material``, ``ccu:plateIds``, ``ccu:segments``.
@@ -73,10 +92,17 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.fabrication.meshes import crease_line, layout_offsets
-from compas_ccu.geometry import unit
+from compas_ccu.geometry import dot, unit
 from compas_ccu.tolerances import EXACT_RELATIVE
 
-__all__ = ["ASSIGNMENTS", "crease_fold_angles", "fold_document", "read_fold", "write_fold"]
+__all__ = [
+    "ASSIGNMENTS",
+    "crease_fold_angles",
+    "fold_document",
+    "fold_json",
+    "read_fold",
+    "write_fold",
+]
 
 #: The edge assignments this writer uses.
 ASSIGNMENTS = ("B", "M", "V", "F", "U")
@@ -97,11 +123,38 @@ def _quad_normals(coords: np.ndarray, quads: np.ndarray) -> np.ndarray:
     return np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 1])
 
 
-def _signed_angle(nl, nr, e) -> np.ndarray:
-    """FOLD fold angle (deg) between left / right unit normals about the unit edge ``e``."""
+def _fold_angles(nl, nr, e) -> tuple:
+    """FOLD fold angles (deg) between left / right unit normals about the unit edges ``e``.
+
+    Returns
+    -------
+    theta : (m,) float
+        ``atan2(-(nL x nR) . e, nL . nR)``: positive valley, negative mountain.
+    ambiguous : (m,) bool
+        ``|(nL x nR) . e| < EXACT_RELATIVE``: the faces are coplanar (flat, ``theta`` = 0) or
+        folded onto each other (``theta`` = +-180 with no sign in the geometry).
+    cosine : (m,) float
+        ``nL . nR``.
+    """
     s = -np.einsum("ij,ij->i", np.cross(nl, nr), e)
-    theta = np.degrees(np.arctan2(s, np.einsum("ij,ij->i", nl, nr)))
-    return np.where(np.abs(s) < _SIGN_TOL, 0.0, theta)
+    c = np.einsum("ij,ij->i", nl, nr)
+    ambiguous = np.abs(s) < _SIGN_TOL
+    theta = np.where(ambiguous & (c > 0.0), 0.0, np.degrees(np.arctan2(s, c)))
+    return theta, ambiguous, c
+
+
+def _signed_angle(nl, nr, e) -> np.ndarray:
+    """:func:`_fold_angles` with 0 where the sign is ambiguous (crease signs)."""
+    theta, ambiguous, _ = _fold_angles(nl, nr, e)
+    return np.where(ambiguous, 0.0, theta)
+
+
+def _face_warp(coords: np.ndarray, quads: np.ndarray) -> np.ndarray:
+    """(f,) angle (deg) between the triangles ``a b c`` and ``a c d`` of every quad: 0 if planar."""
+    q = coords[quads]
+    n1 = unit(np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]))
+    n2 = unit(np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 0]))
+    return np.degrees(np.arctan2(np.linalg.norm(np.cross(n1, n2), axis=1), dot(n1, n2)))
 
 
 def _segment_quads(n: int, idx: np.ndarray) -> np.ndarray:
@@ -198,12 +251,12 @@ def crease_fold_angles(data) -> dict:
     return out
 
 
-def _frame(data, coords, faces, *, hinges, merge_tol, state, dihedral, signs, flips) -> dict:
+def _frame(data, coords, faces, *, hinges, merge_tol, state, signs, flips) -> dict:
     """One FOLD frame from per-plate coordinates (p, 2n + 2, d) and quads (p, n, 4).
 
     ``hinges``: "snap" | "merge" | None (never merge); ``state`` for the hinge lines;
-    ``dihedral``: crease id -> dihedral of the state (deg); ``signs``: crease id -> per-segment
-    design-state angles (:func:`crease_fold_angles`).
+    ``signs``: crease id -> per-segment design-state angles (:func:`crease_fold_angles`), the
+    sign of a crease folded through exactly 180 degrees.
     """
     coords = np.asarray(coords, dtype=float)
     p, nv, dim = coords.shape
@@ -280,30 +333,52 @@ def _frame(data, coords, faces, *, hinges, merge_tol, state, dihedral, signs, fl
     located = [crease_of.get(int(k), (-1, -1)) for k in ukeys]
     edge_crease = np.array([cid for cid, _ in located], dtype=np.int64)
 
-    # --- signed fold angle measured on this frame's coordinates (3D frames only)
-    measured = np.zeros(len(ukeys))
+    # --- fold angle of every edge, from this frame's own coordinates (3D frames); the same
+    # angle between the plates' own (unsnapped) quads, ``coords``
     interior = right >= 0
+    fl, fr = left[interior], right[interior]
+    measured = np.zeros(len(ukeys))
+    flat_or_closed = np.zeros(len(ukeys), dtype=bool)
+    cosine = np.ones(len(ukeys))
+    own = np.zeros(len(ukeys))
+    local = np.concatenate([faces[i] + i * nv for i in range(p)], axis=0)  # (p n, 4) plate rows
     if dim == 3 and interior.any():
         normals = unit(_quad_normals(vertices_coords, fv))
-        ev = vertices_coords[edges[interior, 1]] - vertices_coords[edges[interior, 0]]
-        measured[interior] = _signed_angle(
-            normals[left[interior]], normals[right[interior]], unit(ev)
+        ev = unit(vertices_coords[edges[interior, 1]] - vertices_coords[edges[interior, 0]])
+        theta, ambiguous, cos = _fold_angles(normals[fl], normals[fr], ev)
+        measured[interior], flat_or_closed[interior], cosine[interior] = theta, ambiguous, cos
+        # the plates' own mid-surfaces: the left face's plate rows of the edge
+        k = first[interior] % 4
+        rows = coords.reshape(-1, dim)
+        own_normals = unit(_quad_normals(rows, local))
+        eu = rows[local[fl, k]]
+        ew = rows[local[fl, (k + 1) % 4]]
+        own_theta, own_ambiguous, own_cos = _fold_angles(
+            own_normals[fl], own_normals[fr], unit(ew - eu)
         )
+        own[interior] = np.where(own_ambiguous & (own_cos < 0.0), 180.0, own_theta)
 
-    assignment = np.full(len(ukeys), "U", dtype="<U1")
-    fold_angle = np.zeros(len(ukeys))
-    same_plate = interior & (face_plate[left] == face_plate[np.maximum(right, 0)])
+    assignment = np.full(len(ukeys), "F", dtype="<U1")
     assignment[~interior] = "B"
-    assignment[same_plate] = "F"
-    for e in np.flatnonzero(interior & ~same_plate & (edge_crease >= 0)):
+    fold_angle = np.where(interior, measured, 0.0)
+    folded = interior & ~flat_or_closed
+    assignment[folded & (measured > 0.0)] = "V"
+    assignment[folded & (measured < 0.0)] = "M"
+    # folded through 180 degrees exactly (no sign in the coordinates): the crease keeps the sign
+    # it has at the design state; anything else is "U"
+    for e in np.flatnonzero(interior & flat_or_closed & (cosine < 0.0)):
         cid, k = located[e]
-        theta = float(signs[cid][k])
-        if dim != 3 or theta == 0.0:
-            continue  # "U": no sign
-        # (swapping L and R reverses e too: the sign does not depend on which plate is left)
-        sign = 1.0 if theta > 0 else -1.0
-        assignment[e] = "V" if sign > 0 else "M"
-        fold_angle[e] = sign * (180.0 - float(dihedral[cid]))
+        theta = float(signs[cid][k]) if cid >= 0 else 0.0
+        if theta == 0.0:
+            assignment[e], fold_angle[e] = "U", 0.0
+        else:
+            assignment[e] = "V" if theta > 0 else "M"
+            fold_angle[e] = 180.0 if theta > 0 else -180.0
+    # plates folded onto each other: the sign is the file's
+    closed = interior & (own == 180.0)
+    own[closed] = np.where(fold_angle[closed] < 0.0, -180.0, 180.0)
+    kind = np.where(~interior, "outline", np.where(edge_crease >= 0, "crease", "ruling"))
+    warp = _face_warp(vertices_coords, fv) if dim == 3 else np.zeros(len(fv))
 
     attributes = ["3D" if dim == 3 else "2D"]
     attributes.append("manifold" if manifold else "nonManifold")
@@ -324,7 +399,9 @@ def _frame(data, coords, faces, *, hinges, merge_tol, state, dihedral, signs, fl
         "faces_ccu:quad": np.tile(np.arange(n), p).tolist(),
         "faces_ccu:flipped": np.repeat(np.asarray(flips, dtype=bool), n).tolist(),
         "edges_ccu:crease": edge_crease.tolist(),
-        "edges_ccu:measuredFoldAngle": measured.tolist(),
+        "edges_ccu:kind": kind.tolist(),
+        "edges_ccu:plateFoldAngle": own.tolist(),
+        "ccu:maxFaceWarp": float(warp.max()) if len(warp) else 0.0,
         "ccu:hinges": hinges or "separate",
         "ccu:mergeTolerance": merge_tol,
         "ccu:snappedCreases": snapped,
@@ -335,7 +412,7 @@ def _frame(data, coords, faces, *, hinges, merge_tol, state, dihedral, signs, fl
 def fold_document(
     data, *, hinges: str = "snap", merge_tol: float = EXACT_RELATIVE, gap: float = 0.1
 ) -> dict:
-    """The design as a FOLD 1.1 document (a JSON-ready dict); see the module docstring.
+    """The design as a FOLD 1.2 document (a JSON-ready dict); see the module docstring.
 
     Parameters
     ----------
@@ -360,11 +437,9 @@ def fold_document(
     flips, orientable = _orientation(data)
     oriented = _oriented_faces(data, flips)
     signs = crease_fold_angles(data)
-    design = {c["id"]: float(c["fold_angle"]) for c in data.creases}
-    closed = {c["id"]: 0.0 for c in data.creases}
     common = {"hinges": hinges, "merge_tol": merge_tol, "signs": signs, "flips": flips}
 
-    key = _frame(data, data.deployed_mid, oriented, state="deployed", dihedral=design, **common)
+    key = _frame(data, data.deployed_mid, oriented, state="deployed", **common)
     key["frame_title"] = f"{data.name}: deployed mid-surfaces, alpha = {float(data.alpha):g} deg"
     key["frame_classes"] = ["foldedForm"]
 
@@ -376,7 +451,6 @@ def fold_document(
         hinges=None,
         merge_tol=merge_tol,
         state="deployed",
-        dihedral=design,
         signs=signs,
         flips=np.zeros(len(data.plate_ids), dtype=bool),
     )
@@ -391,7 +465,7 @@ def fold_document(
     )
 
     stack_mid = np.asarray(data.stack_solids, dtype=float).mean(axis=1)
-    stack = _frame(data, stack_mid, oriented, state="stack", dihedral=closed, **common)
+    stack = _frame(data, stack_mid, oriented, state="stack", **common)
     stack.update(
         {
             "frame_title": f"{data.name}: flat-folded stack (alpha = 0)",
@@ -402,7 +476,7 @@ def fold_document(
     )
 
     doc = {
-        "file_spec": 1.1,
+        "file_spec": 1.2,
         "file_creator": "compas_ccu",
         "file_title": data.name,
         "file_classes": ["singleModel"],
@@ -419,6 +493,20 @@ def fold_document(
     return doc
 
 
+def fold_json(doc: dict, *, indent=None) -> str:
+    """A FOLD document as strict JSON text (``ValueError`` on NaN / inf, which JSON lacks).
+
+    Parameters
+    ----------
+    doc : dict
+        :func:`fold_document`.
+    indent : int or None, keyword-only
+        JSON indentation (None: compact).
+    """
+    separators = (",", ":") if indent is None else None
+    return json.dumps(doc, indent=indent, separators=separators, allow_nan=False)
+
+
 def write_fold(
     data,
     path,
@@ -428,7 +516,7 @@ def write_fold(
     gap: float = 0.1,
     indent=None,
 ) -> Path:
-    """Write :func:`fold_document` as a ``.fold`` JSON file.
+    """Write :func:`fold_document` as a ``.fold`` file (strict JSON, :func:`fold_json`).
 
     Parameters
     ----------
@@ -445,8 +533,7 @@ def write_fold(
     """
     path = Path(path)
     doc = fold_document(data, hinges=hinges, merge_tol=merge_tol, gap=gap)
-    separators = (",", ":") if indent is None else None
-    path.write_text(json.dumps(doc, indent=indent, separators=separators), encoding="utf-8")
+    path.write_text(fold_json(doc, indent=indent), encoding="utf-8")
     return path
 
 

@@ -9,6 +9,11 @@ triangle mesh; :func:`write_obj` and :func:`write_gltf` write one named mesh per
 Units: metres. OBJ keeps doubles (``%.17g``: the file round-trips every coordinate exactly);
 glTF stores vertex positions as float32 by specification (about 0.1 µm at a few metres, ample
 for viewing, not for fabrication: use the OBJ or the 3DM for that).
+
+Axes. The OBJ files keep the design's world coordinates (Z up, as Rhino). glTF is Y up by
+specification, so :func:`write_gltf` rotates every vertex by -90 degrees about X
+(:data:`Z_UP_TO_Y_UP`: glTF ``(x, y, z)`` = world ``(x, z, -y)``): a proper rotation, so the
+triangles stay outward-oriented, and a viewer shows the vault standing upright.
 """
 
 from __future__ import annotations
@@ -20,6 +25,7 @@ import numpy as np
 from compas_ccu.kinematics.plates import plate_quads
 
 __all__ = [
+    "Z_UP_TO_Y_UP",
     "boundary_loop",
     "crease_line",
     "layout_offsets",
@@ -31,6 +37,10 @@ __all__ = [
 ]
 
 _STATES = ("deployed", "stack")
+
+#: World (Z up) to glTF (Y up): -90 degrees about X, ``(x, y, z) -> (x, z, -y)``; row-vector
+#: points are mapped by ``points @ Z_UP_TO_Y_UP.T``.
+Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 
 
 def boundary_loop(n: int) -> np.ndarray:
@@ -259,12 +269,35 @@ def write_obj(data, path, *, state: str = "deployed") -> Path:
     return path
 
 
+_ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
+
+
+def _buffer_view_targets(tree: dict) -> None:
+    """Set every mesh buffer view's ``target`` (vertex / index data) in a glTF JSON tree.
+
+    Optional in glTF, but the Khronos validator hints at every view without it; trimesh leaves
+    it out (its ``tree_postprocessor`` hook calls this before packing the GLB).
+    """
+    views = tree.get("bufferViews", [])
+    accessors = tree.get("accessors", [])
+    for mesh in tree.get("meshes", []):
+        for primitive in mesh.get("primitives", []):
+            for accessor in primitive.get("attributes", {}).values():
+                views[accessors[accessor]["bufferView"]]["target"] = _ARRAY_BUFFER
+            if "indices" in primitive:
+                views[accessors[primitive["indices"]]["bufferView"]]["target"] = (
+                    _ELEMENT_ARRAY_BUFFER
+                )
+
+
 def write_gltf(data, path, *, state: str = "deployed") -> Path:
     """Write the closed plate solids as a binary glTF (``.glb``) through trimesh.
 
     One scene node and one mesh per plate, both named ``plate_<id>``, identity transforms.
-    glTF is metres by specification; its vertex positions are float32 (about 1e-7 relative, so
-    ~0.3 µm at 2.5 m): fine for viewing and AR, not a fabrication reference.
+    glTF is metres and Y up by specification: the vertices are the world coordinates rotated by
+    :data:`Z_UP_TO_Y_UP` (glTF ``(x, y, z)`` = world ``(x, z, -y)``; world = glTF
+    ``(x, -z, y)``). Vertex positions are float32 (about 1e-7 relative, so ~0.3 µm at 2.5 m):
+    fine for viewing and AR, not a fabrication reference.
 
     Parameters
     ----------
@@ -281,7 +314,7 @@ def write_gltf(data, path, *, state: str = "deployed") -> Path:
     path = Path(path)
     scene = trimesh.Scene()
     for name, vertices, triangles in plate_solids(data, state=state):
-        mesh = trimesh.Trimesh(vertices=vertices, faces=triangles, process=False)
+        mesh = trimesh.Trimesh(vertices=vertices @ Z_UP_TO_Y_UP.T, faces=triangles, process=False)
         scene.add_geometry(mesh, node_name=name, geom_name=name)
     scene.metadata.update(
         {
@@ -291,7 +324,8 @@ def write_gltf(data, path, *, state: str = "deployed") -> Path:
             "thickness": float(data.thickness),
             "material": data.material,
             "unit": "m",
+            "up": "+Y (world +Z; glTF (x, y, z) = world (x, z, -y))",
         }
     )
-    path.write_bytes(scene.export(file_type="glb"))
+    path.write_bytes(scene.export(file_type="glb", tree_postprocessor=_buffer_view_targets))
     return path

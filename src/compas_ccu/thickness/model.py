@@ -60,14 +60,20 @@ class CollisionReport:
     penetration : (k,) float
         Largest penetration depth of a face vertex into another plate, m (<= tolerance: none).
     clearance : (k,) float
-        Smallest gap between plates that share no crease, m.
+        Smallest gap between plates that share no crease, m; inf where no vertex of such a pair
+        lies over the other plate (there is no such pair, or they are more than the contact
+        reach apart).
     crossing : (k,) bool
         A plate passes through another one.
     first : dict or None
         The first state that interpenetrates: alpha, plates, vertex, point, depth.
-    closest : dict
-        Where the smallest clearance occurs: alpha, plates, vertex, point, clearance.
+    closest : dict or None
+        Where the smallest clearance occurs: alpha, plates, vertex, point, clearance; None if
+        the clearance is inf in every state.
     tolerance : float
+    clearance_pairs : int
+        Plate pairs that share no crease: the pairs the clearance is measured over (0 for a
+        single crease between two plates).
     """
 
     alphas: np.ndarray
@@ -75,20 +81,28 @@ class CollisionReport:
     clearance: np.ndarray
     crossing: np.ndarray
     first: dict | None
-    closest: dict
+    closest: dict | None
     tolerance: float
+    clearance_pairs: int = 0
 
     @property
     def ok(self) -> bool:
         return self.first is None
 
     def summary(self) -> dict:
-        """Plain-data summary (JSON); :func:`collision_text` words it."""
+        """Plain data (strict JSON: no inf / NaN); :func:`collision_text` words it.
+
+        ``min_clearance`` (m) and ``closest`` are None when no clearance was measured: no plate
+        pair shares no crease (``clearance_pairs`` = 0), or no vertex of such a pair lies over
+        the other plate anywhere on the path.
+        """
+        clearance = float(self.clearance.min())
         return {
             "alphas": [float(self.alphas[0]), float(self.alphas[-1]), len(self.alphas)],
             "interpenetration": not self.ok,
             "max_penetration": float(self.penetration.max()),
-            "min_clearance": float(self.clearance.min()),
+            "min_clearance": clearance if math.isfinite(clearance) else None,
+            "clearance_pairs": int(self.clearance_pairs),
             "first": self.first,
             "closest": self.closest,
             "tolerance": self.tolerance,
@@ -104,11 +118,15 @@ def collision_text(summary: dict, *, degree: str = " deg") -> str:
             f"{first['alpha']:.4g}{degree} by {first['depth'] * 1e3:.3g} mm near "
             f"{[round(v, 3) for v in first['point']]} m"
         )
+    if summary["min_clearance"] is None:
+        if not summary.get("clearance_pairs"):
+            return "none; no plate pair to check (every pair of plates shares a crease)"
+        return "none; no plate lies over another one it shares no crease with"
     closest = summary["closest"]
     where = (
         f" (plates {closest['plates'][0]}/{closest['plates'][1]} at alpha "
         f"{closest['alpha']:.3g}{degree})"
-        if "plates" in closest
+        if closest and "plates" in closest
         else ""
     )
     return f"none; min clearance {summary['min_clearance'] * 1e3:.3g} mm{where}"
@@ -365,13 +383,20 @@ class ThickModel:
             q = int(np.flatnonzero(bad[k])[0])
             first = where_(k, q, "depth", depth[k, q])
             first["crossing"] = bool(crossing[k, q])
-        closest = {"clearance": float("inf")}
+        closest = None
         if np.isfinite(clearance).any():
             masked = np.where(neighbours[None], np.inf, clear)
             k, q = np.unravel_index(np.argmin(masked), masked.shape)
             closest = where_(int(k), int(q), "clearance", masked[k, q])
         return CollisionReport(
-            alphas, penetration, clearance, crossing.any(axis=1), first, closest, tolerance
+            alphas,
+            penetration,
+            clearance,
+            crossing.any(axis=1),
+            first,
+            closest,
+            tolerance,
+            clearance_pairs=int((~neighbours).sum()) // 2,
         )
 
     def check_collisions(self, alphas=None, **options) -> CollisionReport:
