@@ -84,7 +84,10 @@ def test_fold_file_has_the_structure(fabricated, vault_model):
     n = vault_model.segments
     assert len(fold["faces_vertices"]) == 10 * n
     assignments = set(fold["edges_assignment"])
-    assert {"B", "F"} <= assignments and assignments & {"M", "V"}
+    assert {"B", "M", "V"} <= assignments
+    # the rulings of the deployed vault are bent (about 1.3 deg), so they are folds too
+    rulings = [a for a, k in zip(fold["edges_assignment"], fold["edges_ccu:kind"]) if k == "ruling"]
+    assert rulings and set(rulings) <= {"M", "V"}
 
 
 def test_stack_obj_is_sum_of_thicknesses(fabricated, vault_model):

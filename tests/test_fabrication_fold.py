@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from compas_ccu.catalog import catalog_path  # noqa: E402
 from compas_ccu.fabrication import fabrication_data
 from compas_ccu.fabrication.fold import crease_fold_angles, fold_document, read_fold, write_fold
 from compas_ccu.fabrication.meshes import crease_line
@@ -273,7 +274,7 @@ def face_warp(frame):
 def test_fold_angles_agree_with_the_coordinates_on_every_layout(name):
     """Inclined and radial layouts: alpha varies along the creases, so no single angle per
     crease describes them (the old per-crease 2 * mean(alpha) was off by up to 20 degrees)."""
-    path = EXAMPLES / ("cone.toml" if name == "cone" else f"catalog/{name}.toml")
+    path = EXAMPLES / "cone.toml" if name == "cone" else catalog_path(name)
     data = fabrication_data(load_model(path))
     doc = fold_document(data)
     for frame in (doc, doc["file_frames"][1]):

@@ -33,6 +33,7 @@ pytest.importorskip("trimesh")
 
 import ezdxf  # noqa: E402
 
+from compas_ccu.catalog import catalog_path  # noqa: E402
 from compas_ccu.fabrication.fabricate import fabricate  # noqa: E402
 from compas_ccu.model import load_model  # noqa: E402
 
@@ -43,9 +44,9 @@ PACKAGES = ("gltf-validator", "fold", "rabbit-ear", "dxf-parser")
 DESIGNS = {  # name: (design file, plates)
     "vault": (EXAMPLES / "vault.toml", 10),
     "cone": (EXAMPLES / "cone.toml", 2),
-    "fig12a": (EXAMPLES / "catalog" / "fig12a-asymmetric.toml", 10),
-    "fig12b": (EXAMPLES / "catalog" / "fig12b-dome.toml", 12),
-    "fig12c": (EXAMPLES / "catalog" / "fig12c-funnel.toml", 12),
+    "fig12a": (catalog_path("fig12a-asymmetric"), 10),
+    "fig12b": (catalog_path("fig12b-dome"), 12),
+    "fig12c": (catalog_path("fig12c-funnel"), 12),
     "vault22": (None, 22),  # the vault with 22 plates, written below
 }
 
