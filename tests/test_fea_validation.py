@@ -315,3 +315,30 @@ def test_orthotropic_plywood_runs_on_opensees_and_is_refused_by_kratos(cone):
     assert np.median(m_ortho) / np.median(m_iso) == pytest.approx(11.0 / 8.5, rel=0.03)
     with pytest.raises(FEError, match="orthotropic plates are not available"):
         validate(cone, engine="kratos", orthotropic=True, **options)
+
+
+@pytest.mark.slow
+def test_validate_uses_the_designs_plates_and_says_so(tmp_path, capsys):
+    """A 12 mm aluminium design used to be validated as 8 mm plywood without a word."""
+    text = Path(CONE).read_text() + '\n[plates]\nthickness = 0.012\nmaterial = "aluminium"\n'
+    design = tmp_path / "alu.toml"
+    design.write_text(text)
+    v = validate(CCUModel(load_design(design)), **FAST)
+    assert v.summary()["plates"] == {
+        "thickness": 0.012,
+        "material": "aluminium",
+        "thickness_from": "design [plates]",
+        "material_from": "design [plates]",
+    }
+    plywood = validate(CCUModel(load_design(CONE)), **FAST)
+    # stiffer and thicker plates: the same bending curvature needs more stress
+    assert (
+        v.summary()["stresses"]["max_bending_MPa"]
+        > plywood.summary()["stresses"]["max_bending_MPa"]
+    )
+    args = ["validate", str(design), "--out", str(tmp_path / "fe"), "--no-figures", "--steps", "4"]
+    assert main(args + ["--element-size", "0.1", "--thickness", "0.01"]) == 0
+    out = capsys.readouterr().out
+    assert "plates: 10 mm aluminium (thickness from option, material from design [plates])" in out
+    saved = json.loads((tmp_path / "fe" / "validation.json").read_text())
+    assert saved["plates"]["thickness"] == 0.01

@@ -84,7 +84,14 @@ def validate(args) -> int:
 
 def _summary_lines(summary: dict) -> list:
     d, st, sol = summary["deviation"], summary["stresses"], summary["solver"]
+    p = summary["plates"]
+    source = (
+        "the design's [plates]"
+        if p["thickness_from"] == p["material_from"] == "design [plates]"
+        else f"thickness from {p['thickness_from']}, material from {p['material_from']}"
+    )
     lines = [
+        f"plates: {p['thickness'] * 1e3:.4g} mm {p['material']} ({source})",
         f"deviation from the kinematic model at alpha = {summary['alpha']:.4g} deg: max "
         f"{d['max_percent']:.3f} %, mean {d['mean_percent']:.4f} % of the span "
         f"{summary['span']:.3f} m (max along the path {d['max_percent_along_path']:.3f} %)",
@@ -136,8 +143,15 @@ COMMANDS = (
             option("--element-size", type=float, default=0.1, help="m (default 0.1)"),
             option("--steps", type=int, default=8, help="deployment steps (default 8)"),
             option("--alpha", type=float, default=None, help="target alpha, degrees"),
-            option("--material", default="plywood", help="material name (default plywood)"),
-            option("--thickness", type=float, default=0.008, help="m (default 0.008)"),
+            option(
+                "--material", default=None, help="material name (default: the design's [plates])"
+            ),
+            option(
+                "--thickness",
+                type=float,
+                default=None,
+                help="plate thickness, m (default: the design's [plates])",
+            ),
             option("--orthotropic", action="store_true", help="E1 along the crease, E2 across"),
             option(
                 "--hinge-stiffness",

@@ -97,8 +97,11 @@ def validation_lines(record: dict | None) -> list:
         return ["FE validation     none yet ('ccu validate' to run one)"]
     d = record["deviation"]
     c = record.get("checks") or {}
+    plates = record.get("plates") or {}
+    with_plates = f" with {plates['thickness'] * 1e3:.4g} mm {plates['material']}" if plates else ""
     line = (
-        f"FE validation     {record['engine']} {record['mode']}, alpha {record['alpha']:.4g} deg: "
+        f"FE validation     {record['engine']} {record['mode']}{with_plates}, alpha "
+        f"{record['alpha']:.4g} deg: "
         f"deviation max {d['max_percent']:.3f} % / mean {d['mean_percent']:.3f} % of span, "
         f"bending {record['stresses']['max_bending_MPa']:.1f} MPa"
     )

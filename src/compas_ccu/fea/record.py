@@ -35,6 +35,7 @@ def _key(design: str) -> str:
 def remember(design: str, summary: dict, out) -> Path:
     """Store the headline of a validation summary for the design file ``design``."""
     keys = ("design", "engine", "mode", "alpha", "span", "deviation", "stresses", "checks")
+    keys += ("plates",)
     record = {k: summary.get(k) for k in keys}
     record["deviation"] = {
         k: summary["deviation"][k] for k in ("max_percent", "mean_percent", "max_m")

@@ -213,7 +213,9 @@ def validate(model, **options) -> Validation:
     model : compas_ccu.model.CCUModel
     **options
         Fields of :class:`FESettings` (engine, mode, element_size, steps, alpha, material,
-        thickness, orthotropic, hinge_stiffness, control, checks, area_load, ...).
+        thickness, orthotropic, hinge_stiffness, control, checks, area_load, ...). Without
+        ``thickness`` or ``material`` (or with None) the design's ``[plates]`` values are used;
+        ``summary()["plates"]`` says which were used and where they came from.
 
     Returns
     -------
@@ -229,7 +231,15 @@ def validate(model, **options) -> Validation:
     DeploymentLimitError
         The target angle lies beyond the deployment limit.
     """
+    options = dict(options)
+    plates = {}
+    for key in ("thickness", "material"):
+        given = options.get(key) is not None
+        if not given:
+            options[key] = getattr(model.design.plates, key)
+        plates[key + "_from"] = "option" if given else "design [plates]"
     settings = FESettings.from_options(options)
+    plates.update(thickness=settings.thickness, material=settings.material.name)
     alpha = model.alpha_design if settings.alpha is None else float(settings.alpha)
     model.deploy(alpha)  # the limit and self-intersection checks, with their errors
     mesh = mesh_model(model, element_size=settings.element_size)
@@ -237,5 +247,6 @@ def validate(model, **options) -> Validation:
     history = STRATEGIES[settings.mode](model, mesh, settings, alpha=alpha)
     comparison = compare(history, alignment=ALIGNMENT[settings.mode])
     validation = Validation(history, comparison)
+    validation.extra["plates"] = plates
     validation.extra["wall_time_total_s"] = time.perf_counter() - start
     return validation
