@@ -18,6 +18,7 @@ __all__ = [
     "GeometryError",
     "MissingExtraError",
     "OptionError",
+    "LimitError",
     "SelfIntersectionError",
     "SweepError",
 ]
@@ -46,6 +47,11 @@ class OptionError(CCUError):
 
 class MissingExtraError(CCUError):
     """An optional extra (viz, fea, fab, explore) needed for this is not installed."""
+
+
+class LimitError(CCUError):
+    """A request beyond a work limit (segments, plates, states, sweep size, memory); the message
+    names the limit, the value and how to raise it (:mod:`compas_ccu.limits`)."""
 
 
 class DesignError(CCUError):

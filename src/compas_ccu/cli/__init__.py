@@ -23,6 +23,7 @@ from compas_ccu.cli.parser import OUT, check_options
 from compas_ccu.cli.parser import build_parser as _build_parser
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.errors import CCUError
+from compas_ccu.limits import apply, raised
 from compas_ccu.outputs import check_output_folder, staged_folder
 
 __all__ = ["main", "build_parser", "COMMANDS", "thickness_lines"]
@@ -75,8 +76,9 @@ def main(argv=None) -> int:
     """Entry point of the ``ccu`` command: the exit status."""
     args = build_parser().parse_args(argv)
     try:
-        check_options(args.spec, args)
-        return _run(args)
+        with raised(**apply(args.limit)):
+            check_options(args.spec, args)
+            return _run(args)
     except CCUError as exc:
         return _fail(str(exc))
     except OSError as exc:

@@ -45,7 +45,12 @@ COMMANDS = (
             OUT,
             option("--only", nargs="+", default=None, metavar="NAME", help="only these designs"),
             option(
-                "--steps", type=int, default=24, minimum=1, help="path states for planarity (24)"
+                "--steps",
+                limit="states",
+                type=int,
+                default=24,
+                minimum=1,
+                help="path states for planarity (24)",
             ),
             option("--no-relax", action="store_true", help="skip the least-squares relaxation"),
             option("--no-figures", action="store_true", help="skip the contact sheets"),

@@ -141,7 +141,9 @@ COMMANDS = (
                 "--mode", choices=("displacement", "actuation"), default="displacement", help=None
             ),
             option("--element-size", type=float, default=0.1, help="m (default 0.1)"),
-            option("--steps", type=int, default=8, help="deployment steps (default 8)"),
+            option(
+                "--steps", limit="states", type=int, default=8, help="deployment steps (default 8)"
+            ),
             option("--alpha", type=float, default=None, help="target alpha, degrees"),
             option(
                 "--material", default=None, help="material name (default: the design's [plates])"

@@ -141,7 +141,14 @@ COMMANDS = (
         "path.csv (alpha, span, rise, planarity per state).",
         (
             DESIGN,
-            option("--steps", type=int, default=10, minimum=1, help="number of steps (default 10)"),
+            option(
+                "--steps",
+                limit="states",
+                type=int,
+                default=10,
+                minimum=1,
+                help="number of steps (default 10)",
+            ),
             option("--alpha", type=float, default=None, help="final alpha, degrees"),
             OUT,
             QUIET,
@@ -168,6 +175,7 @@ COMMANDS = (
             OUT,
             option(
                 "--steps",
+                limit="states",
                 type=int,
                 default=32,
                 minimum=1,

@@ -9,11 +9,12 @@ below it is an :class:`compas_ccu.errors.OptionError` naming the option.
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Callable
 
 from compas_ccu import __version__
 from compas_ccu.errors import OptionError
+from compas_ccu.limits import LIMITS, check
 
 __all__ = ["Option", "Command", "option", "DESIGN", "OUT", "QUIET", "QUIET_PROGRESS"]
 __all__ += ["build_parser", "check_options"]
@@ -29,15 +30,16 @@ class Option:
     help: str
     settings: dict = field(default_factory=dict)
     minimum: float | None = None
+    limit: str | None = None  # a work limit of compas_ccu.limits the value counts against
 
     @property
     def dest(self) -> str:
         return self.flags[-1].lstrip("-").replace("-", "_")
 
 
-def option(*flags, help: str, minimum=None, **settings) -> Option:
+def option(*flags, help: str, minimum=None, limit=None, **settings) -> Option:
     """An :class:`Option` from argparse's ``add_argument`` arguments."""
-    return Option(flags, help, settings, minimum)
+    return Option(flags, help, settings, minimum, limit)
 
 
 @dataclass(frozen=True)
@@ -69,6 +71,14 @@ def build_parser(commands) -> argparse.ArgumentParser:
         p = sub.add_parser(command.name, help=command.help, description=command.description)
         for o in command.options:
             p.add_argument(*o.flags, help=o.help, **o.settings)
+        p.add_argument(
+            "--limit",
+            action="append",
+            metavar="NAME=VALUE",
+            help="raise a work limit, e.g. --limit segments=100000 (limits: "
+            + ", ".join(f"{f.name} {getattr(LIMITS, f.name):g}" for f in fields(LIMITS))
+            + ")",
+        )
         p.set_defaults(spec=command)
     return parser
 
@@ -79,3 +89,6 @@ def check_options(command: Command, args) -> None:
         value = getattr(args, o.dest, None)
         if o.minimum is not None and value is not None and value < o.minimum:
             raise OptionError(f"{o.flags[-1]} must be >= {o.minimum:g}, got {value}")
+        if o.limit is not None and value is not None:
+            # a path of N steps (frames) has up to N + 1 states: the flat stack and N more
+            check(o.limit, value + 1, what=f"{o.limit} ({o.flags[-1]} {value})")

@@ -171,7 +171,13 @@ COMMANDS = (
         (
             DESIGN,
             OUT,
-            option("--frames", type=int, default=48, help="number of frames (default 48)"),
+            option(
+                "--frames",
+                limit="states",
+                type=int,
+                default=48,
+                help="number of frames (default 48)",
+            ),
             option("--fps", type=float, default=12.0, help="frames per second (default 12)"),
             option("--alpha", type=float, default=None, help="last state, degrees"),
             option("--format", default=None, help="gif, mp4 (default: gif, and mp4 if possible)"),
@@ -188,7 +194,9 @@ COMMANDS = (
         (
             DESIGN,
             OUT,
-            option("--steps", type=int, default=24, help="slider steps (default 24)"),
+            option(
+                "--steps", limit="states", type=int, default=24, help="slider steps (default 24)"
+            ),
             option("--alpha", type=float, default=None, help="last state, degrees"),
             QUIET,
         ),
@@ -216,8 +224,20 @@ COMMANDS = (
         (
             DESIGN,
             OUT,
-            option("--steps", type=int, default=24, help="deployment path steps (default 24)"),
-            option("--frames", type=int, default=48, help="animation frames (default 48)"),
+            option(
+                "--steps",
+                limit="states",
+                type=int,
+                default=24,
+                help="deployment path steps (default 24)",
+            ),
+            option(
+                "--frames",
+                limit="states",
+                type=int,
+                default=48,
+                help="animation frames (default 48)",
+            ),
             QUIET_PROGRESS,
         ),
         report,

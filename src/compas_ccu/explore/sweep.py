@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from compas_ccu import __version__
+from compas_ccu import __version__, limits
 from compas_ccu.design.document import load_design, read_toml
 from compas_ccu.design.schema import SCHEMA
 from compas_ccu.errors import DesignError, SweepError
@@ -61,7 +61,6 @@ FE_KEYS = (
 )
 DEFAULT_OBJECTIVES = {"rise": "max", "bending_utilisation": "min", "stack_height": "min"}
 DEFAULT_CONSTRAINTS = {"bending_utilisation": {"max": 1.0}}
-MAX_VARIANTS = 1_000_000
 RANGE_KEYS = ("min", "max", "num")
 NUMERIC_KINDS = ("float", "int", "float_or_list", "gamma")
 
@@ -425,9 +424,11 @@ class Sweep:
                 )
             num = spec.get("num")
             if num is not None and not (
-                isinstance(num, int) and not isinstance(num, bool) and num >= 1
+                isinstance(num, int) and not isinstance(num, bool) and 1 <= num <= 2**53
             ):
                 raise SweepError(f"num must be an integer >= 1, got {num!r}", key=where)
+            if num is not None:
+                limits.check("variants", num, what=f"grid points of {name} ({where}.num)")
             return Parameter(name, low=float(low), high=float(high), num=num, integer=integer)
         raise SweepError(
             f"must be a list of values or a range {{min, max, num}}, got {spec!r}", key=where
@@ -455,8 +456,7 @@ class Sweep:
         elif self.sampling == "grid":
             axes = [p.grid_values() for p in self.parameters]
             count = math.prod(len(a) for a in axes)
-            if count > MAX_VARIANTS:
-                raise SweepError(f"the grid has {count} variants, more than {MAX_VARIANTS}")
+            limits.check("variants", count, what="variants of the grid")
             grid = np.stack(np.meshgrid(*[np.arange(len(a)) for a in axes], indexing="ij"), -1)
             grid = grid.reshape(-1, len(axes))
             settings = [
@@ -464,8 +464,7 @@ class Sweep:
                 for row in grid.tolist()
             ]
         else:
-            if self.samples > MAX_VARIANTS:
-                raise SweepError(f"more than {MAX_VARIANTS} samples", key="sweep.samples")
+            limits.check("variants", self.samples, what="samples (sweep.samples)")
             rng = np.random.default_rng(self.seed)
             d, n = len(self.parameters), self.samples
             if self.sampling == "lhs":

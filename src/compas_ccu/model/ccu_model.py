@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 from compas.data import Data
 
+from compas_ccu import limits
 from compas_ccu.design import Design, load_design
 from compas_ccu.design.build import build
 from compas_ccu.errors import (
@@ -86,6 +87,7 @@ class CCUModel(Data):
 
     def __init__(self, design: Design):
         super().__init__(name=design.name)
+        _check_size(design)
         self.design = design
         self.geometry = build(design)
         self.mechanism = self.geometry.mechanism
@@ -308,6 +310,14 @@ class CCUModel(Data):
             self._overlap_alpha = math.degrees(overlap_limit(self.mechanism))
         return self._overlap_alpha
 
+    def _check_states(self, count: int) -> None:
+        """Refuse a path beyond the work limits before its arrays are made (limits module)."""
+        limits.check("states", count, what="states of one path")
+        # the placed boundaries, their world copies and the invariants' temporaries: about a
+        # dozen float arrays of (states, plates, 2n + 2, 3)
+        nbytes = 12 * count * self.plates.count * self.plates.vertex_count * 3 * 8
+        limits.check_memory(nbytes, what=f"a path of {count} states")
+
     def invariants(self, states) -> dict:
         """Invariant errors of ``k`` placed states, metres, measured on the world coordinates
         that the structures and files hold (:func:`invariant_errors`)."""
@@ -350,6 +360,7 @@ class CCUModel(Data):
         DeploymentLimitError, SelfIntersectionError
         """
         alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        self._check_states(len(alphas))
         states = self.mechanism.deploy(np.radians(alphas))
         if check:
             bad = self.overlapping(states)
@@ -447,7 +458,9 @@ class CCUModel(Data):
         The plate vertices of :meth:`path` (same order as ``Structure.deployed``) without the
         metrics, checks and objects: for callers that need many states' geometry only.
         """
-        states = self.mechanism.deploy(np.radians(np.atleast_1d(np.asarray(alphas, float))))
+        alphas = np.atleast_1d(np.asarray(alphas, float))
+        self._check_states(len(alphas))
+        states = self.mechanism.deploy(np.radians(alphas))
         return self.state_vertices(states)
 
     def state_vertices(self, states, k: int | None = None) -> np.ndarray:
@@ -534,6 +547,18 @@ class CCUModel(Data):
         """
         alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
         return self.mechanism.deploy(np.radians(alphas)).planarity
+
+
+def _check_size(design: Design) -> None:
+    """Refuse designs beyond the work limits before anything is built."""
+    n = design.crease.segments
+    layout = design.layout
+    plates = layout.plates if layout.plates is not None else (4 if layout.quadrants else 2)
+    limits.check("segments", n, what="crease segments (crease.segments)")
+    limits.check("plates", plates, what="plates (layout.plates)")
+    limits.check(
+        "vertices", plates * (2 * n + 2), what=f"vertices ({plates} plates x {n} segments)"
+    )
 
 
 def load_model(path) -> CCUModel:
