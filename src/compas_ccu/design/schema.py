@@ -250,9 +250,10 @@ SCHEMA: dict = {
         ),
         "plates": Key(
             "int",
-            "Number of plates between consecutive crease planes.",
-            check=lambda v: 1 <= v <= 10_000,
-            check_doc="1 ... 10000",
+            "Number of plates between consecutive crease planes (at least 2: a CCU structure "
+            "joins plates along creases; one plate has no crease).",
+            check=lambda v: 2 <= v <= 10_000,
+            check_doc="2 ... 10000",
             when="parallel, inclined, radial",
         ),
         "spacing": Key(

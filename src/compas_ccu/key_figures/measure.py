@@ -243,7 +243,7 @@ def _plane_figures(model) -> dict:
         "plane_inclination_axis": float(inc[:, 0].max()),
         "plane_inclination_perpendicular": float(inc[:, 1].max()),
     }
-    if planes.plates >= 4:
+    if planes.plates >= 4 and model.segments >= 4:  # global_curvature's smallest grid
         states = model.mechanism.deploy(np.radians([model.alpha_design]))
         g = global_curvature(model.plane_curves(states)[0])
         out.update(

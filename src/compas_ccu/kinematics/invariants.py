@@ -95,7 +95,9 @@ def invariant_errors(mechanism, states, reference_lengths: np.ndarray, *, frame=
         "hinge_gap": np.max(gaps, axis=0) if gaps else zeros,
         "mirror_error": np.max(mirror, axis=0) if mirror else zeros,
         "crease_planarity": (
-            np.stack(crease_planarity, axis=1) if frame is not None else states.planarity
+            np.stack(crease_planarity, axis=1).reshape(len(zeros), -1)
+            if frame is not None and crease_planarity
+            else states.planarity
         ),
         "leading_in_plane": np.abs(dot(near[:, 0] - lead_origin, lead_normal)).max(axis=1),
     }
