@@ -221,21 +221,33 @@ def test_a_missing_extra_is_named(monkeypatch, capsys, tmp_path):
     )
 
 
-def test_new_and_attribute_errors_pickle():
+def test_every_error_class_pickles_with_its_attributes():
+    """Dask workers send errors back pickled: every error class of the package survives it."""
     import pickle
 
     from compas_ccu.errors import (
         DeploymentLimitError,
+        DesignError,
+        LimitError,
         MissingExtraError,
         OptionError,
         SelfIntersectionError,
+        SweepError,
     )
+    from compas_ccu.fea.problem import ConvergenceError, FEError
+    from compas_ccu.materials import MaterialError
 
     errors = [
         OptionError("--steps must be >= 1"),
         MissingExtraError("needs viz"),
+        LimitError("too many"),
+        DesignError("must be > 0", key="crease.span"),
+        SweepError("bad", key="sweep.base"),
+        FEError("no engine"),
+        MaterialError("unknown"),
         DeploymentLimitError("beyond", alpha=95.0, alpha_limit=89.0, vertex=3),
         SelfIntersectionError("overlap", alpha=80.0, crease=2),
+        ConvergenceError("step 3 did not converge", step=3, residual=0.5),
     ]
     for error in errors:
         again = pickle.loads(pickle.dumps(error))

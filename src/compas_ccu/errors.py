@@ -21,6 +21,7 @@ __all__ = [
     "LimitError",
     "SelfIntersectionError",
     "SweepError",
+    "rebuild_error",
 ]
 
 
@@ -82,7 +83,7 @@ class DeploymentLimitError(CCUError):
         super().__init__(message)
 
     def __reduce__(self):
-        return _rebuild, (type(self), self.args, self.__dict__)
+        return rebuild_error, (type(self), self.args, self.__dict__)
 
 
 class SelfIntersectionError(CCUError):
@@ -102,7 +103,7 @@ class SelfIntersectionError(CCUError):
         super().__init__(message)
 
     def __reduce__(self):
-        return _rebuild, (type(self), self.args, self.__dict__)
+        return rebuild_error, (type(self), self.args, self.__dict__)
 
 
 class SweepError(CCUError):
@@ -113,7 +114,7 @@ class SweepError(CCUError):
         super().__init__(f"{key}: {message}" if key else message)
 
 
-def _rebuild(cls, args, attributes):
+def rebuild_error(cls, args, attributes):
     """Unpickle an error whose ``__init__`` takes keyword-only attributes."""
     error = CCUError.__new__(cls, *args)
     error.args = args

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from compas_ccu.errors import CCUError
+from compas_ccu.errors import CCUError, rebuild_error
 from compas_ccu.materials import Material
 
 __all__ = ["FEProblem", "LoadPattern", "FEResult", "ConvergenceError", "FEError"]
@@ -53,6 +53,9 @@ class ConvergenceError(CCUError):
         self.residual = residual
         self.result = result
         super().__init__(message)
+
+    def __reduce__(self):  # keyword-only attributes: pickle them (Dask workers, copies)
+        return rebuild_error, (type(self), self.args, self.__dict__)
 
 
 @dataclass
