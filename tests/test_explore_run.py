@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from compas_ccu.cli import main
 from compas_ccu.design import load_design
 from compas_ccu.errors import SweepError
 from compas_ccu.explore import load_sweep, run_sweep
@@ -393,3 +394,25 @@ def test_an_fe_sweep_on_the_cluster(cluster, tmp_path):
         assert 0.0 < row["fe_utilisation"] < 1.0 and row["fe_buckling_factor"] > 1.0
         assert row["t_fe"] > row["t_model"]
     assert r.summary["objectives"] == {"rise": "max", "fe_utilisation": "min"}
+
+
+def test_bad_workers_are_refused_before_anything_is_written(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert (
+        main(
+            [
+                "explore",
+                str(EXAMPLES / "sweeps" / "vault.toml"),
+                "--out",
+                str(out),
+                "--workers",
+                "0",
+            ]
+        )
+        == 2
+    )
+    assert "--workers must be >= 1, got 0" in capsys.readouterr().err
+    assert not out.exists()
+    with pytest.raises(SweepError, match=r"--workers must be >= 1, got 0"):
+        run_sweep(load_sweep(EXAMPLES / "sweeps" / "vault.toml"), out, workers=0)
+    assert not out.exists()

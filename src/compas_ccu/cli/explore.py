@@ -112,6 +112,7 @@ COMMANDS = (
                 "--workers",
                 type=int,
                 default=None,
+                minimum=1,
                 metavar="N",
                 help="worker processes of the local cluster (default: one per core)",
             ),

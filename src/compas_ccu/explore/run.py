@@ -215,11 +215,6 @@ def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: b
             "ccu explore needs Dask: pip install 'compas_ccu[explore]' (dask[distributed], pyarrow)"
         ) from exc
     if scheduler is not None:
-        if workers is not None:
-            raise SweepError(
-                "--workers sizes the local cluster; with --scheduler the cluster's own workers "
-                f"are used (got --workers {workers} and --scheduler {scheduler})"
-            )
         try:
             client = Client(scheduler, timeout=CONNECT_TIMEOUT)
         except (OSError, TimeoutError) as exc:
@@ -243,8 +238,6 @@ def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: b
                 f"{wrong}; install the same version on every worker"
             )
         return client, None, scheduler, len(versions)
-    if workers is not None and workers < 1:
-        raise SweepError(f"--workers must be >= 1, got {workers}")
     n = workers or max(1, min(os.cpu_count() or 1, todo))
     cluster = local_cluster(n, dashboard=dashboard)
     return Client(cluster), cluster, "local", n
@@ -320,6 +313,13 @@ def run_sweep(
         The folder belongs to another sweep, the scheduler cannot be reached, or its workers
         run another compas_ccu version.
     """
+    if workers is not None and (isinstance(workers, bool) or workers < 1):
+        raise SweepError(f"--workers must be >= 1, got {workers}")  # before anything is written
+    if scheduler is not None and workers is not None:
+        raise SweepError(
+            "--workers sizes the local cluster; with --scheduler the cluster's own workers "
+            f"are used (got --workers {workers} and --scheduler {scheduler})"
+        )
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
