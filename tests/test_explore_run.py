@@ -241,7 +241,12 @@ def test_a_killed_worker_loses_no_result(cluster, tmp_path):
     r = run_sweep(s, out, client=client, progress=False, summary=False, window=3)
     thread.join(timeout=30)
     assert killed, "no worker was killed"
-    assert r.computed == 12 and [row["status"] for row in r.rows] == ["ok"] * 12
+    failed = [
+        (row.get("stage"), row.get("error_type"), row.get("error"))
+        for row in r.rows
+        if row["status"] != "ok"
+    ]
+    assert r.computed == 12 and failed == []
     ids = [json.loads(line)["variant"] for line in journal.read_text().splitlines()]
     assert sorted(ids) == sorted(v.id for v in s.variants)  # each result written once
     client.wait_for_workers(2, timeout=30)  # the nanny restarted it

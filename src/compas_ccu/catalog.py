@@ -19,7 +19,6 @@ of Fig. 10-12 alternate accordingly.
 from __future__ import annotations
 
 import csv
-import json
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -31,6 +30,7 @@ from compas_ccu.errors import OptionError
 from compas_ccu.io import write_structure_json
 from compas_ccu.key_figures import key_figures
 from compas_ccu.model import CCUModel
+from compas_ccu.outputs import write_json
 from compas_ccu.viz.export import save_figure
 from compas_ccu.viz.sheet import plot_contact_sheet
 
@@ -235,8 +235,7 @@ def _write_tables(out: Path, rows: list) -> list:
         writer.writerow(COLUMNS + ("title",))
         for row in rows:
             writer.writerow([row.get(c, "") for c in COLUMNS] + [row["title"]])
-    with open(out / "catalog.json", "w") as fh:
-        json.dump(rows, fh, indent=1, default=float)
+    write_json(out / "catalog.json", rows, default=float)
     lines = [
         "# CCU rule catalog",
         "",

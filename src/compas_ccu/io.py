@@ -9,6 +9,8 @@ from pathlib import Path
 import compas
 import numpy as np
 
+from compas_ccu.errors import GeometryError
+from compas_ccu.outputs import write_json
 from compas_ccu.structure import Structure
 
 __all__ = [
@@ -25,9 +27,7 @@ __all__ = [
 
 def write_structure_json(structure, path) -> Path:
     """Write the ``ccu.structure`` v1 contract (docs/structure-json.md)."""
-    path = Path(path)
-    path.write_text(json.dumps(structure.to_contract(), indent=1), encoding="utf-8")
-    return path
+    return write_json(path, structure.to_contract())
 
 
 def read_structure_json(path) -> Structure:
@@ -39,6 +39,7 @@ def write_obj(structure, path, *, state: str = "deployed") -> Path:
     """Write the plates as one OBJ with a group per plate (quads, metres)."""
     path = Path(path)
     points = structure.points(state)
+    _check_finite(points, path)
     lines = [f"# compas_ccu structure, alpha = {structure.alpha:.12g} deg, units m"]
     offset = 1
     for pid, xyz, faces in zip(structure.plate_ids, points, structure.faces):
@@ -53,8 +54,20 @@ def write_obj(structure, path, *, state: str = "deployed") -> Path:
 def write_compas_json(structure, path) -> Path:
     """Write the deployed plates as a list of COMPAS meshes (``compas.json_load`` reads it)."""
     path = Path(path)
+    _check_finite(structure.deployed, path)
     path.write_text(compas.json_dumps(structure.to_meshes()), encoding="utf-8")
     return path
+
+
+def _check_finite(points: np.ndarray, path: Path) -> None:
+    """Refuse to write coordinates that are not finite (GeometryError naming the plate)."""
+    bad = ~np.isfinite(np.asarray(points, dtype=float)).all(axis=-1)
+    if bad.any():
+        plate, vertex = (int(i) for i in np.argwhere(bad)[0])
+        raise GeometryError(
+            f"{path.name} would hold non-finite coordinates (plate position {plate}, vertex "
+            f"{vertex}): nothing is written"
+        )
 
 
 def write_path_table(structures, path) -> Path:

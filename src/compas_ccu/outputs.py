@@ -18,17 +18,61 @@ compas_ccu wrote are never touched.
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 from contextlib import contextmanager
 from pathlib import Path
 
-from compas_ccu.errors import OptionError
+from compas_ccu.errors import GeometryError, OptionError
 
 __all__ = ["MANIFEST", "check_output_folder", "staged_folder", "manifest_files"]
+__all__ += ["json_text", "write_json", "first_non_finite"]
 
 #: The manifest of the files of the last complete run, inside the output folder.
 MANIFEST = ".ccu-files.json"
+
+
+def first_non_finite(data, where: str = "") -> str | None:
+    """The key path (``"plates[3].deployed[5][2]"``) of the first NaN or infinity in ``data``."""
+    if isinstance(data, float):
+        return None if math.isfinite(data) else (where or "the value")
+    if isinstance(data, dict):
+        items = ((f"{where}.{k}" if where else str(k), v) for k, v in data.items())
+    elif isinstance(data, (list, tuple)):
+        items = ((f"{where}[{i}]", v) for i, v in enumerate(data))
+    else:
+        return None
+    for path, value in items:
+        found = first_non_finite(value, path)
+        if found is not None:
+            return found
+    return None
+
+
+def json_text(data, *, what: str = "the JSON file", **options) -> str:
+    """Strict JSON text of ``data``: JSON has no NaN or infinity, so they are refused.
+
+    Raises
+    ------
+    GeometryError
+        ``data`` holds a non-finite number; the message names where.
+    """
+    try:
+        return json.dumps(data, allow_nan=False, **options)
+    except ValueError:
+        where = first_non_finite(data)
+        raise GeometryError(
+            f"{what} would hold a non-finite number at {where}: nothing is written (a result "
+            "that is not finite is not a result)"
+        ) from None
+
+
+def write_json(path, data, *, indent=1, **options) -> Path:
+    """Write ``data`` as strict JSON (:func:`json_text`) to ``path``; returns the path."""
+    path = Path(path)
+    path.write_text(json_text(data, what=path.name, indent=indent, **options) + "\n", "utf-8")
+    return path
 
 
 def check_output_folder(path, *, option: str = "--out") -> Path:

@@ -11,13 +11,13 @@ request, relaxes the worst state by least squares to show what the rigid-ruling 
 from __future__ import annotations
 
 import csv
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from compas_ccu.errors import OptionError
+from compas_ccu.outputs import write_json
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["PlanarityReport", "planarity_along_path"]
@@ -89,8 +89,7 @@ class PlanarityReport:
             writer = csv.writer(fh)
             writer.writerow(["alpha_deg", "crease", "deviation_m"])
             writer.writerows(self.rows())
-        with open(out / "planarity.json", "w") as fh:
-            json.dump(self.summary(), fh, indent=1)
+        write_json(out / "planarity.json", self.summary())
         return [out / "planarity.csv", out / "planarity.json"]
 
 

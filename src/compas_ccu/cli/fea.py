@@ -6,7 +6,6 @@ load them.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -15,6 +14,7 @@ from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
 from compas_ccu.fea.problem import ConvergenceError
 from compas_ccu.fea.record import agreement, remember
 from compas_ccu.fea.validation import validate as run_validation
+from compas_ccu.outputs import write_json
 
 __all__ = ["COMMANDS"]
 
@@ -32,8 +32,7 @@ def _write_failure(out: Path, model, args, exc) -> None:
         "residual": exc.residual,
         "message": str(exc),
     }
-    with open(out / "validation.json", "w") as fh:
-        json.dump(failure, fh, indent=1)
+    write_json(out / "validation.json", failure)
 
 
 def validate(args) -> int:
@@ -72,8 +71,7 @@ def validate(args) -> int:
         w = run_validation(model, **{**options, "engine": other})
         w.write(out / other, figures=False)
         summary["agreement"] = agreement(v, w)
-        with open(out / "validation.json", "w") as fh:
-            json.dump(summary, fh, indent=1)
+        write_json(out / "validation.json", summary)
     remember(args.design, summary, getattr(args, "final_out", out))
     for line in _summary_lines(summary):
         say(args, line)

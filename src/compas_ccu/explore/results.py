@@ -10,6 +10,7 @@ rewritten from the journal at the end of every run, also an interrupted one.
 from __future__ import annotations
 
 import json
+import math
 import os
 from pathlib import Path
 
@@ -48,7 +49,11 @@ class Journal:
 
     def append(self, row: dict) -> None:
         """Write one row and make sure it is on disk before returning."""
-        text = json.dumps(row, separators=(",", ":"), allow_nan=True) + "\n"
+        # strict JSON lines: a number that is not finite (a metric not measured) is null
+        clean = {
+            k: None if isinstance(v, float) and not math.isfinite(v) else v for k, v in row.items()
+        }
+        text = json.dumps(clean, separators=(",", ":"), allow_nan=False) + "\n"
         with open(self.path, "a", encoding="utf-8") as fh:
             if not self._checked and fh.tell() > 0:
                 self._terminate(fh)

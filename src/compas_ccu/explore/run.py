@@ -11,6 +11,7 @@ repeatedly is recorded as ``KilledWorker``); nothing the client has received is 
 
 from __future__ import annotations
 
+import asyncio
 import itertools
 import json
 import logging
@@ -29,6 +30,7 @@ from compas_ccu.explore.evaluate import STAGES, evaluate_variant, row_template
 from compas_ccu.explore.metrics import metric, metric_names
 from compas_ccu.explore.results import Journal, write_table
 from compas_ccu.explore.summary import summarise
+from compas_ccu.outputs import write_json
 
 __all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRORS", "WORKER_ENV"]
 __all__ += ["StopRequest"]
@@ -188,7 +190,7 @@ def _write_manifest(out: Path, sweep, runs: int) -> None:
         "variants": [{"variant": v.id, "index": v.index, **v.params} for v in sweep.variants],
     }
     tmp = out / (MANIFEST + ".tmp")
-    tmp.write_text(json.dumps(manifest, indent=1), encoding="utf-8")
+    write_json(tmp, manifest)
     os.replace(tmp, out / MANIFEST)
 
 
@@ -450,13 +452,13 @@ def _run_on_dask(
                 continue
             for future in batch:
                 v = pending.pop(future)
-                if future.status == "finished":
+                # evaluate_variant turns every error of the design into a row, so result()
+                # raises only for the cluster. It waits if the result was lost with a killed
+                # worker after it finished (Dask computes it again), instead of reading the
+                # status at the wrong moment.
+                try:
                     row = future.result()
-                else:
-                    try:
-                        exc = future.exception()
-                    except Exception as cancelled:  # a cancelled future raises instead
-                        exc = cancelled
+                except (Exception, asyncio.CancelledError) as exc:  # CancelledError: Base
                     row = _cluster_failure(exc, options)
                 future.release()
                 record(v, row)

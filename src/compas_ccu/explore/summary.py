@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import statistics
 from collections import Counter
 from pathlib import Path
@@ -15,6 +14,7 @@ from compas_ccu.explore.pareto import feasible, rank_best
 from compas_ccu.explore.plots import plot_design_space, plot_pareto
 from compas_ccu.io import write_obj, write_structure_json
 from compas_ccu.model import CCUModel
+from compas_ccu.outputs import write_json
 from compas_ccu.viz.export import save_figure
 
 __all__ = ["summarise", "write_best"]
@@ -151,5 +151,5 @@ def summarise(sweep, rows: list, out, *, run=None, plots: bool = True) -> dict:
         files += save_figure(fig, folder / "pareto", formats=("png",))
     path = out / "summary.json"
     summary["files"] = [str(f) for f in files] + [str(path)]
-    path.write_text(json.dumps(summary, indent=1, default=float), encoding="utf-8")
+    write_json(path, summary, default=float)
     return summary

@@ -6,13 +6,13 @@ extra (matplotlib), imported when they are drawn.
 
 from __future__ import annotations
 
-import json
 import os
 
 import numpy as np
 
 from compas_ccu.fea.comparison import Comparison
 from compas_ccu.fea.stresses import signed_bending_stress
+from compas_ccu.outputs import write_json
 from compas_ccu.viz.fea import plot_fe_curves, plot_fe_shape
 
 __all__ = ["write_results", "write_figures"]
@@ -38,8 +38,7 @@ def write_results(out, summary: dict, comparison: Comparison, *, figures: bool =
     os.makedirs(out, exist_ok=True)
     paths = []
     path = os.path.join(out, "validation.json")
-    with open(path, "w") as f:
-        json.dump(summary, f, indent=1)
+    write_json(path, summary)
     paths.append(path)
     path = os.path.join(out, "fe_results.npz")
     stresses = h.stresses()

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.fea.stresses import principal
+from compas_ccu.outputs import write_json
 
 __all__ = ["cache_folder", "remember", "last_validation", "agreement"]
 
@@ -47,7 +48,7 @@ def remember(design: str, summary: dict, out) -> Path:
     folder = cache_folder() / "validations"
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / (_key(design) + ".json")
-    path.write_text(json.dumps(record, indent=1))
+    write_json(path, record)
     return path
 
 
