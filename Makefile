@@ -9,7 +9,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore test test-fast lint bench bench-fea bench-thickness bench-explore clean
+.PHONY: setup blas browser demo explore test test-fast fuzz lint bench bench-fea bench-thickness bench-explore clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -67,8 +67,8 @@ explore: setup
 	@echo "$(OUT)/vault-sweep/results.parquet, the best variants are in $(OUT)/vault-sweep/best/"
 
 lint: setup
-	$(BIN)/ruff check src tests benchmarks
-	$(BIN)/ruff format --check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks tools
+	$(BIN)/ruff format --check src tests benchmarks tools
 	$(BIN)/lint-imports --no-cache
 
 test: setup browser lint validators
@@ -83,6 +83,11 @@ tools/validators/node_modules/.installed: tools/validators/package.json tools/va
 	@if command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1; then \
 	  npm ci --prefix tools/validators --no-audit --no-fund --loglevel=error && touch $@; \
 	else echo "make validators: node / npm not found: install Node.js >= 18; the validator tests will fail (CCU_SKIP_VALIDATORS=1 skips them)" >&2; fi
+
+# the robustness campaign: 5000 generated and malformed designs, a table of outcomes
+# (ok / refused / bug / hang); exits 1 on any bug or hang (docs/robustness.md)
+fuzz: setup
+	$(BIN)/python tools/fuzz.py --designs $(or $(DESIGNS),5000) --json $(OUT)/fuzz.json
 
 # the quick loop while editing: every test not marked slow, and ruff
 test-fast: setup
