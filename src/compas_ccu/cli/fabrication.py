@@ -17,6 +17,9 @@ def fabricate(args) -> int:
     need_extra("fabricate", "viz", ("matplotlib",))  # the assembly sheet
 
     model = load_model(args.design)
+    say(
+        args, f"{model.design.name}: thick plates, collision and bending checks, then the files ..."
+    )
     manifest = write_fabrication(
         model,
         args.out,
