@@ -18,6 +18,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.curves import profile_from_dict
+from compas_ccu.design.crease_rulings import (
+    check_crease,
+    design_rulings,
+    explicit_side,
+    pattern_rulings,
+    side_flip,
+)
 from compas_ccu.design.layouts import (
     PlaneLayout,
     check_plane_gaps,
@@ -30,10 +37,8 @@ from compas_ccu.errors import DesignError, GeometryError, ProfileError
 from compas_ccu.geometry import reflect, unit
 from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
-from compas_ccu.strips import rulings as ruling_fields
 from compas_ccu.strips.frames import crease_frames
 from compas_ccu.strips.intrinsics import strip_intrinsics
-from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_ANGLE, ZERO_LENGTH
 
 __all__ = ["DesignGeometry", "build", "PROFILE_KEYS"]
 
@@ -92,164 +97,6 @@ class DesignGeometry:
     target_fit: TargetFit | None = None
 
 
-def _check_crease(points: np.ndarray) -> None:
-    """Refuse a sampled crease that is not finite, doubles back on itself or is closed."""
-    if not np.all(np.isfinite(points)):
-        i = int(np.flatnonzero(~np.isfinite(points).all(axis=1))[0])
-        raise DesignError(
-            f"the profile cannot be computed for these values: crease vertex {i} is "
-            f"{points[i].tolist()}",
-            key="[crease]",
-        )
-    edges = np.diff(points, axis=0)
-    lengths = np.linalg.norm(edges, axis=1)
-    total = float(lengths.sum())
-    if np.any(lengths <= ZERO_LENGTH * total):
-        i = int(np.flatnonzero(lengths <= ZERO_LENGTH * total)[0])
-        raise DesignError(f"crease vertices {i} and {i + 1} coincide", key="[crease]")
-    u = edges / lengths[:, None]
-    back = np.einsum("ij,ij->i", u[:-1], u[1:]) <= -1.0 + EXACT_RELATIVE
-    if back.any():
-        i = int(np.flatnonzero(back)[0]) + 1
-        raise DesignError(
-            f"the crease doubles back on itself at vertex {i} (a 180 deg turn): a crease "
-            "must run forward",
-            key="[crease]",
-        )
-    if np.linalg.norm(points[-1] - points[0]) <= EXACT_RELATIVE * total:
-        raise DesignError(
-            "the crease is closed (its end points coincide); a CCU crease is an open curve",
-            key="[crease]",
-        )
-
-
-def _side_flip(points: np.ndarray, side: str, reference: int) -> float:
-    if side == "left":
-        return 1.0
-    if side == "right":
-        return -1.0
-    turn = crease_frames(points).turns
-    if reference in (0, len(points) - 1):
-        reference = 1 if reference == 0 else len(points) - 2
-    t = turn[reference]
-    if abs(t) < ZERO_LENGTH:
-        # straight at the reference vertex (a straight stretch of a polyline): the side the
-        # crease turns to as a whole
-        t = float(turn.sum())
-        if abs(t) < EXACT_RELATIVE:
-            left = math.degrees(turn[turn > 0.0].sum())
-            right = -math.degrees(turn[turn < 0.0].sum())
-            how = (
-                "the crease is straight"
-                if max(left, right) < math.degrees(EXACT_RELATIVE)
-                else f"the crease is straight at the reference vertex {reference} and turns as "
-                f"much to the left ({left:.4g} deg) as to the right ({right:.4g} deg)"
-            )
-            raise DesignError(
-                f"'{side}' is undefined: {how}; use side = 'left' or 'right' (of the profile "
-                "direction)",
-                key="rulings.side",
-            )
-    centre_left = t > 0.0
-    return 1.0 if centre_left == (side == "inside") else -1.0
-
-
-def _explicit_side(rulings, points: np.ndarray) -> float:
-    """+1 / -1: the side of the crease on which explicitly given ruling ends lie."""
-    ends = np.asarray(rulings.points, dtype=float)
-    if len(ends) != len(points):
-        raise DesignError(
-            f"needs one point per crease vertex ({len(points)}), got {len(ends)}",
-            key="rulings.points",
-        )
-    f = crease_frames(points)
-    side = np.einsum("ij,ij->i", ends - points, f.normals)
-    if np.all(side > 0.0):
-        return 1.0
-    if np.all(side < 0.0):
-        return -1.0
-    i = int(np.flatnonzero(np.sign(side) != np.sign(side[0]))[0])
-    raise DesignError(
-        f"the ruling ends must all lie on one side of the crease; point {i} lies on the other side",
-        key="rulings.points",
-    )
-
-
-def _gamma_field(value, s_fraction: np.ndarray) -> np.ndarray:
-    if isinstance(value, float):
-        return np.full(len(s_fraction), math.radians(value))
-    table = np.asarray(value, dtype=float)
-    return np.radians(np.interp(s_fraction, table[:, 0], table[:, 1]))
-
-
-def _rulings_3d(rulings, local: np.ndarray, alpha: float, reference: int, flip: float):
-    kind = rulings.type
-    flip2 = np.array([1.0, flip])
-    if kind == "orthogonal":
-        return ruling_fields.orthogonal_rulings(local, alpha=alpha, reference=reference)
-    if kind == "cylindrical":
-        return ruling_fields.cylindrical_rulings(
-            local,
-            direction=np.asarray(rulings.direction) * flip2,
-            alpha=alpha,
-            reference=reference,
-        )
-    if kind == "conical":
-        return ruling_fields.conical_rulings(
-            local, apex=np.asarray(rulings.apex) * flip2, alpha=alpha, reference=reference
-        )
-    f = crease_frames(local)
-    s = np.r_[0.0, np.cumsum(f.lengths)]
-    gamma = _gamma_field(rulings.gamma, s / s[-1])
-    if rulings.alpha_field == "constant":
-        ruling_fields.check_alpha_field(local, gamma, np.full(len(local), alpha))
-    r, _ = ruling_fields.ruling_angle_rulings(local, gamma=gamma, alpha=alpha, reference=reference)
-    return r
-
-
-def _rulings_2d(rulings, local: np.ndarray, flip: float) -> np.ndarray:
-    """Unit ruling directions in the cut pattern (flat state), plate on the left."""
-    kind = rulings.type
-    f = crease_frames(local)
-    if kind == "orthogonal":
-        r = f.normals.copy()
-    elif kind == "cylindrical":
-        d = np.asarray(rulings.direction) * [1.0, flip]
-        d = d / np.linalg.norm(d)
-        r = np.tile(d if f.normals[0] @ d > 0 else -d, (len(local), 1))
-    elif kind == "explicit":
-        to_end = np.asarray(rulings.points) * [1.0, flip] - local
-        r = to_end / np.linalg.norm(to_end, axis=1)[:, None]
-    elif kind == "conical":
-        to_apex = np.asarray(rulings.apex) * [1.0, flip] - local
-        r = to_apex / np.linalg.norm(to_apex, axis=1)[:, None]
-        if np.einsum("ij,ij->i", r, f.normals)[0] < 0.0:
-            r = -r
-    else:
-        s = np.r_[0.0, np.cumsum(f.lengths)]
-        gamma = _gamma_field(rulings.gamma, s / s[-1])
-        off = np.abs(gamma - np.pi / 2) > ZERO_ANGLE
-        if rulings.alpha_field == "constant" and np.any(off):
-            i = int(np.flatnonzero(off)[0])
-            raise DesignError(
-                "a constant reflection angle along a planar crease requires gamma = 90 deg "
-                f"everywhere (docs/kinematics.md, ultra-special case); gamma = "
-                f"{math.degrees(gamma[i]):.6g} deg at crease vertex {i} is not developable "
-                "with a constant alpha (alpha' = cot(gamma) kappa_2D tan(alpha) != 0)",
-                key="rulings.alpha_field",
-            )
-        r = np.cos(gamma)[:, None] * f.tangents + np.sin(gamma)[:, None] * f.normals
-    into = np.einsum("ij,ij->i", r, f.normals)
-    bad = np.flatnonzero(into <= EXACT_RELATIVE)
-    if bad.size:
-        raise DesignError(
-            f"the {kind} rulings do not point into the plate at crease vertex {int(bad[0])}: "
-            "the crease turns past the ruling direction there",
-            key="rulings.type",
-        )
-    return np.c_[r, np.zeros(len(r))]
-
-
 def _trim(near, direction, normal, offset, plane: int, plate: int):
     """Ruling points where the lines ``near + t direction`` meet crease plane ``plane``."""
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -300,13 +147,13 @@ def build(design) -> DesignGeometry:
             f"the {crease.profile} profile cannot be computed for these values ({exc})",
             key="[crease]",
         ) from exc
-    _check_crease(points)
+    check_crease(points)
     reference = int(round(crease.reference * n))
     state = crease.state
     if rulings.type == "explicit":
-        flip = _explicit_side(rulings, points)
+        flip = explicit_side(rulings, points)
     else:
-        flip = _side_flip(points, rulings.side, reference)
+        flip = side_flip(points, rulings.side, reference)
     local = points * np.array([1.0, flip])
     alpha = math.radians(design.alpha)
     near0 = np.c_[local, np.zeros(len(local))]
@@ -316,13 +163,13 @@ def build(design) -> DesignGeometry:
         if rulings.type == "explicit":
             ends = np.asarray(rulings.points) * np.array([1.0, flip])
             width = np.linalg.norm(ends - local, axis=1)[:, None]
-            r = _rulings_2d(rulings, local, flip)
+            r = pattern_rulings(rulings, local, flip)
         elif state == "deployed":
             width = layout.width
-            r = _rulings_3d(rulings, local, alpha, reference, flip)
+            r = design_rulings(rulings, local, alpha, reference, flip)
         else:
             width = layout.width
-            r = _rulings_2d(rulings, local, flip)
+            r = pattern_rulings(rulings, local, flip)
         ccf_width = layout.ccf_width or width
         nears = [near0, near0]
         fars = [near0 + width * r, _reflect_z(near0 + width * r)]
@@ -341,7 +188,7 @@ def build(design) -> DesignGeometry:
         plate_ids = list(range(len(nears)))
     else:
         layout_values = layout.to_dict()
-        r = _rulings_3d(rulings, local, alpha, reference, flip)
+        r = design_rulings(rulings, local, alpha, reference, flip)
         targets = targets_from_values(design.target.to_dict(), flip=flip)
         if targets:
             chain, planes, fit = _fit_targets(layout_values, targets, local, reference, near0, r)

@@ -16,9 +16,7 @@ import itertools
 import json
 import logging
 import os
-import signal
 import sys
-import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,47 +27,14 @@ from compas_ccu.errors import SweepError
 from compas_ccu.explore.evaluate import STAGES, evaluate_variant, row_template
 from compas_ccu.explore.metrics import metric, metric_names
 from compas_ccu.explore.results import Journal, write_table
+from compas_ccu.explore.stop import StopRequest
 from compas_ccu.explore.summary import summarise
 from compas_ccu.outputs import write_json
 
 __all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRORS", "WORKER_ENV"]
-__all__ += ["StopRequest"]
 
 #: How often the client looks for finished variants and for a stop request, seconds.
 POLL_SECONDS = 0.05
-
-
-class StopRequest:
-    """Ctrl-C (SIGINT) and SIGTERM as a request to stop between two variants.
-
-    Inside ``with stop:`` (in the main thread) the two signals set :attr:`requested` instead of
-    raising wherever the program happens to be, so a result is never half recorded: the journal
-    and the table always agree. A second signal stops at once (KeyboardInterrupt).
-    """
-
-    def __init__(self):
-        self._event = threading.Event()
-        self._previous = {}
-
-    @property
-    def requested(self) -> bool:
-        return self._event.is_set()
-
-    def _handle(self, signum, frame):
-        if self._event.is_set():
-            raise KeyboardInterrupt
-        self._event.set()
-
-    def __enter__(self) -> StopRequest:
-        if threading.current_thread() is threading.main_thread():
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                self._previous[sig] = signal.signal(sig, self._handle)
-        return self
-
-    def __exit__(self, *exc) -> None:
-        for sig, handler in self._previous.items():
-            signal.signal(sig, handler)
-        self._previous.clear()
 
 
 #: Errors of the cluster rather than of the design: such variants are computed again on resume.

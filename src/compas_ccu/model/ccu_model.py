@@ -16,20 +16,14 @@ from pathlib import Path
 import numpy as np
 from compas.data import Data
 
-from compas_ccu import limits
 from compas_ccu.design import Design, load_design
 from compas_ccu.design.build import build
 from compas_ccu.errors import (
-    DeploymentLimitError,
-    DesignError,
     GeometryError,
     SelfIntersectionError,
 )
 from compas_ccu.geometry import PlaneFrame, plane_frame
-from compas_ccu.kinematics.checks import crossing_rulings
 from compas_ccu.kinematics.invariants import (
-    EXACT_KEYS,
-    INVARIANT_KEYS,
     invariant_errors,
     overlap_limit,
     overlapping_creases,
@@ -37,10 +31,10 @@ from compas_ccu.kinematics.invariants import (
 from compas_ccu.kinematics.plates import PlateIndex, stack_rows
 from compas_ccu.kinematics.relations import crease_relations
 from compas_ccu.kinematics.relaxation import links_from_mechanism, relax
+from compas_ccu.model.checks import check_design, check_path, check_size
+from compas_ccu.model.records import state_structure
 from compas_ccu.strips.intrinsics import quad_lengths
-from compas_ccu.strips.rulings import vertex_reflection_angles
 from compas_ccu.structure import Structure
-from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 
 __all__ = ["CCUModel", "load_model"]
 
@@ -87,7 +81,7 @@ class CCUModel(Data):
 
     def __init__(self, design: Design):
         super().__init__(name=design.name)
-        _check_size(design)
+        check_size(design)
         self.design = design
         self.geometry = build(design)
         self.mechanism = self.geometry.mechanism
@@ -248,58 +242,7 @@ class CCUModel(Data):
 
     # -- checks --------------------------------------------------------------------------------
     def _check_design(self) -> None:
-        """Refuse, before any deployment, designs whose pattern or design state is impossible.
-
-        * rulings that cross inside a plate (a quad of the cut pattern folds over: the crease
-          is curved too tightly for the plate's width there);
-        * a flat-state design whose design angle lies beyond the deployment limit;
-        * a mechanism that does not reproduce its own design state (an internal inconsistency:
-          never silently deploy something other than the design);
-        * a crease that overlaps itself at the design state.
-        """
-        bad = crossing_rulings(self.flat()[..., :2], self.plates.quads)
-        if bad is not None:
-            p, j = bad
-            raise GeometryError(
-                f"the rulings of plate {self.plate_ids[p]} cross between crease vertices {j} and "
-                f"{j + 1}: its cut pattern folds over itself (the crease is curved too tightly "
-                "there for the plate's width or the plane spacing); reduce the width / "
-                "spacing, smooth the profile, or put the plate on the other side"
-            )
-        limit = self.alpha_limit
-        if self.alpha_design > limit:
-            raise DeploymentLimitError(
-                f"the design alpha {self.alpha_design:.6g} deg cannot be reached: this cut "
-                f"pattern unfolds at most to {limit:.6g} deg, where "
-                f"{self.mechanism.leading.limit_reason}",
-                alpha=self.alpha_design,
-                alpha_limit=limit,
-                vertex=self.limit_vertex,
-            )
-        g = self.geometry
-        s0 = self.mechanism.leading.s0_for_alpha(g.design_alpha) if g.state == "deployed" else 0.0
-        st = self.mechanism.place(s0)
-        miss = max(np.abs(st.near[0] - g.design_near).max(), np.abs(st.far[0] - g.design_far).max())
-        if not miss <= EXACT_RELATIVE * self.size:
-            raise GeometryError(
-                f"the mechanism misses its own design state by {miss:.3g} m at alpha "
-                f"{self.alpha_design:.6g} deg (reference vertex {self.reference}); this is a bug "
-                "in compas_ccu, please report it with the design file"
-            )
-        design = self.invariants(st)
-        worst = max(float(design[key][0]) for key in EXACT_KEYS)
-        # half the bar: a reader that measures planarity or lengths another way sees up to
-        # twice the round-off of the world coordinates
-        if not worst <= 0.5 * EXACT_RELATIVE * self.size:
-            far = float(np.abs(self.frame.origin).max())
-            raise DesignError(
-                f"world coordinates {far:.3g} m from the origin hold this {self.size:.3g} m "
-                f"structure only to {worst:.2g} m, more than half the exactness bar of "
-                f"{EXACT_RELATIVE:g} of its size; place it nearer the origin (and move it "
-                "into place in CAD)",
-                key="plane.origin",
-            )
-        self.deploy(check=True)  # raises SelfIntersectionError with the crease and the angle
+        check_design(self)
 
     def overlapping(self, states) -> np.ndarray:
         """(k, 1 + c) bool: the leading crease, then every crease, overlapping itself."""
@@ -313,12 +256,7 @@ class CCUModel(Data):
         return self._overlap_alpha
 
     def _check_states(self, count: int) -> None:
-        """Refuse a path beyond the work limits before its arrays are made (limits module)."""
-        limits.check("states", count, what="states of one path")
-        # the placed boundaries, their world copies and the invariants' temporaries: about a
-        # dozen float arrays of (states, plates, 2n + 2, 3)
-        nbytes = 12 * count * self.plates.count * self.plates.vertex_count * 3 * 8
-        limits.check_memory(nbytes, what=f"a path of {count} states")
+        check_path(self, count)
 
     def invariants(self, states) -> dict:
         """Invariant errors of ``k`` placed states, metres, measured on the world coordinates
@@ -392,67 +330,7 @@ class CCUModel(Data):
         invariants : dict, optional
             :meth:`invariants` of ``states`` (computed if not given).
         """
-        if invariants is None:
-            invariants = self.invariants(states)
-        n = self.segments
-        kinds = self.crease_kinds()
-        creases = []
-        for ci in range(len(self.mechanism.creases)):
-            rows_a, rows_b = self.plates.crease_rows(ci)
-            rel = self.relations(states, k, ci)
-            kind, vertex_kinds, _ = kinds[ci]
-            origin = self.frame.to_world(states.plane_origins[k, ci])
-            normal = self.frame.vector_to_world(states.plane_normals[k, ci])
-            record = {
-                "id": ci,
-                "plates": list(self.plates.crease_ids(ci)),
-                "vertices": [rows_a.tolist(), rows_b.tolist()],
-                "kind": kind,
-                "plane": {"origin": origin.tolist(), "normal": normal.tolist()},
-                "planarity": float(invariants["crease_planarity"][k, ci]),
-                "alpha": np.degrees(rel.alpha).tolist(),
-                "sum_beta": np.degrees(rel.sum_beta[1:-1]).tolist(),
-            }
-            if kind == "mixed":
-                record["vertex_kinds"] = vertex_kinds
-            creases.append(record)
-        deployed = self.state_vertices(states, k)
-        lead_near, lead_far = states.near[k, 0], states.far[k, 0]
-        chord = lead_near[-1, :2] - lead_near[0, :2]
-        span = float(np.linalg.norm(chord))
-        normal2d = np.array([-chord[1], chord[0]]) / max(span, DIVISION_FLOOR)
-        rise = float(np.abs((lead_near[:, :2] - lead_near[0, :2]) @ normal2d).max())
-        rulings = lead_far - lead_near
-        metrics = {
-            "alpha_limit": self.alpha_limit,
-            "reference_vertex": self.reference,
-            "segments": n,
-            "span": span,
-            "rise": rise,
-            "bounding_box": np.ptp(deployed.reshape(-1, 3), axis=0).tolist(),
-            "size": self.size,
-            "alpha_leading": np.degrees(
-                vertex_reflection_angles(
-                    lead_near[:, :2], rulings / np.linalg.norm(rulings, axis=1)[:, None]
-                )
-            ).tolist(),
-        }
-        for key in INVARIANT_KEYS:
-            metrics[key] = float(invariants[key][k])
-            metrics[key + "_relative"] = float(invariants[key][k]) / self.size
-        cp = invariants["crease_planarity"][k]
-        metrics["crease_planarity_max"] = float(cp.max()) if cp.size else 0.0
-        metrics["crease_planarity_max_relative"] = metrics["crease_planarity_max"] / self.size
-        return Structure(
-            alpha,
-            self.faces,
-            self.flat(),
-            deployed,
-            creases,
-            metrics,
-            self.plate_ids,
-            name=self.design.name,
-        )
+        return state_structure(self, states, k, alpha, invariants)
 
     def vertices(self, alphas) -> np.ndarray:
         """(k, p, 2n + 2, 3) world vertices of every plate at reference angles ``alphas`` (deg).
@@ -549,18 +427,6 @@ class CCUModel(Data):
         """
         alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
         return self.mechanism.deploy(np.radians(alphas)).planarity
-
-
-def _check_size(design: Design) -> None:
-    """Refuse designs beyond the work limits before anything is built."""
-    n = design.crease.segments
-    layout = design.layout
-    plates = layout.plates if layout.plates is not None else (4 if layout.quadrants else 2)
-    limits.check("segments", n, what="crease segments (crease.segments)")
-    limits.check("plates", plates, what="plates (layout.plates)")
-    limits.check(
-        "vertices", plates * (2 * n + 2), what=f"vertices ({plates} plates x {n} segments)"
-    )
 
 
 def load_model(path) -> CCUModel:

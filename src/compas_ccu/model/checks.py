@@ -1,0 +1,90 @@
+"""The checks of a model: the design's size against the work limits, the design state before
+any deployment, and a path's size (:mod:`compas_ccu.limits`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from compas_ccu import limits
+from compas_ccu.errors import DeploymentLimitError, DesignError, GeometryError
+from compas_ccu.kinematics.checks import crossing_rulings
+from compas_ccu.kinematics.invariants import EXACT_KEYS
+from compas_ccu.tolerances import EXACT_RELATIVE
+
+__all__ = ["check_size", "check_design", "check_path"]
+
+
+def check_size(design) -> None:
+    """Refuse designs beyond the work limits before anything is built."""
+    n = design.crease.segments
+    layout = design.layout
+    plates = layout.plates if layout.plates is not None else (4 if layout.quadrants else 2)
+    limits.check("segments", n, what="crease segments (crease.segments)")
+    limits.check("plates", plates, what="plates (layout.plates)")
+    limits.check(
+        "vertices", plates * (2 * n + 2), what=f"vertices ({plates} plates x {n} segments)"
+    )
+
+
+def check_design(model) -> None:
+    """Refuse, before any deployment, designs whose pattern or design state is impossible.
+
+    * rulings that cross inside a plate (a quad of the cut pattern folds over: the crease
+      is curved too tightly for the plate's width there);
+    * a flat-state design whose design angle lies beyond the deployment limit;
+    * a mechanism that does not reproduce its own design state (an internal inconsistency:
+      never silently deploy something other than the design);
+    * a crease that overlaps itself at the design state.
+    """
+    bad = crossing_rulings(model.flat()[..., :2], model.plates.quads)
+    if bad is not None:
+        p, j = bad
+        raise GeometryError(
+            f"the rulings of plate {model.plate_ids[p]} cross between crease vertices {j} and "
+            f"{j + 1}: its cut pattern folds over itself (the crease is curved too tightly "
+            "there for the plate's width or the plane spacing); reduce the width / "
+            "spacing, smooth the profile, or put the plate on the other side"
+        )
+    limit = model.alpha_limit
+    if model.alpha_design > limit:
+        raise DeploymentLimitError(
+            f"the design alpha {model.alpha_design:.6g} deg cannot be reached: this cut "
+            f"pattern unfolds at most to {limit:.6g} deg, where "
+            f"{model.mechanism.leading.limit_reason}",
+            alpha=model.alpha_design,
+            alpha_limit=limit,
+            vertex=model.limit_vertex,
+        )
+    g = model.geometry
+    s0 = model.mechanism.leading.s0_for_alpha(g.design_alpha) if g.state == "deployed" else 0.0
+    st = model.mechanism.place(s0)
+    miss = max(np.abs(st.near[0] - g.design_near).max(), np.abs(st.far[0] - g.design_far).max())
+    if not miss <= EXACT_RELATIVE * model.size:
+        raise GeometryError(
+            f"the mechanism misses its own design state by {miss:.3g} m at alpha "
+            f"{model.alpha_design:.6g} deg (reference vertex {model.reference}); this is a bug "
+            "in compas_ccu, please report it with the design file"
+        )
+    design = model.invariants(st)
+    worst = max(float(design[key][0]) for key in EXACT_KEYS)
+    # half the bar: a reader that measures planarity or lengths another way sees up to
+    # twice the round-off of the world coordinates
+    if not worst <= 0.5 * EXACT_RELATIVE * model.size:
+        far = float(np.abs(model.frame.origin).max())
+        raise DesignError(
+            f"world coordinates {far:.3g} m from the origin hold this {model.size:.3g} m "
+            f"structure only to {worst:.2g} m, more than half the exactness bar of "
+            f"{EXACT_RELATIVE:g} of its size; place it nearer the origin (and move it "
+            "into place in CAD)",
+            key="plane.origin",
+        )
+    model.deploy(check=True)  # raises SelfIntersectionError with the crease and the angle
+
+
+def check_path(model, count: int) -> None:
+    """Refuse a path beyond the work limits before its arrays are made (limits module)."""
+    limits.check("states", count, what="states of one path")
+    # the placed boundaries, their world copies and the invariants' temporaries: about a
+    # dozen float arrays of (states, plates, 2n + 2, 3)
+    nbytes = 12 * count * model.plates.count * model.plates.vertex_count * 3 * 8
+    limits.check_memory(nbytes, what=f"a path of {count} states")
