@@ -89,10 +89,10 @@ tools/validators/node_modules/.installed: tools/validators/package.json tools/va
 fuzz: setup
 	$(BIN)/python tools/fuzz.py --designs $(or $(DESIGNS),5000) --json $(OUT)/fuzz.json
 
-# the quick loop while editing: every test not marked slow, and ruff
+# the quick loop while editing: ruff and every test not marked slow, on 2 processes
 test-fast: setup
-	$(BIN)/ruff check src tests benchmarks
-	$(BIN)/python -m pytest -q -m "not slow"
+	$(BIN)/ruff check src tests benchmarks tools
+	$(BIN)/python -m pytest -q -m "not slow" -n 2
 
 bench: setup
 	$(BIN)/python benchmarks/bench_deploy.py
