@@ -1,7 +1,8 @@
 # Quick start: `make demo` (set up + run the vault example and write its report),
-# `make test` (set up + browser + lint + import contracts + every test). `make test-fast` runs the
-# tests not marked slow (no FE engine, Dask cluster, browser or notebook kernel), under a minute. `make explore` runs the example design-space
-# sweep (270 variants on a local Dask cluster).
+# `make test` (set up + browser + validators + lint + import contracts + every test).
+# `make test-fast`: the tests not marked slow on 2 processes (no FE engine, Dask cluster, browser
+# or notebook kernel), under a minute. `make fuzz`: the robustness campaign (docs/robustness.md).
+# `make explore`: the example design-space sweep (270 variants on a local Dask cluster).
 PYTHON   ?= python3
 VENV     ?= .venv
 BIN      := $(VENV)/bin

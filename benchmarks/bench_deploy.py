@@ -43,6 +43,7 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
+from compas_ccu import limits
 from compas_ccu.design import Design  # noqa: E402
 from compas_ccu.model import CCUModel
 
@@ -308,4 +309,6 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    # a benchmark of up to a million vertices on purpose: beyond the work limits of a design
+    with limits.raised(segments=10**6, vertices=10**8, states=10**6, memory_gib=64.0):
+        raise SystemExit(main())

@@ -244,6 +244,28 @@ class CCUModel(Data):
     def _check_design(self) -> None:
         check_design(self)
 
+    def check_overlap(self, states, alphas) -> None:
+        """Refuse placed ``states`` (at reference angles ``alphas``, degrees) in which a crease
+        overlaps itself in its plane.
+
+        Raises
+        ------
+        SelfIntersectionError
+            Names the first such state, the crease and the largest alpha before any overlap.
+        """
+        bad = self.overlapping(states)
+        if bad.any():
+            k = int(np.flatnonzero(bad.any(axis=1))[0])
+            ci = int(np.flatnonzero(bad[k])[0])
+            what = "the leading crease" if ci == 0 else f"crease {ci - 1}"
+            raise SelfIntersectionError(
+                f"self-intersection at alpha = {alphas[k]:.6g} deg: {what} overlaps itself "
+                f"in its plane (the plates would pass through each other); the largest "
+                f"alpha before any crease overlaps is {self.overlap_alpha:.6g} deg",
+                alpha=float(alphas[k]),
+                crease=None if ci == 0 else ci - 1,
+            )
+
     def overlapping(self, states) -> np.ndarray:
         """(k, 1 + c) bool: the leading crease, then every crease, overlapping itself."""
         return overlapping_creases(self.mechanism, states)
@@ -303,18 +325,7 @@ class CCUModel(Data):
         self._check_states(len(alphas))
         states = self.mechanism.deploy(np.radians(alphas))
         if check:
-            bad = self.overlapping(states)
-            if bad.any():
-                k = int(np.flatnonzero(bad.any(axis=1))[0])
-                ci = int(np.flatnonzero(bad[k])[0])
-                what = "the leading crease" if ci == 0 else f"crease {ci - 1}"
-                raise SelfIntersectionError(
-                    f"self-intersection at alpha = {alphas[k]:.6g} deg: {what} overlaps itself "
-                    f"in its plane (the plates would pass through each other); the largest "
-                    f"alpha before any crease overlaps is {self.overlap_alpha:.6g} deg",
-                    alpha=float(alphas[k]),
-                    crease=None if ci == 0 else ci - 1,
-                )
+            self.check_overlap(states, alphas)
         invariants = self.invariants(states)
         return [self.structure(states, k, float(a), invariants) for k, a in enumerate(alphas)]
 
