@@ -20,8 +20,13 @@ def info_lines(k) -> list:
         f"creases           {k.creases}" + (f" ({k.crease_kinds})" if k.crease_kinds else ""),
         f"segments          {k.segments} per crease",
         f"design alpha      {k.alpha_design:g} deg at reference vertex {k.reference_vertex}",
-        f"deployment limit  {k.alpha_limit:.4f} deg (crease segment {k.limit_vertex} "
-        "perpendicular to its plane)",
+        f"deployment limit  {k.alpha_limit:.4f} deg ("
+        + (
+            f"the surface at reference vertex {k.reference_vertex}"
+            if k.alpha_limit >= 90.0
+            else f"crease segment {k.limit_vertex}"
+        )
+        + " perpendicular to its plane)",
         f"overlap limit     {k.overlap_alpha:.4f} deg (largest alpha before a crease "
         "overlaps itself)",
         f"span              {k.crease_span:.4f} m (leading crease chord)",

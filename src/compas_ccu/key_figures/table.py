@@ -70,7 +70,8 @@ FIGURES = (
                 "alpha_limit",
                 "float",
                 "deg",
-                "Deployment limit (a crease segment stands perpendicular to its plane).",
+                "Deployment limit: a crease segment, or the surface at the reference vertex "
+                "(then 90 deg), stands perpendicular to its plane.",
             ),
             (
                 "limit_vertex",
