@@ -330,17 +330,8 @@ class CCUModel(Data):
         return [self.structure(states, k, float(a), invariants) for k, a in enumerate(alphas)]
 
     def structure(self, states, k: int, alpha: float, invariants: dict | None = None) -> Structure:
-        """The :class:`Structure` of state ``k`` of placed mechanism ``states``.
-
-        Parameters
-        ----------
-        states : compas_ccu.kinematics.mechanism.MechanismStates
-        k : int
-        alpha : float
-            The state's reference reflection angle, degrees.
-        invariants : dict, optional
-            :meth:`invariants` of ``states`` (computed if not given).
-        """
+        """The :class:`Structure` of state ``k`` of placed mechanism ``states`` at reference
+        angle ``alpha`` (degrees): :func:`compas_ccu.model.records.state_structure`."""
         return state_structure(self, states, k, alpha, invariants)
 
     def vertices(self, alphas) -> np.ndarray:
