@@ -313,7 +313,7 @@ initial-scale=1"> <title>{e(k.name)}: compas_ccu report</title><style>{_CSS}</st
 <h1>{e(k.name)}</h1>{description} <p class="sub">compas_ccu {e(__version__)} · curved-crease
 unfolding report · written in {elapsed:.1f} s</p> <h2 id="viewer">Interactive viewer</h2>{viewer}
 <h2 id="key-figures">Key figures</h2><table>{key_rows}</table> <h3>Invariant errors (relative to the
-structure size {k.size:.3f} m; exactness bar 1e-9, docs/geometry.md §3)</h3>
+structure size {k.size:.3f} m; exact below 1e-9)</h3>
 <table>{inv_rows}</table> <h3>Creases at the design state</h3>
 <table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
 <th>planarity</th></tr>{crease_rows}</table> {thick} {anim} <h2
