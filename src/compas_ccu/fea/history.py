@@ -19,6 +19,7 @@ from compas_ccu.fea.problem import FEProblem, FEResult
 from compas_ccu.fea.settings import FESettings
 from compas_ccu.fea.solving import tie_set
 from compas_ccu.fea.stresses import surface_stresses
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = ["DeploymentHistory"]
 
@@ -93,7 +94,7 @@ class DeploymentHistory:
         fixed = self.problem.fixed[self.problem.fixed < len(self.mesh.nodes)]
         _, lengths, crease, _ = tie_set(self.mesh, fixed)
         forces = r.tie_forces[step][: len(lengths)]  # hinge ties first (then any actuators)
-        line = np.linalg.norm(forces, axis=1) / np.maximum(lengths, 1e-12)
+        line = np.linalg.norm(forces, axis=1) / np.maximum(lengths, ZERO_LENGTH)
         out = []
         for c in np.unique(crease):
             sel = crease == c

@@ -24,6 +24,7 @@ import numpy as np
 
 from compas_ccu.fea.problem import FEError
 from compas_ccu.kinematics.plates import plate_quads
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["ShellMesh", "mesh_model"]
 
@@ -144,9 +145,9 @@ def mesh_model(model, *, element_size: float = 0.05) -> ShellMesh:
     near, far = flat[:, : n + 1, :2], flat[:, n + 1 :, :2]
     seg = np.linalg.norm(np.diff(near, axis=1), axis=2).max()
     seg = max(seg, np.linalg.norm(np.diff(far, axis=1), axis=2).max())
-    along = max(1, math.ceil(seg / element_size - 1e-9))
+    along = max(1, math.ceil(seg / element_size - EXACT_RELATIVE))
     rulings = np.linalg.norm(far - near, axis=2).max(axis=1)
-    across = np.maximum(1, np.ceil(rulings / element_size - 1e-9).astype(int))
+    across = np.maximum(1, np.ceil(rulings / element_size - EXACT_RELATIVE).astype(int))
     if p_count * (n * along + 1) * (across.max() + 1) > 2_000_000:
         raise FEError(
             f"element_size {element_size} m gives more than 2 million nodes; use a larger size"
@@ -204,7 +205,7 @@ def mesh_model(model, *, element_size: float = 0.05) -> ShellMesh:
         cb = 0 if crease["vertices"][1][0] == 0 else across[pb]
         na, nb = node(pa, a_all, ca), node(pb, a_all, cb)
         gap = np.linalg.norm(mesh.nodes[na] - mesh.nodes[nb], axis=1).max()
-        if gap > 1e-9 * model.size:
+        if gap > EXACT_RELATIVE * model.size:
             raise FEError(f"crease {crease['id']}: hinge nodes do not coincide (gap {gap:.3g} m)")
         edge = np.linalg.norm(np.diff(mesh.nodes[na], axis=0), axis=1)
         length = 0.5 * (np.r_[0.0, edge] + np.r_[edge, 0.0])

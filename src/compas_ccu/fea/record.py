@@ -17,6 +17,7 @@ import numpy as np
 
 from compas_ccu.fea.stresses import principal
 from compas_ccu.outputs import write_json
+from compas_ccu.tolerances import DIVISION_FLOOR
 
 __all__ = ["cache_folder", "remember", "last_validation", "agreement"]
 
@@ -77,7 +78,7 @@ def agreement(a, b) -> dict:
     mb = np.abs(principal(b.result.forces[k][:, 3:])).max()
 
     def rel(x, y):
-        return float(abs(x - y) / max(abs(x), abs(y), 1e-300))
+        return float(abs(x - y) / max(abs(x), abs(y), DIVISION_FLOOR))
 
     return {
         "engines": [a.result.engine, b.result.engine],

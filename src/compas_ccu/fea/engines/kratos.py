@@ -21,6 +21,7 @@ import time
 import numpy as np
 
 from compas_ccu.fea.problem import FEError, FEProblem, FEResult
+from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = ["available", "solve"]
 
@@ -347,7 +348,9 @@ class _Model:
         lu = sla.splu(k0.tocsc())
         op = sla.LinearOperator(k0.shape, matvec=lambda x: lu.solve(-(dk @ x)), dtype=float)
         theta = sla.eigs(op, k=min(6, k0.shape[0] - 2), which="LR", return_eigenvectors=False)
-        theta = theta.real[(np.abs(theta.imag) < 1e-9 * np.abs(theta).max()) & (theta.real > 0)]
+        theta = theta.real[
+            (np.abs(theta.imag) < EXACT_RELATIVE * np.abs(theta).max()) & (theta.real > 0)
+        ]
         if not theta.size:
             return float("inf"), "no buckling under increasing load (no positive eigenvalue)"
         return float(1.0 + 1.0 / theta.max()), "linearised buckling of the loaded deployed state"
@@ -369,7 +372,7 @@ def solve(
     cuts, failed, residual, message = 0, None, None, ""
     for step in range(1, problem.steps + 1):
         its, level = 0, 0
-        while model.time < step - 1e-12:
+        while model.time < step - ZERO_LENGTH:
             target = min(model.time + 1.0 / 2**level, float(step))
             ok, n_it, res = model.advance(target)
             its += n_it

@@ -35,6 +35,7 @@ import time
 import numpy as np
 
 from compas_ccu.fea.problem import FEError, FEProblem, FEResult
+from compas_ccu.tolerances import DIVISION_FLOOR
 
 __all__ = ["available", "solve"]
 
@@ -105,7 +106,9 @@ def _element_axes(problem: FEProblem) -> np.ndarray:
         return v, np.linalg.norm(v, axis=1)
 
     axes, size = project(np.asarray(problem.directions, dtype=float))
-    weak = size < _MIN_IN_PLANE * np.maximum(np.linalg.norm(problem.directions, axis=1), 1e-300)
+    weak = size < _MIN_IN_PLANE * np.maximum(
+        np.linalg.norm(problem.directions, axis=1), DIVISION_FLOOR
+    )
     if np.any(weak):
         if problem.orthotropic:
             bad = int(np.flatnonzero(weak)[0])
