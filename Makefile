@@ -72,8 +72,31 @@ lint: setup
 	$(BIN)/ruff format --check src tests benchmarks tools
 	$(BIN)/lint-imports --no-cache
 
-test: setup browser lint validators
+test: setup browser lint validators test-py39
 	$(BIN)/python -m pytest -q
+
+# Rhino 8 runs CPython 3.9: the model, design, kinematics, fabrication, CLI and robustness tests
+# run on Python 3.9 too (pyenv's 3.9, or PY39=/path/to/python3.9), so a 3.10+ construct fails
+PY39   ?= $(firstword $(wildcard $(HOME)/.pyenv/versions/3.9*/bin/python) $(wildcard /usr/bin/python3.9))
+VENV39 ?= .venv39
+TESTS39 = tests/test_model_*.py tests/test_design_*.py tests/test_kinematics_*.py \
+	tests/test_curves_*.py tests/test_strips_*.py tests/test_thickness_*.py \
+	tests/test_fabrication_*.py tests/test_examples_baselines.py tests/test_shape_control.py \
+	tests/test_limits.py tests/test_outputs.py tests/test_robustness.py tests/test_cli.py \
+	tests/test_key_figures.py
+
+$(VENV39)/bin/ccu: pyproject.toml
+	@if [ -z "$(PY39)" ]; then \
+	  echo "make test-py39: no Python 3.9 found (pyenv install 3.9, or PY39=/path/to/python3.9)" >&2; \
+	  exit 1; fi
+	$(PY39) -m venv $(VENV39)
+	$(VENV39)/bin/python -m pip install --quiet --upgrade pip
+	$(VENV39)/bin/python -m pip install --quiet -e ".[dev,fab,viz]"
+	@touch $(VENV39)/bin/ccu
+
+.PHONY: test-py39
+test-py39: $(VENV39)/bin/ccu validators
+	$(VENV39)/bin/python -m pytest -q -p no:cacheprovider -m "not slow" -n 2 $(TESTS39)
 
 # npm readers the tests check the fabrication files with (glTF-Validator, FOLD, dxf-parser), from
 # tools/validators/package-lock.json; without node / npm those tests fail (CCU_SKIP_VALIDATORS=1)
@@ -108,4 +131,4 @@ bench-explore: setup
 	$(BIN)/python benchmarks/bench_explore.py
 
 clean:
-	rm -rf $(VENV) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info
+	rm -rf $(VENV) $(VENV39) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info

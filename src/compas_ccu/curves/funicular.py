@@ -233,6 +233,7 @@ class FunicularProfile(SpanRiseProfile):
     def _setup_moment(self, points: np.ndarray, distributed: np.ndarray) -> None:
         """Normalise the loads, build the cubic pieces of ``M``, find ``max M`` and its place."""
         half = 0.5 * self._span
+        points, distributed = _snap_positions(points, distributed, half)
         with np.errstate(over="ignore"):
             resultants = 0.5 * (distributed[:, 2] + distributed[:, 3])
             resultants = resultants * (distributed[:, 1] - distributed[:, 0])
@@ -501,6 +502,30 @@ class FunicularProfile(SpanRiseProfile):
         x, piece = self._x_at(s)
         slope = self._slope_in_piece(x, piece)
         return self._second_derivative_in_piece(x, piece) / (1.0 + slope * slope) ** 1.5
+
+
+def _snap_positions(points: np.ndarray, distributed: np.ndarray, half: float):
+    """Load positions closer than round-off (ZERO_LENGTH of the span) to each other, to the
+    supports or to mid-span made equal (the first of each cluster; the supports and mid-span
+    first), so that no piece of the thrust line has a length of round-off (a degenerate piece
+    would put several crease vertices on one point)."""
+    tolerance = _KINK_TOLERANCE * 2.0 * half
+    points, distributed = points.copy(), distributed.copy()
+    xs = np.concatenate([points[:, 0], distributed[:, :2].ravel()])
+    if not xs.size:
+        return points, distributed
+    anchors = [-half, 0.0, half]
+    snapped = np.empty_like(xs)
+    for i in np.argsort(xs, kind="stable"):
+        near = [a for a in anchors if abs(a - xs[i]) <= tolerance]
+        if near:
+            snapped[i] = near[0]
+        else:
+            snapped[i] = xs[i]
+            anchors.append(xs[i])
+    points[:, 0] = snapped[: len(points)]
+    distributed[:, :2] = snapped[len(points) :].reshape(-1, 2)
+    return points, distributed
 
 
 def _cell_of(values: np.ndarray, edges: np.ndarray) -> np.ndarray:
