@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from compas_ccu.design import Design, load_design
-from compas_ccu.errors import DesignError
+from compas_ccu.errors import DesignError, DevelopabilityError
 from compas_ccu.model import CCUModel
 from compas_ccu.strips.intrinsics import QUAD_LENGTH_PAIRS
 
@@ -116,3 +116,15 @@ def test_georeferenced_coordinates_report_the_invariants_of_the_written_numbers(
 def test_coordinates_too_far_for_the_exactness_bar_are_refused():
     with pytest.raises(DesignError, match=r"plane\.origin: world coordinates 1e\+08 m from the"):
         build(plane={"origin": [1e8, 0.0, 0.0]})
+
+
+def test_a_ruling_field_crossing_the_crease_at_the_reference_is_named():
+    """Found by the campaign (seed 2): a 2-segment arc with gamma 111.7 deg and the reference at
+    its end gave scipy's 'f(a) and f(b) must have different signs'."""
+    with pytest.raises(DevelopabilityError, match=r"cannot reach alpha = 2 deg at the reference"):
+        build(
+            crease={"profile": "arc", "span": 0.2, "rise": 1.6, "segments": 2, "reference": 0.0},
+            rulings={"type": "angle", "side": "right", "gamma": 111.657046794371},
+            deployment={"alpha": 2.0},
+            layout={"type": "single", "width": 0.39, "quadrants": True},
+        )

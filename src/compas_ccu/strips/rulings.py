@@ -314,6 +314,16 @@ def ruling_angle_rulings(
             f"angle of crease segment {j} to 90 deg first (largest reachable reference alpha "
             f"{math.degrees(ref_alpha(hi)):.6g} deg)"
         )
+    flat = ref_alpha(lo)
+    if not flat < alpha:
+        # the rulings at the reference vertex do not lie in the plate's half-plane however
+        # little the plate is tilted (an end ruling that the field turns across the crease)
+        raise DevelopabilityError(
+            f"the ruling-angle field cannot reach alpha = {math.degrees(alpha):.6g} deg at the "
+            f"reference vertex {reference}: even an almost flat plate has a reflection angle of "
+            f"{math.degrees(flat):.6g} deg there (its ruling points across the crease); use "
+            "more segments, a reference vertex inside the crease or a ruling angle nearer 90 deg"
+        )
     c = brentq(lambda c: ref_alpha(c) - alpha, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
     tilts = tilts_for(c)
     return rulings_from_tilts(points, tilts, gamma), tilts
