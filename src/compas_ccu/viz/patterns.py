@@ -125,8 +125,9 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
                 )
     if labels:
         m = max(1, n // 4)  # off the middle, where the crease labels are
+        ends = plate_rulings(n)[m]
         for i, pid in enumerate(structure.plate_ids):
-            at = 0.5 * (xy[i, m] + xy[i, n + 1 + m])
+            at = 0.5 * (xy[i, ends[0]] + xy[i, ends[1]])
             ax.text(
                 *at,
                 f"P{pid}\n{areas[i]:.3f} m²",

@@ -222,16 +222,17 @@ def _edge_index(structure, n: int) -> np.ndarray:
     every plate, as polylines into the ``(p v, 3)`` stacked vertices.
     """
     p = len(structure.plate_ids)
-    v = 2 * n + 2
+    rulings = plate_rulings(n)
+    v = rulings.size  # vertices of one plate
     index = {pid: i for i, pid in enumerate(structure.plate_ids)}
-    near, far = plate_rulings(n).T
+    near, far = rulings.T
     creased = set()
     for c in structure.creases:
         for plate, verts in zip(c["plates"], c["vertices"]):
             creased.add((index[plate], "near" if int(verts[0]) == 0 else "far"))
     parts = []
     for i in range(p):
-        lines = [np.array([0, n + 1]), np.array([n, 2 * n + 1])]
+        lines = [rulings[0], rulings[-1]]  # the two end rulings
         lines += [b for name, b in (("near", near), ("far", far)) if (i, name) not in creased]
         parts += [np.r_[i * v + line, -1] for line in lines]
     return np.concatenate(parts)
