@@ -15,7 +15,7 @@ CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab,explore]"
+	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab,explore,studio]"
 	@touch $(BIN)/ccu
 
 setup: $(BIN)/ccu blas

@@ -259,11 +259,11 @@ def test_the_commands_are_declared_once_and_help_needs_no_extra():
     from compas_ccu.cli import COMMANDS, thickness_lines  # noqa: F401 - still exported
 
     names = [c.name for c in COMMANDS]
-    assert len(names) == len(set(names)) == 13
+    assert len(names) == len(set(names)) == 14
     code = (
         "import sys; from compas_ccu.cli import build_parser; build_parser(); "
         "print(sorted(m for m in ('matplotlib', 'plotly', 'distributed', 'pyarrow', "
-        "'KratosMultiphysics', 'openseespy', 'ezdxf', 'rhino3dm', 'trimesh') "
+        "'KratosMultiphysics', 'openseespy', 'ezdxf', 'rhino3dm', 'trimesh', 'viser', 'tomlkit') "
         "if m in sys.modules))"
     )
     out = subprocess.run(

@@ -9,7 +9,7 @@ drift from the code.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable
 
 from compas_ccu.design.rules import RULES
@@ -32,6 +32,7 @@ class Key:
     check_doc: str = ""
     when: str = ""  # documentation: when the key applies
     columns: int = 0  # kind "rows": numbers per row
+    unit: str = ""  # "m", "deg", "1" (dimensionless) or "" (not a quantity); set from _UNITS
 
 
 #: The largest length a design may give, m: beyond it the profile solvers lose their precision
@@ -377,6 +378,27 @@ SCHEMA: dict = {
     },
 }
 
+#: The unit of every quantity key (lengths are metres, angles degrees at the interfaces).
+_UNITS = {
+    "crease": {
+        "span": "m", "rise": "m", "radius": "m", "angle": "deg", "points": "m",
+        "point_loads": "m, load", "distributed_loads": "m, load", "segments": "1",
+        "reference": "1",
+    },
+    "rulings": {"direction": "1", "points": "m", "apex": "m", "gamma": "deg"},
+    "deployment": {"alpha": "deg"},
+    "layout": {
+        "width": "m", "ccf_width": "m", "plates": "1", "spacing": "m", "spacing_start": "m",
+        "spacing_end": "m", "angle": "deg", "axis": "m", "leading": "1",
+    },
+    "target": {"apex": "m", "support": "m", "support_end": "m"},
+    "plates": {"thickness": "m", "grain": "deg", "hinge_width": "m"},
+    "plane": {"origin": "m", "xaxis": "1", "yaxis": "1"},
+}  # fmt: skip
+for _section, _units in _UNITS.items():
+    for _name, _unit in _units.items():
+        SCHEMA[_section][_name] = replace(SCHEMA[_section][_name], unit=_unit)
+
 REQUIRED_SECTIONS = ("crease", "rulings", "deployment")
 
 
@@ -543,8 +565,8 @@ def schema_markdown() -> str:
             "",
             keys["_doc"],
             "",
-            "| key | type | default | allowed | applies to | meaning |",
-            "|---|---|---|---|---|---|",
+            "| key | type | unit | default | allowed | applies to | meaning |",
+            "|---|---|---|---|---|---|---|",
         ]
         for name, key in keys.items():
             if name.startswith("_"):
@@ -556,7 +578,8 @@ def schema_markdown() -> str:
                 else ("" if key.default is None else f"`{key.default!r}`".replace("'", '"'))
             )
             lines.append(
-                f"| `{name}` | {key.kind} | {default} | {allowed} | {key.when or 'all'} | "
+                f"| `{name}` | {key.kind} | {key.unit} | {default} | {allowed} | "
+                f"{key.when or 'all'} | "
                 f"{key.doc} |"
             )
         lines.append("")

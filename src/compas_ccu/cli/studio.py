@@ -1,0 +1,83 @@
+"""``ccu studio``: the live design studio in the browser (the ``studio`` extra)."""
+
+from __future__ import annotations
+
+import sys
+import threading
+
+from compas_ccu.cli.common import VIZ, need_extra
+from compas_ccu.cli.parser import Command, option
+from compas_ccu.studio.app import LOOPBACK, Studio
+from compas_ccu.studio.session import StudioSession
+
+__all__ = ["COMMANDS", "STUDIO"]
+
+#: Modules of the studio extra.
+STUDIO = ("viser", "tomlkit")
+
+
+def studio(args) -> int:
+    need_extra("studio", "studio", STUDIO)
+    need_extra("studio", "viz", VIZ)
+    if args.host not in LOOPBACK:
+        print(
+            f"ccu: warning: --host {args.host}: the studio is reachable from other machines; "
+            "anyone who can reach it can edit and save designs in the design folder",
+            file=sys.stderr,
+        )
+    session = StudioSession.start(args.design, out=args.out)
+    app = Studio(session, host=args.host, port=args.port)
+    print(
+        f"compas_ccu studio: {app.url}  (design folder {session.files.design_folder}, "
+        f"output folder {session.files.out}; Ctrl-C stops)",
+        flush=True,
+    )
+    if session.notice:
+        print(f"ccu: {session.notice}", flush=True)
+    if not args.no_browser:
+        app.open_browser()
+    stop = threading.Event()
+    try:
+        while not stop.wait(0.5):
+            pass
+    except KeyboardInterrupt:
+        print("compas_ccu studio: stopped", flush=True)
+    finally:
+        app.stop()
+    return 0
+
+
+COMMANDS = (
+    Command(
+        "studio",
+        "edit a design live in the browser",
+        "Start the design studio on a local web server and open it in the browser: every "
+        "design key as a control, the structure deploying live with a slider, the checks "
+        "updated as you edit, undo / redo, save and export (docs/studio.md). Designs are "
+        "opened from and saved into the folder of DESIGN (or --out without one); exports and "
+        "the recovery copy go into --out.",
+        (
+            option(
+                "design",
+                nargs="?",
+                default=None,
+                help="design TOML file (default: a catalog design)",
+            ),
+            option("--out", default="out/studio", help="output folder (default out/studio)"),
+            option(
+                "--port",
+                type=int,
+                default=8080,
+                minimum=1,
+                help="port (default 8080; the next free one if busy)",
+            ),
+            option(
+                "--host",
+                default="127.0.0.1",
+                help="interface to listen on (default 127.0.0.1: this machine only)",
+            ),
+            option("--no-browser", action="store_true", help="do not open a browser"),
+        ),
+        studio,
+    ),
+)

@@ -1,0 +1,56 @@
+"""Export from the studio: the files the ``ccu`` commands write, into the output folder only."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from compas_ccu.fabrication.fabricate import fabricate
+from compas_ccu.io import write_compas_json, write_obj, write_structure_json
+from compas_ccu.outputs import staged_folder
+from compas_ccu.viz.report import write_report
+
+__all__ = ["EXPORTS", "export"]
+
+#: What the studio exports, each into its own subfolder of ``OUT/<design name>/``.
+EXPORTS = ("structure", "fabrication", "report")
+
+
+def export(model, out, *, alpha: float, what=EXPORTS, design_text: str | None = None) -> dict:
+    """Write ``what`` of ``model`` into ``out/<design name>/``.
+
+    * ``structure``: structure.json, structure.obj, structure.compas.json at ``alpha`` (as
+      ``ccu deploy --alpha``), plus ``design.toml`` (the design as edited);
+    * ``fabrication``: the workshop files at the design state (as ``ccu fabricate``);
+    * ``report``: the report (as ``ccu report``).
+
+    Each folder is written as one transaction (:func:`compas_ccu.outputs.staged_folder`): a
+    failure leaves the previous export as it was.
+
+    Returns
+    -------
+    dict
+        Export name -> the folder written.
+    """
+    unknown = [w for w in what if w not in EXPORTS]
+    if unknown:
+        raise ValueError(f"unknown export {unknown[0]!r}; known: {', '.join(EXPORTS)}")
+    root = Path(out) / model.design.name
+    written = {}
+    if "structure" in what:
+        structure = model.deploy(alpha)
+        with staged_folder(root / "structure") as stage:
+            write_structure_json(structure, stage / "structure.json")
+            write_obj(structure, stage / "structure.obj")
+            write_compas_json(structure, stage / "structure.compas.json")
+            if design_text is not None:
+                (stage / "design.toml").write_text(design_text, "utf-8")
+        written["structure"] = root / "structure"
+    if "fabrication" in what:
+        with staged_folder(root / "fabrication") as stage:
+            fabricate(model, stage)
+        written["fabrication"] = root / "fabrication"
+    if "report" in what:
+        with staged_folder(root / "report") as stage:
+            write_report(model, stage)
+        written["report"] = root / "report"
+    return written

@@ -1,0 +1,177 @@
+"""The studio's 3D scene: a :class:`~compas_ccu.studio.view.ViewState` sent to viser.
+
+The scene objects are created once per model and then only their vertex arrays (and colours)
+are updated, so a slider step sends a few kilobytes: one mesh per plate, one line-segment set for
+the creases and one for the rulings, and on demand the thick solids, the flat-folded stack, the
+cut patterns on the ground and the ground grid. Names live under ``/ccu``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from compas_ccu.studio.view import ViewState
+from compas_ccu.viz import colors as C
+from compas_ccu.viz.patterns import pattern_layout
+
+__all__ = ["StudioScene", "TOGGLES"]
+
+#: The layers of the view: key, label, shown at start.
+TOGGLES = (
+    ("creases", "creases", True),
+    ("rulings", "rulings", True),
+    ("solids", "thick solids", False),
+    ("flat", "flat stack", False),
+    ("patterns", "cut patterns", False),
+    ("grid", "ground grid", True),
+)
+CREASE_WIDTH = 4.0  # screen pixels
+RULING_WIDTH = 1.0
+
+
+def _rgb(color: str) -> tuple:
+    return tuple(int(round(255 * c)) for c in C.hex_to_rgb(color))
+
+
+def _f32(a) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=np.float32)
+
+
+def _stacked(vertices: np.ndarray, triangles: np.ndarray):
+    """One mesh of all plates: (p * v, 3) vertices and (p * 2n, 3) triangles."""
+    offsets = (np.arange(len(vertices)) * vertices.shape[1])[:, None, None]
+    return vertices.reshape(-1, 3), (triangles + offsets).reshape(-1, 3)
+
+
+class StudioScene:
+    """The scene of one viser server.
+
+    Parameters
+    ----------
+    scene : viser.SceneApi
+    """
+
+    def __init__(self, scene):
+        self.scene = scene
+        self._handles: dict = {}
+        self._shape = None
+
+    def draw(self, view: ViewState, model, key, layers: dict) -> None:
+        """Draw ``view`` of ``model``; ``key`` identifies the model (a new key rebuilds).
+
+        ``layers`` maps the :data:`TOGGLES` keys to whether they are shown.
+        """
+        p, v = view.vertices.shape[:2]
+        shape = (key, p, v, view.triangles.shape)
+        if shape != self._shape:
+            self.clear()
+            self._shape = shape
+            self._ground = float(model.vertices([model.alpha_design])[0][..., 2].min())
+        h = self._handles
+        for i in range(p):
+            name = f"/ccu/plates/{i}"
+            color = tuple(int(x) for x in view.plate_colors[i])
+            if name not in h:
+                h[name] = self.scene.add_mesh_simple(
+                    name, _f32(view.vertices[i]), view.triangles[i].astype(np.uint32),
+                    color=color, side="double",
+                )  # fmt: skip
+            else:
+                h[name].vertices = _f32(view.vertices[i])
+                if tuple(h[name].color) != color:
+                    h[name].color = color
+        creases = view.creases.reshape(-1, 2, 3)
+        colors = np.repeat(view.crease_colors.reshape(-1, 1, 3), 2, axis=1)
+        self._lines("/ccu/creases", creases, colors, layers["creases"], CREASE_WIDTH)
+        rulings = view.rulings.reshape(-1, 2, 3)
+        tone = np.broadcast_to(np.array(_rgb(C.RULING_COLOR), np.uint8), rulings.shape)
+        self._lines("/ccu/rulings", rulings, tone, layers["rulings"], RULING_WIDTH)
+        self._solids(view, layers["solids"])
+        self._flat_stack(model, view, layers["flat"])
+        self._patterns(model, view, layers["patterns"])
+        self._grid(view, layers["grid"])
+
+    def clear(self) -> None:
+        for handle in self._handles.values():
+            handle.remove()
+        self._handles = {}
+        self._shape = None
+
+    def _lines(self, name, points, colors, visible, width) -> None:
+        h = self._handles
+        if name in h and h[name].points.shape != points.shape:
+            h.pop(name).remove()
+        if name not in h:
+            h[name] = self.scene.add_line_segments(
+                name, _f32(points), np.ascontiguousarray(colors, np.uint8),
+                thickness=width, thickness_units="screen",
+            )  # fmt: skip
+        elif visible:
+            h[name].points = _f32(points)
+            h[name].colors = np.ascontiguousarray(colors, np.uint8)
+        h[name].visible = visible
+
+    def _solids(self, view, visible) -> None:
+        h = self._handles
+        for i, (verts, tris) in enumerate(view.solids if visible else []):
+            name = f"/ccu/solids/{i}"
+            if name in h:
+                h[name].vertices = _f32(verts)
+            else:
+                h[name] = self.scene.add_mesh_simple(
+                    name, _f32(verts), np.asarray(tris, np.uint32),
+                    color=tuple(int(x) for x in view.plate_colors[i]),
+                )  # fmt: skip
+        for name, handle in h.items():
+            if name.startswith("/ccu/solids/"):
+                handle.visible = visible
+        if visible and "/ccu/plates/0" in h:  # the mid-surfaces would show through
+            for i in range(len(view.vertices)):
+                h[f"/ccu/plates/{i}"].visible = False
+        elif "/ccu/plates/0" in h:
+            for i in range(len(view.vertices)):
+                h[f"/ccu/plates/{i}"].visible = True
+
+    def _flat_stack(self, model, view, visible) -> None:
+        h = self._handles
+        if visible and "/ccu/flat" not in h:
+            verts, tris = _stacked(model.vertices([0.0])[0], view.triangles)
+            h["/ccu/flat"] = self.scene.add_mesh_simple(
+                "/ccu/flat", _f32(verts), tris.astype(np.uint32),
+                color=(120, 120, 120), opacity=0.35, side="double",
+            )  # fmt: skip
+        if "/ccu/flat" in h:
+            h["/ccu/flat"].visible = visible
+
+    def _patterns(self, model, view, visible) -> None:
+        """The cut patterns on the ground beside the structure, laid out in rows."""
+        h = self._handles
+        if visible and "/ccu/patterns" not in h:
+            flat = model.flat()
+            xy = flat[..., :2] + pattern_layout(flat)[:, None]
+            v = view.vertices.reshape(-1, 3)
+            lo, hi = v.min(axis=0), v.max(axis=0)
+            shift = np.array([hi[0] + 0.2 * (hi[0] - lo[0]), lo[1]]) - xy.reshape(-1, 2).min(0)
+            xyz = np.concatenate([xy + shift, np.full(xy.shape[:-1] + (1,), self._ground)], -1)
+            verts, tris = _stacked(xyz, view.triangles)
+            h["/ccu/patterns"] = self.scene.add_mesh_simple(
+                "/ccu/patterns", _f32(verts), tris.astype(np.uint32),
+                color=_rgb(C.PLATE_TONES[0]), side="double",
+            )  # fmt: skip
+        if "/ccu/patterns" in h:
+            h["/ccu/patterns"].visible = visible
+
+    def _grid(self, view, visible) -> None:
+        h = self._handles
+        if "/ccu/grid" not in h:
+            v = view.vertices.reshape(-1, 3)
+            lo, hi = v.min(axis=0), v.max(axis=0)
+            size = float(max(hi - lo))
+            cell = 10.0 ** np.floor(np.log10(max(size, 1e-6) / 4))
+            h["/ccu/grid"] = self.scene.add_grid(
+                "/ccu/grid", width=4 * size, height=4 * size,
+                cell_size=cell, section_size=10 * cell,
+                cell_color=(228, 228, 228), section_color=(190, 190, 190),
+                position=(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), self._ground),
+            )  # fmt: skip
+        h["/ccu/grid"].visible = visible

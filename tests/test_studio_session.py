@@ -1,0 +1,357 @@
+"""The studio without a browser: controls from the schema, the editing session (errors, undo,
+save, recovery), the file guards, the checks panel and the view arrays."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from compas_ccu.catalog import catalog_path
+from compas_ccu.design.document import parse_toml
+from compas_ccu.design.schema import SCHEMA
+from compas_ccu.errors import OptionError
+from compas_ccu.key_figures import key_figures
+from compas_ccu.model import load_model
+from compas_ccu.studio import StudioSession
+from compas_ccu.studio.checks import design_checks, first_collision
+from compas_ccu.studio.controls import UNSET, applies, design_controls, format_value, parse_value
+from compas_ccu.studio.files import MAX_UPLOAD, StudioFiles
+from compas_ccu.studio.session import document_text
+from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, view_state
+from compas_ccu.thickness import ThickModel
+from conftest import EXAMPLES
+
+pytest.importorskip("tomlkit")
+
+
+@pytest.fixture
+def folders(tmp_path):
+    design = tmp_path / "designs"
+    design.mkdir()
+    shutil.copy(EXAMPLES / "vault.toml", design / "vault.toml")
+    shutil.copy(EXAMPLES / "cone.toml", design / "cone.toml")
+    return design, tmp_path / "out"
+
+
+@pytest.fixture
+def session(folders):
+    design, out = folders
+    return StudioSession.start(design / "vault.toml", out=out)
+
+
+# -- controls ---------------------------------------------------------------------------------
+def test_every_schema_key_is_a_control_with_its_unit():
+    controls = {c.key: c for c in design_controls()}
+    keys = {f"{s}.{k}" for s, keys in SCHEMA.items() for k in keys if not k.startswith("_")}
+    assert set(controls) == keys
+    for c in controls.values():
+        if c.kind in ("float", "int", "float_or_list", "gamma", "point2", "points2", "point3"):
+            assert c.unit, f"{c.key} has no unit"
+    assert controls["crease.span"].label == "span [m]"
+    assert controls["deployment.alpha"].label == "alpha [deg]"
+    assert controls["layout.plates"].label == "plates"
+    assert controls["crease.profile"].widget == "dropdown"
+    assert controls["layout.quadrants"].widget == "checkbox"
+    assert "Allowed: > 0 and <= 1e6." in controls["crease.rise"].hint
+
+
+def test_controls_follow_the_section_type():
+    controls = {c.key: c for c in design_controls()}
+    arc = {"crease": {"profile": "arc"}, "layout": {"type": "parallel"}}
+    assert applies(controls["crease.rise"], arc)
+    assert not applies(controls["crease.points"], arc)
+    assert not applies(controls["crease.point_loads"], arc)
+    assert applies(controls["layout.spacing"], arc)
+    assert not applies(controls["layout.axis"], arc)
+    assert not applies(controls["layout.width"], arc)
+    radial = {"crease": {"profile": "spline"}, "layout": {"type": "radial"}}
+    assert applies(controls["crease.points"], radial)
+    assert applies(controls["layout.axis"], radial)
+    assert not applies(controls["layout.spacing"], radial)
+    # a key the document sets is shown even where it does not apply (so it can be removed)
+    assert applies(controls["layout.axis"], {"layout": {"type": "parallel", "axis": 1.0}})
+
+
+def test_values_round_trip_through_the_text_of_a_field():
+    controls = {c.key: c for c in design_controls()}
+    for key, value in (
+        ("crease.span", 2.5),
+        ("crease.segments", 64),
+        ("crease.points", [[0.0, 0.0], [1.0, 0.5], [2.0, 0.0]]),
+        ("layout.spacing", [0.1, 0.12, 0.14]),
+        ("rulings.gamma", [[0.0, 80.0], [1.0, 100.0]]),
+        ("plane.origin", [0.0, 1.5, -2.0]),
+        ("design.name", 'my "vault"'),
+    ):
+        c = controls[key]
+        assert parse_value(c, format_value(c, value)) == value
+    assert parse_value(controls["crease.rise"], "  ") is UNSET
+    assert parse_value(controls["crease.rise"], "1,5") == "1,5"  # refused by the schema
+
+
+# -- editing ----------------------------------------------------------------------------------
+def test_an_invalid_value_names_the_key_as_the_cli_does_and_keeps_the_last_model(
+    session, folders, tmp_path
+):
+    model = session.model
+    problem = session.edit("crease", "rise", -1.0)
+    assert problem.key == "crease.rise"
+    assert problem.message == "crease.rise: must be > 0 and <= 1e6, got -1.0"
+    assert session.model is model  # the last valid model stays
+    # the ccu command prints the same message for the same file
+    bad = tmp_path / "bad.toml"
+    bad.write_text(session.text())
+    run = subprocess.run(
+        [sys.executable, "-m", "compas_ccu.cli", "info", str(bad)], capture_output=True, text=True
+    )
+    assert run.returncode == 2
+    assert problem.message in run.stderr
+    problem = session.edit("crease", "rise", "abc")
+    assert problem.message == "crease.rise: must be a finite number, got 'abc'"
+    assert session.edit("crease", "rise", 0.8) is None
+    assert session.model is not model
+    assert session.model.design.crease.rise == 0.8
+
+
+def test_a_design_that_cannot_be_built_is_a_problem_without_a_key(session):
+    problem = session.edit("rulings", "type", "conical")
+    assert problem.key == "rulings.apex" and problem.message.startswith("rulings.apex: required")
+    problem = session.edit("rulings", "apex", [0.0, 1.0])  # on the crease's chord
+    assert problem.key is None and problem.kind == "GeometryError"
+    assert "cone apex [0.0, -1.0] is not on one side of the crease" in problem.message
+    assert session.model.design.rulings.type == "orthogonal"  # the last valid model
+
+
+def test_plates_ten_to_six_rebuilds(session):
+    assert session.model.plates.count == 10
+    gen = session.generation
+    assert session.edit("layout", "plates", 6) is None
+    assert session.model.plates.count == 6 and session.generation == gen + 1
+
+
+def test_undo_redo(session):
+    session.edit("crease", "rise", 0.8)
+    session._last_edit = (None, 0.0)  # a separate step
+    session.edit("layout", "plates", 6)
+    assert session.undo()
+    assert session.model.plates.count == 10 and session.model.design.crease.rise == 0.8
+    assert session.undo()
+    assert session.model.design.crease.rise == 1.0
+    assert not session.undo()
+    assert session.redo() and session.model.design.crease.rise == 0.8
+    assert session.redo() and session.model.plates.count == 6
+    assert not session.redo()
+
+
+def test_typing_one_number_is_one_undo_step(session):
+    rise = next(c for c in design_controls() if c.key == "crease.rise")
+    for text in ("0", "0.", "0.7", "0.75"):
+        session.edit("crease", "rise", parse_value(rise, text))
+    assert session.model.design.crease.rise == 0.75
+    assert session.undo()
+    assert session.model.design.crease.rise == 1.0
+
+
+def test_removing_a_key_with_an_empty_field(session):
+    session.edit("plates", "grain", 45.0)
+    assert session.value("plates", "grain") == 45.0
+    session.edit("plates", "grain", UNSET)
+    assert session.value("plates", "grain") is UNSET
+    assert session.model.design.plates.grain == 0.0  # the default
+
+
+# -- saving -----------------------------------------------------------------------------------
+def test_save_keeps_comments_and_ccu_info_reads_the_new_values(session, folders):
+    design, _ = folders
+    session.edit("crease", "rise", 0.9)
+    session.edit("layout", "plates", 6)
+    path = session.save()
+    assert path == design / "vault.toml" and session.saved
+    text = path.read_text()
+    assert "# m, chord of the leading (ridge) crease" in text  # the comments are kept
+    assert parse_toml(text)["crease"]["rise"] == 0.9
+    run = subprocess.run(
+        [sys.executable, "-m", "compas_ccu.cli", "info", str(path)], capture_output=True, text=True
+    )
+    assert run.returncode == 0, run.stderr
+    figures = key_figures(load_model(path))
+    assert figures.plates == 6 and abs(figures.crease_rise - 0.9) < 1e-12
+    assert f"crease rise       {figures.crease_rise:.4f}" in run.stdout or "0.9" in run.stdout
+
+
+def test_save_as_writes_inside_the_design_folder_only(session, folders, tmp_path):
+    design, _ = folders
+    path = session.save_as("variants/low.toml")
+    assert path == design / "variants" / "low.toml" and session.name == "variants/low.toml"
+    outside = tmp_path / "outside.toml"
+    for name in ("../outside.toml", str(outside), "/etc/passwd.toml", "~/x.toml", "a\\..\\b.toml"):
+        with pytest.raises(OptionError):
+            session.save_as(name)
+    assert not outside.exists()
+    with pytest.raises(OptionError, match="must end with .toml"):
+        session.save_as("vault.txt")
+
+
+def test_symbolic_links_out_of_the_folder_are_refused(folders, tmp_path):
+    design, out = folders
+    secret = tmp_path / "secret"
+    secret.mkdir()
+    (secret / "x.toml").write_text((EXAMPLES / "cone.toml").read_text())
+    os.symlink(secret, design / "link")
+    os.symlink(secret / "x.toml", design / "x.toml")
+    files = StudioFiles(design, out)
+    for name in ("link/x.toml", "x.toml"):
+        with pytest.raises(OptionError, match="outside"):
+            files.inside(name)
+    assert "x.toml" not in files.designs()
+    session = StudioSession.start(design / "vault.toml", out=out)
+    with pytest.raises(OptionError):
+        session.open_file("x.toml")
+    with pytest.raises(OptionError):
+        session.save_as("link/x.toml")
+
+
+def test_open_catalog_upload_and_bad_uploads(session):
+    session.open_catalog("fig12b-dome")
+    assert session.model.plates.count > 2 and session.name == "fig12b-dome.toml"
+    assert not session.saved
+    with pytest.raises(OptionError, match="unknown catalog design"):
+        session.open_catalog("nope")
+    session.open_upload("mine.toml", (EXAMPLES / "cone.toml").read_bytes())
+    assert session.name == "mine.toml" and session.model.plates.count == 2
+    with pytest.raises(OptionError, match="not a text file"):
+        session.open_upload("x.toml", b"\x89PNG\r\n\x1a\n\x00\x00")
+    with pytest.raises(OptionError, match="at most"):
+        session.open_upload("x.toml", b"#" * (MAX_UPLOAD + 1))
+    with pytest.raises(OptionError, match="not valid TOML"):
+        session.open_upload("x.toml", b"[crease\nspan = ")
+    with pytest.raises(OptionError, match=".toml"):
+        session.open_upload("x.png", b"a = 1")
+    assert session.name == "mine.toml"  # a refused upload changes nothing
+
+
+def test_the_recovery_copy_restores_an_unsaved_edit(folders):
+    design, out = folders
+    session = StudioSession.start(design / "vault.toml", out=out)
+    session.edit("crease", "rise", 0.85)
+    del session  # the server is killed: nothing saved
+    again = StudioSession.start(design / "vault.toml", out=out)
+    assert again.model.design.crease.rise == 0.85 and not again.saved
+    assert "restored unsaved edits" in again.notice
+    again.save()
+    third = StudioSession.start(design / "vault.toml", out=out)
+    assert third.saved and third.notice == ""
+    assert third.model.design.crease.rise == 0.85
+
+
+def test_document_text_without_a_source():
+    document = {"crease": {"profile": "arc", "points": [[0.0, 1.0], [2.0, 3.0]]}}
+    text = document_text(document)
+    assert parse_toml(text) == document
+    assert "[[0.0, 1.0], [2.0, 3.0]]" in text  # compact point lists
+
+
+# -- checks and view ----------------------------------------------------------------------------
+def test_checks_of_the_vault(vault_model):
+    checks = design_checks(vault_model)
+    rows = {r.name: r for r in checks.rows}
+    figures = checks.figures
+    assert rows["bending"].status == "ok"
+    assert rows["bending"].value == f"{figures.bending_utilisation:.3f}"
+    assert rows["collision"].status == "ok" and checks.collision is None
+    assert rows["crease planarity"].status == "ok"
+    assert rows["invariants"].status == "ok"
+    assert rows["global curvature"].value == "monoclastic"
+    assert rows["span"].value == f"{figures.crease_span:.4g} m"
+    assert max(checks.plate_utilisation.values()) == pytest.approx(figures.bending_utilisation)
+    assert sorted(checks.plate_utilisation) == sorted(vault_model.plate_ids)
+
+
+def test_checks_fail_with_their_reason():
+    model = load_model(EXAMPLES / "vault.toml")
+    document = model.design.document
+    document["plates"]["thickness"] = 0.03  # 30 mm plywood cannot bend this far
+    from compas_ccu.design import Design
+    from compas_ccu.model import CCUModel
+
+    thick = CCUModel(Design(document, name="thick"))
+    rows = {r.name: r for r in design_checks(thick).rows}
+    assert rows["bending"].status == "fail" and "would break" in rows["bending"].reason
+
+
+def test_first_collision_is_refined_between_scanned_states():
+    model = load_model(catalog_path("fig12a-asymmetric"))
+    thick = ThickModel(model)
+    upto = min(model.overlap_alpha, model.alpha_limit)
+    hit = first_collision(thick, upto)
+    assert hit is not None and 55.0 < hit["alpha"] < upto
+    before = hit["alpha"] - upto / 24 / 64 * 1.01
+    assert thick.collisions([before]).first is None
+    assert thick.collisions([hit["alpha"]]).first is not None
+    rows = {r.name: r for r in design_checks(model).rows}
+    assert rows["collision"].status == "warn"  # beyond the design alpha of 30 deg
+    assert f"{hit['alpha']:.4g}" in rows["collision"].reason
+    assert thick.collisions([before]).first is None
+    assert thick.collisions([hit["alpha"]]).first is not None
+
+
+@pytest.mark.parametrize("coloring", COLORINGS)
+def test_view_arrays_and_legends(vault_model, coloring):
+    thick = ThickModel(vault_model)
+    view = view_state(vault_model, 40.0, coloring=coloring, thick=thick, solids=True)
+    s = vault_model.deploy(40.0)
+    assert np.array_equal(view.vertices, s.deployed)
+    assert view.span == s.metrics["span"] and view.rise == s.metrics["rise"]
+    p, n = len(vault_model.plate_ids), vault_model.segments
+    assert view.triangles.shape == (p, 2 * n, 3)
+    assert view.creases.shape == (p - 1, n, 2, 3)
+    assert view.crease_colors.shape == (p - 1, n, 3)
+    # crease segments lie on the plates' crease vertices
+    assert np.array_equal(view.creases[:, :-1, 1], view.creases[:, 1:, 0])
+    assert len(view.solids) == p
+    text = legend_html(view.legend)
+    if coloring == "reflection angle":
+        # orthogonal rulings: alpha is constant along every crease of the vault
+        alphas = np.concatenate([c["alpha"] for c in s.creases])
+        assert np.nanmax(alphas) - np.nanmin(alphas) < 1e-9
+        assert f"constant {np.nanmean(alphas):.4f}°" in text
+    if coloring == "bending utilisation":
+        u = thick.bending([40.0]).per_plate[0]
+        for pid, value in zip(vault_model.plate_ids, u):
+            assert f"plate {pid}: {value:.3f}" in text
+    if coloring == "crease planarity":
+        assert "every crease planar" in text
+
+
+def test_a_constant_angle_is_named_constant_not_spread_over_a_scale(cone_model):
+    view = view_state(cone_model, 30.0, coloring="reflection angle")
+    text = legend_html(view.legend)
+    assert "constant 30.0000°" in text and "gradient" not in text
+
+
+def test_a_varying_angle_is_drawn_on_a_scale_of_the_drawn_values():
+    model = load_model(catalog_path("fig11c-alternating"))
+    view = view_state(model, 35.0, coloring="reflection angle")
+    alphas = np.concatenate([c["alpha"] for c in model.deploy(35.0).creases])
+    lo, hi = np.nanmin(alphas), np.nanmax(alphas)
+    assert hi - lo > 1.0
+    text = legend_html(view.legend)
+    assert "linear-gradient" in text
+    # the scale spans the segment values drawn (means of two vertices): within the vertex range
+    _, slo, shi, _ = view.legend["scale"]
+    assert lo <= slo < shi <= hi and shi - slo > 0.9 * (hi - lo)
+
+
+def test_cut_patterns_svg_flags_plates_larger_than_a_sheet(vault_model):
+    svg, too_large = cut_patterns_svg(vault_model)
+    assert svg.startswith("<svg") and svg.count("<polygon") == 10
+    assert too_large == sorted(vault_model.plate_ids) or set(too_large) == set(
+        vault_model.plate_ids
+    )  # every vault plate is 2723 x 994 mm
+    _, none = cut_patterns_svg(vault_model, sheet=(3.0, 1.5))
+    assert none == []
