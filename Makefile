@@ -3,6 +3,7 @@
 # `make test-fast`: the tests not marked slow on 2 processes (no FE engine, Dask cluster, browser
 # or notebook kernel), under a minute. `make fuzz`: the robustness campaign (docs/robustness.md).
 # `make explore`: the example design-space sweep (270 variants on a local Dask cluster).
+# `make studio`: the live design studio in the browser on the vault (docs/studio.md).
 PYTHON   ?= python3
 VENV     ?= .venv
 BIN      := $(VENV)/bin
@@ -10,7 +11,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore test test-fast fuzz lint bench bench-fea bench-thickness bench-explore clean
+.PHONY: setup blas browser demo explore studio test test-fast fuzz lint bench bench-fea bench-thickness bench-explore bench-studio clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -60,6 +61,10 @@ demo: setup
 	@echo "  $(OUT)/cone-fe/                    (FE validation of the cone pair: Kratos + OpenSees)"
 	@echo "FE validation of the vault (about 2 minutes): .venv/bin/ccu validate examples/vault.toml --out $(OUT)/vault-fe"
 	@echo "Design-space sweep, 270 variants on a local Dask cluster (about 30 s): make explore"
+
+# the live design studio on the vault (http://127.0.0.1:8080; Ctrl-C stops it; docs/studio.md)
+studio: setup
+	$(BIN)/ccu studio examples/vault.toml --out $(OUT)/studio
 
 # design-space sweep of the vault: 270 variants on a local Dask cluster (about 30 s on 2 cores)
 explore: setup
@@ -120,6 +125,10 @@ test-fast: setup
 
 bench: setup
 	$(BIN)/python benchmarks/bench_deploy.py
+
+# the studio's latency in a real browser (docs/benchmarks.md)
+bench-studio: setup browser
+	$(BIN)/python benchmarks/bench_studio.py
 
 bench-fea: setup
 	$(BIN)/python benchmarks/bench_fea.py

@@ -37,3 +37,7 @@ def test_tour_notebook_runs_top_to_bottom(tmp_path, monkeypatch):
     for name in ("structure.json", "structure.obj", "viewer.html", "deployment.gif"):
         assert (tmp_path / name).is_file(), name
     assert (tmp_path / "report" / "index.html").is_file()
+    # the live studio shown inline: an IFrame of the studio's server on this machine
+    frames = [o["data"]["text/html"] for o in outputs if "text/html" in o.get("data", {})]
+    assert any("<iframe" in f and "http://127.0.0.1:" in f for f in frames), frames
+    assert "studio at http://127.0.0.1:" in text

@@ -7,6 +7,7 @@ import threading
 
 from compas_ccu.cli.common import VIZ, need_extra
 from compas_ccu.cli.parser import Command, option
+from compas_ccu.errors import OptionError
 from compas_ccu.studio.app import LOOPBACK, Studio
 from compas_ccu.studio.session import StudioSession
 
@@ -19,6 +20,8 @@ STUDIO = ("viser", "tomlkit")
 def studio(args) -> int:
     need_extra("studio", "studio", STUDIO)
     need_extra("studio", "viz", VIZ)
+    if args.port > 65535:
+        raise OptionError(f"--port must be <= 65535, got {args.port}")
     if args.host not in LOOPBACK:
         print(
             f"ccu: warning: --host {args.host}: the studio is reachable from other machines; "

@@ -57,6 +57,12 @@ RELAXING = "relaxing ... (the rigid-ruling model is shown)"
 RELAXED = "relaxed model (the creases leave their planes; least-squares relaxation)"
 
 
+def _set(html_handle, content: str) -> None:
+    """Send HTML to the page only when it changed (every update re-renders the panel)."""
+    if html_handle.content != content:
+        html_handle.content = content
+
+
 class Studio:
     """The studio of one :class:`~compas_ccu.studio.session.StudioSession`.
 
@@ -83,6 +89,12 @@ class Studio:
         self.server = viser.ViserServer(host=host, port=port, label="compas_ccu studio")
         self.server.gui.configure_theme(control_width="large", dark_mode=False, show_logo=False)
         self.server.scene.set_up_direction("+z")
+        # no shadow maps: a frame costs a third (software WebGL on machines without a GPU)
+        self.server.scene.configure_default_lights(enabled=True, cast_shadow=False)
+        self.server.scene.configure_environment_map(hdri=None)
+        self.server.scene.add_light_hemisphere(
+            "/light/sky", sky_color=(255, 255, 255), ground_color=(150, 150, 150), intensity=2.2
+        )
         self.scene = StudioScene(self.server.scene)
         self.coloring = COLORINGS[0]
         self.alpha = None
@@ -90,6 +102,7 @@ class Studio:
         self.message = ""
         self.checks = None
         self.frames = 0
+        self.render_seconds = 0.0  # Python time of all frames (benchmarks)
         self.last_view = None
         self._checks_generation = -1
         self._thick = (None, None)  # (generation, ThickModel or the error)
@@ -414,12 +427,15 @@ class Studio:
     def _status(self) -> None:
         s = self.session
         current = self.checks is not None and self._checks_generation == s.generation
-        self.status.content = status_html(
-            s,
-            self.last_view,
-            state=self.state,
-            message=self.message,
-            failed=self.checks.failed if current else (),
+        _set(
+            self.status,
+            status_html(
+                s,
+                self.last_view,
+                state=self.state,
+                message=self.message,
+                failed=self.checks.failed if current else (),
+            ),
         )
 
     # -- workers -------------------------------------------------------------------------------
@@ -434,6 +450,7 @@ class Studio:
         return None if isinstance(thick, Exception) else thick
 
     def _render(self) -> None:
+        t0 = time.perf_counter()
         with self.session.lock:
             model, generation = self.session.model, self.session.generation
         if model is None:
@@ -455,10 +472,11 @@ class Studio:
             self.state = EXACT
         with self.server.atomic():
             self.scene.draw(view, model, generation, layers)
-        self.legend.content = legend_html(view.legend)
+        _set(self.legend, legend_html(view.legend))
         self.last_view = view
-        self.frames += 1
         self._status()
+        self.render_seconds += time.perf_counter() - t0
+        self.frames += 1
 
     @staticmethod
     def _leaves_planes(model, alpha: float) -> bool:

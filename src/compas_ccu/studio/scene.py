@@ -37,6 +37,14 @@ def _f32(a) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.float32)
 
 
+def _linear(colors) -> np.ndarray:
+    """sRGB colours (uint8) as the linear values three.js expects for vertex colours, so a line
+    is drawn in the colour its legend shows (mesh colours are converted by three.js itself)."""
+    c = np.asarray(colors, dtype=float) / 255.0
+    lin = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    return np.ascontiguousarray(np.round(lin * 255.0), dtype=np.uint8)
+
+
 def _stacked(vertices: np.ndarray, triangles: np.ndarray):
     """One mesh of all plates: (p * v, 3) vertices and (p * 2n, 3) triangles."""
     offsets = (np.arange(len(vertices)) * vertices.shape[1])[:, None, None]
@@ -74,7 +82,7 @@ class StudioScene:
             if name not in h:
                 h[name] = self.scene.add_mesh_simple(
                     name, _f32(view.vertices[i]), view.triangles[i].astype(np.uint32),
-                    color=color, side="double",
+                    color=color, side="double", cast_shadow=False, receive_shadow=False,
                 )  # fmt: skip
             else:
                 h[name].vertices = _f32(view.vertices[i])
@@ -103,12 +111,12 @@ class StudioScene:
             h.pop(name).remove()
         if name not in h:
             h[name] = self.scene.add_line_segments(
-                name, _f32(points), np.ascontiguousarray(colors, np.uint8),
+                name, _f32(points), _linear(colors),
                 thickness=width, thickness_units="screen",
             )  # fmt: skip
         elif visible:
             h[name].points = _f32(points)
-            h[name].colors = np.ascontiguousarray(colors, np.uint8)
+            h[name].colors = _linear(colors)
         h[name].visible = visible
 
     def _solids(self, view, visible) -> None:
@@ -167,10 +175,10 @@ class StudioScene:
             v = view.vertices.reshape(-1, 3)
             lo, hi = v.min(axis=0), v.max(axis=0)
             size = float(max(hi - lo))
-            cell = 10.0 ** np.floor(np.log10(max(size, 1e-6) / 4))
+            cell = 0.5 * 10.0 ** np.floor(np.log10(max(size, 1e-6)))  # 0.5 m cells at 1-10 m
             h["/ccu/grid"] = self.scene.add_grid(
                 "/ccu/grid", width=4 * size, height=4 * size,
-                cell_size=cell, section_size=10 * cell,
+                cell_size=cell, section_size=2 * cell,
                 cell_color=(228, 228, 228), section_color=(190, 190, 190),
                 position=(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), self._ground),
             )  # fmt: skip

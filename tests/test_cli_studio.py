@@ -1,0 +1,78 @@
+"""``ccu studio`` as a command: it serves the page on this machine, warns for other hosts and
+refuses what it cannot open, naming it."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+import urllib.request
+
+import pytest
+
+from conftest import EXAMPLES
+from studio_page import free_port
+
+pytest.importorskip("viser")
+
+
+def _ccu(*args, **options):
+    return subprocess.Popen(
+        [sys.executable, "-m", "compas_ccu.cli", "studio", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        **options,
+    )
+
+
+def _get(url: str, timeout: float = 30.0) -> str:
+    end = time.monotonic() + timeout
+    while True:
+        try:
+            with urllib.request.urlopen(url, timeout=2) as r:
+                return r.read().decode("utf-8", "replace")
+        except OSError:
+            if time.monotonic() > end:
+                raise
+            time.sleep(0.2)
+
+
+def test_ccu_studio_serves_the_page_on_this_machine(tmp_path):
+    port = free_port()
+    proc = _ccu(str(EXAMPLES / "vault.toml"), "--out", str(tmp_path), "--port", str(port),
+                "--no-browser")  # fmt: skip
+    try:
+        page = _get(f"http://127.0.0.1:{port}/")
+        assert "<html" in page.lower()
+    finally:
+        proc.terminate()
+        out, err = proc.communicate(timeout=30)
+    assert f"compas_ccu studio: http://127.0.0.1:{port}" in out
+    assert "warning" not in err
+    assert not any(tmp_path.iterdir())  # nothing written before an edit
+
+
+def test_another_host_prints_a_warning(tmp_path):
+    port = free_port()
+    proc = _ccu("--out", str(tmp_path), "--port", str(port), "--host", "0.0.0.0", "--no-browser")
+    try:
+        _get(f"http://127.0.0.1:{port}/")
+    finally:
+        proc.terminate()
+        _, err = proc.communicate(timeout=30)
+    assert "ccu: warning: --host 0.0.0.0: the studio is reachable from other machines" in err
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["missing.toml"], "missing.toml: no such design file"),
+        (["--port", "0"], "--port must be >= 1, got 0"),
+    ],
+)
+def test_ccu_studio_refuses_with_one_line(tmp_path, args, message):
+    proc = _ccu(*args, "--out", str(tmp_path / "o"), "--no-browser")
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 2, err
+    assert message in err and err.count("\n") == 1
