@@ -11,7 +11,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore studio test test-fast fuzz lint bench bench-fea bench-thickness bench-explore bench-studio clean
+.PHONY: setup blas browser demo explore studio test test-fast fuzz lint bench bench-fea bench-thickness bench-explore bench-relax bench-studio clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -138,6 +138,9 @@ bench-thickness: setup
 
 bench-explore: setup
 	$(BIN)/python benchmarks/bench_explore.py
+
+bench-relax: setup
+	$(BIN)/python benchmarks/bench_relax.py
 
 clean:
 	rm -rf $(VENV) $(VENV39) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info
