@@ -12,10 +12,13 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 from compas_ccu.design.document import parse_toml
+from compas_ccu.catalog import catalog_path
 from compas_ccu.studio import StudioSession
+from compas_ccu.viz.colors import KIND_COLORS
 from conftest import EXAMPLES  # noqa: E402
 from studio_page import (  # noqa: E402
     CHROMIUM_ARGS,
@@ -110,6 +113,21 @@ def test_the_page_shows_the_vault_offline(page, studio):
     text = _readout(page)
     assert "α = 30.00°" in text and "span 2.500 m" in text and "rise 1.000 m" in text
     assert page.locator("#ccu-state").inner_text() == "exact kinematics"
+
+
+def _near(img, color: str, tol: int = 45) -> int:
+    """Pixels within ``tol`` (per channel) of ``color``."""
+    rgb = np.array([int(color[i : i + 2], 16) for i in (1, 3, 5)])
+    return int((np.abs(img.astype(int) - rgb).max(axis=2) <= tol).sum())
+
+
+def test_creases_are_drawn_in_their_legend_colours(page, studio):
+    img = canvas(page, "kinds")
+    legend = page.get_by_text("synclastic (CCU, Σβ < 2π): 5")
+    assert legend.count() == 1 and page.get_by_text("anticlastic (CCU, Σβ > 2π): 4").count() == 1
+    # the vault's 5 synclastic creases blue, 4 anticlastic pink: both colours on the canvas
+    blue, pink = _near(img, KIND_COLORS["synclastic"]), _near(img, KIND_COLORS["anticlastic"])
+    assert blue > 300 and pink > 100, (blue, pink)
 
 
 def test_dragging_the_slider_redeploys_live(page, studio):
@@ -219,6 +237,22 @@ def test_a_failing_design_keeps_the_server_alive(page, studio):
     _wait(lambda: studio.session.problem is None, what="the repair")
 
 
+def test_a_binary_or_oversized_upload_is_refused_on_the_page(page, studio, tmp_path):
+    tab(page, "Design")
+    name = studio.session.name
+    binary = tmp_path / "picture.toml"
+    binary.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00")
+    page.locator("input[type=file]").first.set_input_files(str(binary))
+    page.get_by_text("'picture.toml' is not a text file").first.wait_for(timeout=10_000)
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"# " + b"x" * 1_100_000)
+    page.locator("input[type=file]").first.set_input_files(str(big))
+    page.get_by_text("a design file may have at most 1,000,000 bytes").first.wait_for(
+        timeout=20_000
+    )
+    assert studio.session.name == name  # nothing changed
+
+
 def test_two_tabs_show_the_same_design(browser, page, studio):
     other = open_page(browser, studio.url)
     try:
@@ -247,3 +281,36 @@ def test_the_recovery_copy_survives_a_restart(browser, studio, folders):
             page.close()
     finally:
         again.stop()
+
+
+def test_an_inclined_layout_shows_the_rigid_model_then_the_relaxed_one(browser, tmp_path):
+    design = tmp_path / "fig12a.toml"
+    design.write_text(catalog_path("fig12a-asymmetric").read_text())
+    app = Studio(StudioSession.start(design, out=tmp_path / "out"), port=free_port())
+    states = []
+    render = app._render
+
+    def recording():
+        render()
+        states.append((app.state, app.last_view.vertices.copy(), app.last_view.alpha))
+
+    app._view._job = recording
+    try:
+        assert app.wait_idle(60)
+        page = open_page(browser, app.url)
+        try:
+            assert page.locator("#ccu-state").inner_text() == "exact kinematics"  # design state
+            drag_slider(page, 0.55)
+            page.get_by_text("relaxed model").first.wait_for(timeout=20_000)
+            _idle(app, page)
+        finally:
+            page.close()
+        last = [s for s in states if s[2] == app.alpha]
+        kinds = [s[0].split(" ")[0] for s in last]
+        assert kinds[0] == "relaxing" and kinds[-1] == "relaxed", kinds
+        model = app.session.model
+        rigid = model.vertices([app.alpha])[0]
+        moved = np.abs(last[-1][1] - rigid).max()
+        assert np.array_equal(last[0][1], rigid) and 1e-6 < moved < 0.05 * model.size
+    finally:
+        app.stop()

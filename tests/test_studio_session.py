@@ -3,6 +3,7 @@ save, recovery), the file guards, the checks panel and the view arrays."""
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -20,6 +21,7 @@ from compas_ccu.model import load_model
 from compas_ccu.studio import StudioSession
 from compas_ccu.studio.checks import design_checks, first_collision
 from compas_ccu.studio.controls import UNSET, applies, design_controls, format_value, parse_value
+from compas_ccu.studio.export import export
 from compas_ccu.studio.files import MAX_UPLOAD, StudioFiles
 from compas_ccu.studio.session import document_text
 from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, view_state
@@ -267,7 +269,7 @@ def test_checks_of_the_vault(vault_model):
     assert rows["crease planarity"].status == "ok"
     assert rows["invariants"].status == "ok"
     assert rows["global curvature"].value == "monoclastic"
-    assert rows["span"].value == f"{figures.crease_span:.4g} m"
+    assert rows["design span"].value == f"{figures.crease_span:.4g} m"
     assert max(checks.plate_utilisation.values()) == pytest.approx(figures.bending_utilisation)
     assert sorted(checks.plate_utilisation) == sorted(vault_model.plate_ids)
 
@@ -355,3 +357,21 @@ def test_cut_patterns_svg_flags_plates_larger_than_a_sheet(vault_model):
     )  # every vault plate is 2723 x 994 mm
     _, none = cut_patterns_svg(vault_model, sheet=(3.0, 1.5))
     assert none == []
+
+
+def test_export_writes_into_the_output_folder_only(session, folders):
+    pytest.importorskip("ezdxf")
+    design, out = folders
+    before = sorted(p.name for p in design.iterdir())
+    text = session.text()
+    written = export(session.model, out, alpha=35.0, what=("structure", "fabrication"),
+                     design_text=text)  # fmt: skip
+    assert written == {"structure": out / "vault" / "structure",
+                       "fabrication": out / "vault" / "fabrication"}  # fmt: skip
+    data = json.loads((out / "vault" / "structure" / "structure.json").read_text())
+    assert data["alpha"] == 35.0
+    assert (out / "vault" / "structure" / "design.toml").read_text() == text
+    assert (out / "vault" / "fabrication" / "fabrication.json").is_file()
+    assert sorted(p.name for p in design.iterdir()) == before
+    with pytest.raises(ValueError, match="unknown export 'pictures'"):
+        export(session.model, out, alpha=35.0, what=("pictures",))

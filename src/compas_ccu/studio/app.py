@@ -195,9 +195,7 @@ class Studio:
             self._build_file_tab(gui)
 
     def _build_design_tab(self, gui) -> None:
-        files = [f"file: {n}" for n in self.session.files.designs()]
-        catalog = [f"catalog: {e.name}" for e in catalog_entries()]
-        self.open_menu = gui.add_dropdown("open", tuple(files + catalog))
+        self.open_menu = gui.add_dropdown("open", self._open_options())
         gui.add_button("Open").on_click(self._on_open)
         upload = gui.add_upload_button("Open a TOML file ...", mime_type=".toml")
         upload.on_upload(self._on_upload)
@@ -210,6 +208,11 @@ class Studio:
             with gui.add_folder(f"[{section}]", expand_by_default=section in ("crease", "layout")):
                 for control in controls:
                     self.controls[control.key] = self._add_control(gui, control)
+
+    def _open_options(self) -> tuple:
+        """The designs the Open menu offers: the design folder's files, then the catalog."""
+        files = [f"file: {n}" for n in self.session.files.designs()]
+        return tuple(files + [f"catalog: {e.name}" for e in catalog_entries()])
 
     def _add_control(self, gui, control):
         shown = shown_value(control, self.session.value(control.section, control.name))
@@ -227,7 +230,9 @@ class Studio:
             if event.client is None:  # set from Python: a refresh of the panel
                 return
             value = edited_value(control, handle.value)
-            self._apply(lambda: self.session.edit(control.section, control.name, value))
+            self._apply(
+                lambda: self.session.edit(control.section, control.name, value), panel="design"
+            )
 
         handle.on_update(on_update)
         return control, handle, error
@@ -244,21 +249,26 @@ class Studio:
         self.file_panel = gui.add_html("")
 
     # -- callbacks (from the page) -------------------------------------------------------------
-    def _apply(self, action) -> None:
-        """Run a session action, then bring the page up to date."""
+    def _apply(self, action, *, panel: str = "file") -> bool:
+        """Run a session action, then bring the page up to date; a refused action is said in
+        ``panel`` ("file" or "design") and changes nothing."""
         try:
             with self.session.lock:
                 before = self.session.generation
                 action()
                 changed = self.session.generation != before
         except CCUError as exc:
-            self._say(str(exc), "fail")
-            return
+            if panel == "design":
+                self.design_error.content = message_html(str(exc), "fail", size="0.9em")
+            else:
+                self._say(str(exc), "fail")
+            return False
         self._sync_panel()
         if changed:
             self._model_changed()
         else:
             self._status()
+        return True
 
     def _on_slider(self, event) -> None:
         if event.client is None:
@@ -294,13 +304,13 @@ class Studio:
     def _on_open(self, _) -> None:
         kind, _, name = self.open_menu.value.partition(": ")
         opener = self.session.open_file if kind == "file" else self.session.open_catalog
-        self._apply(lambda: opener(name))
-        self._reset_view()
+        if self._apply(lambda: opener(name), panel="design"):
+            self._reset_view()
 
     def _on_upload(self, event) -> None:
         file = event.target.value
-        self._apply(lambda: self.session.open_upload(file.name, file.content))
-        self._reset_view()
+        if self._apply(lambda: self.session.open_upload(file.name, file.content), panel="design"):
+            self._reset_view()
 
     def _reset_view(self) -> None:
         model = self.session.model
@@ -334,6 +344,7 @@ class Studio:
         )
         self._say(text, "warn" if problem else "ok")
         self.save_name.value = self.session.name
+        self.open_menu.options = self._open_options()
         self._status()
 
     def _on_export(self, _) -> None:

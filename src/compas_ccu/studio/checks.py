@@ -218,8 +218,8 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
         )
     )
     for name, label in (
-        ("crease_span", "span"),
-        ("crease_rise", "rise"),
+        ("crease_span", "design span"),
+        ("crease_rise", "design rise"),
         ("plan_x", "plan x"),
         ("plan_y", "plan y"),
         ("height", "height"),
