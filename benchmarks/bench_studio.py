@@ -40,12 +40,11 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-from studio_page import CHROMIUM_ARGS, chromium, field, free_port, open_page, tab  # noqa: E402
-
 from compas_ccu.design.document import parse_toml  # noqa: E402
 from compas_ccu.studio import StudioSession  # noqa: E402
 from compas_ccu.studio.app import Studio  # noqa: E402
 from compas_ccu.studio.session import document_text  # noqa: E402
+from studio_page import CHROMIUM_ARGS, chromium, field, free_port, open_page, tab  # noqa: E402
 
 WATCH = """
 () => {

@@ -15,8 +15,8 @@ import time
 import numpy as np
 import pytest
 
-from compas_ccu.design.document import parse_toml
 from compas_ccu.catalog import catalog_path
+from compas_ccu.design.document import parse_toml
 from compas_ccu.studio import StudioSession
 from compas_ccu.viz.colors import KIND_COLORS
 from conftest import EXAMPLES  # noqa: E402
