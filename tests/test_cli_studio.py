@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import threading
 import time
 import urllib.request
 
@@ -26,6 +27,23 @@ def _ccu(*args, **options):
     )
 
 
+def _ready(proc, timeout: float = 60.0) -> str:
+    """The line ``compas_ccu studio: URL ...`` that ``ccu studio`` prints once it serves."""
+    found = []
+
+    def read():
+        for line in proc.stdout:
+            if line.startswith("compas_ccu studio: http"):
+                found.append(line)
+                return
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    reader.join(timeout)
+    assert found, f"ccu studio did not start within {timeout} s"
+    return found[0]
+
+
 def _get(url: str, timeout: float = 30.0) -> str:
     end = time.monotonic() + timeout
     while True:
@@ -43,12 +61,13 @@ def test_ccu_studio_serves_the_page_on_this_machine(tmp_path):
     proc = _ccu(str(EXAMPLES / "vault.toml"), "--out", str(tmp_path), "--port", str(port),
                 "--no-browser")  # fmt: skip
     try:
+        line = _ready(proc)
         page = _get(f"http://127.0.0.1:{port}/")
         assert "<html" in page.lower()
     finally:
         proc.terminate()
-        out, err = proc.communicate(timeout=30)
-    assert f"compas_ccu studio: http://127.0.0.1:{port}" in out
+        _, err = proc.communicate(timeout=30)
+    assert line.startswith(f"compas_ccu studio: http://127.0.0.1:{port}")
     assert "warning" not in err
     assert not any(tmp_path.iterdir())  # nothing written before an edit
 
@@ -57,6 +76,7 @@ def test_another_host_prints_a_warning(tmp_path):
     port = free_port()
     proc = _ccu("--out", str(tmp_path), "--port", str(port), "--host", "0.0.0.0", "--no-browser")
     try:
+        _ready(proc)
         _get(f"http://127.0.0.1:{port}/")
     finally:
         proc.terminate()
