@@ -11,7 +11,9 @@ import sys
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
 
+import strategies
 from compas_ccu.catalog import catalog_path
 from compas_ccu.design.document import parse_toml
 from compas_ccu.design.schema import SCHEMA
@@ -375,3 +377,38 @@ def test_export_writes_into_the_output_folder_only(session, folders):
     assert sorted(p.name for p in design.iterdir()) == before
     with pytest.raises(ValueError, match="unknown export 'pictures'"):
         export(session.model, out, alpha=35.0, what=("pictures",))
+
+
+# -- property tests over the whole schema -------------------------------------------------------
+def _same(a, b) -> bool:
+    """Equal values of equal types, NaN equal to NaN (a design may hold nan or inf)."""
+    if isinstance(a, dict):
+        return isinstance(b, dict) and a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, list):
+        return isinstance(b, list) and len(a) == len(b) and all(map(_same, a, b))
+    if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
+        return True
+    return type(a) is type(b) and a == b
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+@given(document=strategies.designs())
+def test_any_design_is_a_model_or_a_problem_and_saves_as_it_reads(tmp_path_factory, document):
+    folder = tmp_path_factory.mktemp("studio")
+    (folder / "vault.toml").write_text((EXAMPLES / "vault.toml").read_text())
+    session = StudioSession.start(folder / "vault.toml", out=folder / "out")
+    vault = session.model
+    problem = session.replace(document)
+    assert (problem is None) == (session.problem is None)
+    if problem is None:
+        assert session.model.design.document == document
+    else:
+        assert problem.kind != "bug", problem.message
+        assert session.model is vault  # the last valid model stays
+    # what Save writes reads back as the document (over the vault file's comments)
+    assert _same(parse_toml(session.text()), document)
+    # and every control shows a value that edits back to the same document value
+    for control in design_controls():
+        value = session.value(control.section, control.name)
+        if value is not UNSET and control.widget == "text":
+            assert _same(parse_value(control, format_value(control, value)), value), control.key

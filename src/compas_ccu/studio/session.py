@@ -89,10 +89,16 @@ def document_text(document: dict, source: str | None = None) -> str:
             if name not in values:
                 del table[name]
         for name, value in values.items():
-            old = table.get(name)
-            if old is None or _unwrap(old) != value or type(_unwrap(old)) is not type(value):
+            if name not in table or not _identical(_unwrap(table[name]), value):
                 table[name] = value
     return tomlkit.dumps(doc)
+
+
+def _identical(a, b) -> bool:
+    """Equal values of equal types all the way down (1 and 1.0 differ in a TOML file)."""
+    if isinstance(a, (list, tuple)):
+        return isinstance(b, (list, tuple)) and len(a) == len(b) and all(map(_identical, a, b))
+    return type(a) is type(b) and a == b
 
 
 def _unwrap(item):
