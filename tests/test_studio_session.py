@@ -412,3 +412,15 @@ def test_any_design_is_a_model_or_a_problem_and_saves_as_it_reads(tmp_path_facto
         value = session.value(control.section, control.name)
         if value is not UNSET and control.widget == "text":
             assert _same(parse_value(control, format_value(control, value)), value), control.key
+
+
+def test_crowded_slider_marks_keep_the_more_telling_label():
+    from types import SimpleNamespace
+
+    from compas_ccu.studio.app import slider_marks
+
+    model = SimpleNamespace(alpha_design=30.0, overlap_alpha=79.2, alpha_limit=82.0)
+    marks = slider_marks(model, {"alpha": 77.0}, 81.99)
+    assert [m[0] for m in marks] == [0.0, 30.0, 77.0, 79.2, 81.99]  # every tick stays
+    assert [m[1] for m in marks] == ["0", "design", "collision", "", ""]
+    assert slider_marks(model, None, 81.99)[-2:] == [(79.2, "overlap"), (81.99, "")]

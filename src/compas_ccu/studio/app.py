@@ -39,7 +39,7 @@ from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, vie
 from compas_ccu.studio.workers import LatestWorker
 from compas_ccu.thickness import ThickModel
 
-__all__ = ["Studio", "LOOPBACK"]
+__all__ = ["Studio", "LOOPBACK", "slider_marks"]
 
 log = logging.getLogger(__name__)
 
@@ -55,6 +55,33 @@ RELAXED_KEPT = 64
 EXACT = "exact kinematics"
 RELAXING = "relaxing ... (the rigid-ruling model is shown)"
 RELAXED = "relaxed model (the creases leave their planes; least-squares relaxation)"
+
+
+#: Slider marks closer than this fraction of the range share one label (the more telling one).
+MARK_GAP = 0.08
+_MARK_RANK = {"collision": 0, "overlap": 1, "design": 2, "limit": 3, "0": 4}
+
+
+def slider_marks(model, collision, top: float) -> list:
+    """``[(alpha, label), ...]`` of the α slider: 0, the design α, the overlap and collision
+    angles and the limit ``top``; of marks closer than :data:`MARK_GAP` of the range only the
+    more telling one keeps its label (collision, overlap, design, limit, 0), so none overlap.
+
+    >>> from compas_ccu.model import load_model
+    >>> slider_marks(load_model("examples/vault.toml"), None, 88.95)
+    [(0.0, '0'), (30.0, 'design'), (68.15320448590005, 'overlap'), (88.95, 'limit')]
+    """
+    marks = [(0.0, "0"), (float(model.alpha_design), "design"), (float(top), "limit")]
+    if model.overlap_alpha < model.alpha_limit:
+        marks.append((float(model.overlap_alpha), "overlap"))
+    if collision is not None:
+        marks.append((float(collision["alpha"]), "collision"))
+    labelled = []
+    for value, label in sorted(marks, key=lambda m: _MARK_RANK[m[1]]):
+        if all(abs(value - v) >= MARK_GAP * top for v, _ in labelled):
+            labelled.append((value, label))
+    shown = set(labelled)
+    return [(v, t if (v, t) in shown else "") for v, t in sorted(marks)]
 
 
 def _set(html_handle, content: str) -> None:
@@ -428,12 +455,9 @@ class Studio:
         """The slider's marks: design, overlap and collision angles, the limit."""
         from viser._messages import GuiSliderMark
 
-        marks = [(0.0, "0"), (model.alpha_design, "design"), (self.slider.max, "limit")]
-        if model.overlap_alpha < model.alpha_limit:
-            marks.append((model.overlap_alpha, "overlap"))
-        if collision is not None:
-            marks.append((collision["alpha"], "collision"))
-        self.slider._marks = tuple(GuiSliderMark(float(v), t) for v, t in sorted(marks))
+        self.slider._marks = tuple(
+            GuiSliderMark(v, t) for v, t in slider_marks(model, collision, self.slider.max)
+        )
 
     def _status(self) -> None:
         s = self.session

@@ -307,8 +307,8 @@ def cut_patterns_svg(model, *, sheet=SHEET, width: int = 560) -> tuple:
         return " ".join(f"{x:.1f},{height - y:.1f}" for x, y in q)
 
     out = [
-        f"<svg xmlns='http://www.w3.org/2000/svg' width='{width}' height='{height}' "
-        f"viewBox='0 0 {width} {height}' style='background:#fbfaf7'>"
+        f"<svg xmlns='http://www.w3.org/2000/svg' width='100%' viewBox='0 0 {width} {height}' "
+        "style='background:#fbfaf7'>"
     ]
     n = model.segments
     rulings = plate_rulings(n)
