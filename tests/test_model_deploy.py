@@ -293,3 +293,93 @@ def test_a_limit_at_90_degrees_names_the_reference_vertex():
     assert model.alpha_limit == 90.0
     with pytest.raises(DeploymentLimitError, match=r"the surface at reference vertex 16 stands"):
         model.deploy(120.0)
+
+
+# -- lazy, batched crease records ---------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def multi_models(vault_model, quadrants_model):
+    from compas_ccu.catalog import catalog_path
+    from compas_ccu.model import load_model
+
+    return {
+        "vault": vault_model,
+        "quadrants": quadrants_model,  # CCU and CCF creases
+        "funnel": load_model(catalog_path("fig12c-funnel")),  # radial, 11 creases
+    }
+
+
+@pytest.mark.parametrize("name", ["vault", "quadrants", "funnel"])
+def test_all_relations_equal_the_relations_of_each_crease(multi_models, name):
+    """One vectorised call over every crease of every state: the same numbers, bit for bit."""
+    model = multi_models[name]
+    alphas = np.linspace(0.0, min(model.alpha_design, model.overlap_alpha), 5)
+    states = model.mechanism.deploy(np.radians(alphas))
+    batch = model.all_relations(states)
+    for k in range(len(alphas)):
+        for ci in range(len(model.mechanism.creases)):
+            one = model.relations(states, k, ci)
+            for field in one._fields:
+                if field == "kinds":
+                    assert batch.kinds[k][ci] == one.kinds
+                else:
+                    got, want = getattr(batch, field)[k, ci], getattr(one, field)
+                    np.testing.assert_array_equal(got, want, err_msg=field)
+
+
+def test_records_are_computed_when_first_read(vault_model):
+    structure = vault_model.deploy(20.0)
+    assert callable(structure._creases) and callable(structure._metrics)
+    assert structure.deployed.shape == (10, 130, 3)  # the geometry is there at once
+    creases = structure.creases
+    assert not callable(structure._creases) and len(creases) == 9
+    assert structure.creases is creases  # computed once
+    assert structure.metrics["segments"] == 64 and not callable(structure._metrics)
+
+
+def test_lazy_path_records_equal_each_state_alone(vault_model):
+    """The records of a path, computed for all states at once, equal those of every state
+    computed alone (and its contract survives a pickle round trip)."""
+    import pickle
+
+    from compas_ccu.kinematics.relations import crease_relations
+    from compas_ccu.model.records import StateRecords
+
+    alphas = np.linspace(0.0, 30.0, 7)
+    path = vault_model.path(alphas)
+    states = vault_model.mechanism.deploy(np.radians(alphas))
+    for k, (structure, alpha) in enumerate(zip(path, alphas)):
+        alone = vault_model.structure(states, k, float(alpha)).to_contract()
+        assert structure.to_contract() == alone
+        # and the records' angles are those of one crease at a time
+        for ci, record in enumerate(alone["creases"]):
+            link = vault_model.mechanism.creases[ci]
+            hinge, other = vault_model.plates.crease_boundary(ci, states.near[k], states.far[k])
+            rb = states.far[k, link.plate_b] - states.near[k, link.plate_b]
+            rel = crease_relations(hinge, other - hinge, rb, states.plane_normals[k, ci])
+            assert record["alpha"] == np.degrees(rel.alpha).tolist()
+            assert record["sum_beta"] == np.degrees(rel.sum_beta[1:-1]).tolist()
+    lazy = vault_model.deploy(12.0)
+    copy = pickle.loads(pickle.dumps(lazy))
+    assert copy.to_contract() == vault_model.deploy(12.0).to_contract()
+    assert StateRecords(vault_model, states).creases(3) == path[3].creases
+
+
+def test_metrics_keep_the_bounding_box_of_the_deployed_state(vault_model):
+    structure = vault_model.deploy(20.0)
+    box = np.ptp(structure.deployed.reshape(-1, 3), axis=0).tolist()
+    structure.deployed = structure.deployed * 2.0  # moved before the metrics are read
+    assert structure.metrics["bounding_box"] == box
+
+
+def test_classify_is_vectorised_per_crease():
+    from compas_ccu.kinematics.relations import classify
+
+    two_pi = 2.0 * math.pi
+    sums = np.array([[np.nan, two_pi - 0.1, two_pi, two_pi + 0.1, np.nan]] * 2)
+    assert classify(sums[0], "ccu") == [None, "synclastic", "straight", "anticlastic", None]
+    assert classify(sums, np.array(["ccu", "ccf"], dtype=object)) == [
+        [None, "synclastic", "straight", "anticlastic", None],
+        [None, "ccf", "ccf", "ccf", None],
+    ]

@@ -23,6 +23,9 @@ from compas_ccu.tolerances import ZERO_LENGTH
 __all__ = [
     "unit",
     "dot",
+    "cross3",
+    "norm3",
+    "unit3",
     "reflect",
     "reflect_points",
     "fit_planes",
@@ -40,6 +43,31 @@ def unit(v: np.ndarray) -> np.ndarray:
 def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise dot products of (..., d) arrays: (...,)."""
     return np.einsum("...i,...i", a, b)
+
+
+def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``numpy.cross`` of (..., 3) arrays: the same products and differences (the same values,
+    bit for bit) without its axis juggling, which costs more than the arithmetic on small
+    arrays."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
+def norm3(v: np.ndarray) -> np.ndarray:
+    """``numpy.linalg.norm(v, axis=-1)`` of (..., 3) arrays: the same sum in the same order (the
+    same values, bit for bit), several times faster than a reduction over a length-3 axis."""
+    v0, v1, v2 = v[..., 0], v[..., 1], v[..., 2]
+    return np.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+
+
+def unit3(v: np.ndarray) -> np.ndarray:
+    """:func:`unit` of (..., 3) arrays (the same values) by :func:`norm3`."""
+    return v / norm3(v)[..., None]
 
 
 def reflect(v: np.ndarray, normal: np.ndarray) -> np.ndarray:

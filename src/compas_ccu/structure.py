@@ -37,11 +37,16 @@ class Structure(Data):
         Quad faces of every plate, counter-clockwise in the cut pattern.
     flat, deployed : (p, v, 3) float
         Cut patterns (z = 0) and deployed vertices of every plate, same vertex order.
-    creases : list of dict
+    creases : list of dict, or a callable that returns it
         crease records (docs/structure-json.md) (id, plates, vertices, kind, plane, ...).
-    metrics : dict
+    metrics : dict, or a callable that returns it
         Invariant errors and key figures.
     plate_ids : list of int, optional
+
+    A callable is called once, on the first read of :attr:`creases` / :attr:`metrics` (or of
+    the contract): a redeployed model builds its structures with lazy records
+    (:class:`compas_ccu.model.records.StateRecords`), so a caller that reads only the vertices
+    does not pay for them.
     """
 
     def __init__(self, alpha, faces, flat, deployed, creases, metrics, plate_ids=None, name=None):
@@ -50,9 +55,31 @@ class Structure(Data):
         self.faces = np.asarray(faces, dtype=int)
         self.flat = np.asarray(flat, dtype=float)
         self.deployed = np.asarray(deployed, dtype=float)
-        self.creases = list(creases)
-        self.metrics = dict(metrics)
+        self._creases = creases if callable(creases) else list(creases)
+        self._metrics = metrics if callable(metrics) else dict(metrics)
         self.plate_ids = list(range(len(self.flat))) if plate_ids is None else list(plate_ids)
+
+    @property
+    def creases(self) -> list:
+        """crease records (docs/structure-json.md), computed on first read if lazy."""
+        if callable(self._creases):
+            self._creases = list(self._creases())
+        return self._creases
+
+    @creases.setter
+    def creases(self, value) -> None:
+        self._creases = list(value)
+
+    @property
+    def metrics(self) -> dict:
+        """Invariant errors and key figures, computed on first read if lazy."""
+        if callable(self._metrics):
+            self._metrics = dict(self._metrics())
+        return self._metrics
+
+    @metrics.setter
+    def metrics(self, value) -> None:
+        self._metrics = dict(value)
 
     # -- COMPAS data -------------------------------------------------------------------------
     @property

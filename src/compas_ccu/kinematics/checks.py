@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.geometry import cross3, norm3
+
 __all__ = ["total_turning", "self_intersecting", "crossing_rulings"]
 
 
@@ -56,7 +58,7 @@ def total_turning(points: np.ndarray) -> np.ndarray:
     (k,) float
     """
     e = np.diff(points, axis=1)
-    cross = np.linalg.norm(np.cross(e[:, :-1], e[:, 1:]), axis=-1)
+    cross = norm3(cross3(e[:, :-1], e[:, 1:]))
     dot = np.einsum("kmi,kmi->km", e[:, :-1], e[:, 1:])
     return np.arctan2(cross, dot).sum(axis=1)
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.geometry import dot, unit
-from compas_ccu.kinematics.checks import self_intersecting
+from compas_ccu.kinematics.checks import self_intersecting, total_turning
 from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import quad_lengths
 
@@ -106,22 +106,34 @@ def invariant_errors(mechanism, states, reference_lengths: np.ndarray, *, frame=
 def overlapping_creases(mechanism, states) -> np.ndarray:
     """(k, 1 + c) bool: the leading crease, then every crease, overlapping itself in its plane.
 
+    The turning test that settles almost every crease (:func:`self_intersecting`) runs on all
+    creases of all states in one vectorised pass; only the few suspects are tested one by one.
+
     Parameters
     ----------
     mechanism : compas_ccu.kinematics.mechanism.Mechanism
     states : compas_ccu.kinematics.mechanism.MechanismStates
     """
-    k = states.near.shape[0]
-    z = np.zeros((k, 3))
-    z[:, 2] = 1.0
-    cols = [self_intersecting(states.near[:, 0], np.zeros((k, 3)), z)]
-    for ci, crease in enumerate(mechanism.creases):
-        a = crease.plate_a
-        hinge = boundary_rows(states.near[:, a], states.far[:, a], crease.boundary_a)[0]
-        cols.append(
-            self_intersecting(hinge, states.plane_origins[:, ci], states.plane_normals[:, ci])
-        )
-    return np.stack(cols, axis=1)
+    near, far = states.near, states.far
+    k = near.shape[0]
+    creases = mechanism.creases
+    a = np.array([c.plate_a for c in creases], dtype=int)
+    on_far = np.array([c.boundary_a == "far" for c in creases], dtype=bool)[:, None, None]
+    hinges = np.concatenate(
+        [near[:, :1], np.where(on_far, far[:, a], near[:, a])], axis=1
+    )  # (k, 1 + c, n + 1, 3)
+    z = np.zeros((k, 1, 3))
+    z[..., 2] = 1.0
+    origins = np.concatenate([np.zeros((k, 1, 3)), states.plane_origins], axis=1)
+    normals = np.concatenate([z, states.plane_normals], axis=1)
+    shape = hinges.shape
+    turning = total_turning(hinges.reshape((-1,) + shape[2:])).reshape(shape[:2])
+    out = np.zeros(shape[:2], dtype=bool)
+    for kk, ci in zip(*np.nonzero(turning > np.pi)):
+        out[kk, ci] = self_intersecting(
+            hinges[kk, ci][None], origins[kk, ci][None], normals[kk, ci][None]
+        )[0]
+    return out
 
 
 def overlap_limit(mechanism, *, bisections: int = 40) -> float:

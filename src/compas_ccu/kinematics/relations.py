@@ -23,6 +23,12 @@ positive when the crease bends towards plate a), kappa_3D in space, alpha the re
 
 are evaluated with discrete, vertex-centred quantities; the residuals are reported and converge
 to zero as the crease is refined (second order; see the tests).
+
+:func:`crease_relations` takes one crease or a batch of them (leading axes, e.g. every crease of
+every state of a path, with a relation per crease): a deployed state has one crease per plate
+pair, and evaluating them one by one costs more in NumPy's per-call overhead than in arithmetic.
+Every value is the same, bit for bit, as for the crease alone (the same element-wise operations;
+the vector products that are matrix products for one crease are batched matrix products).
 """
 
 from __future__ import annotations
@@ -31,7 +37,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from compas_ccu.geometry import unit
+from compas_ccu.geometry import cross3, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["CreaseRelations", "crease_relations", "classify"]
@@ -64,25 +70,52 @@ class CreaseRelations(NamedTuple):
     eq5: np.ndarray
 
 
+def _dot(a, b):
+    return np.einsum("...i,...i->...", a, b)
+
+
+def _matvec(a, v):
+    """``a @ v`` of (..., m, 3) rows and (..., 3) vectors: the product ``rows @ vector`` of one
+    crease, batched over the leading axes (the same matrix-vector kernel for every crease)."""
+    return np.matmul(a, v[..., :, None])[..., 0]
+
+
+def _vecvec(a, b):
+    """``a @ b`` of (..., 3) vectors, one inner product per leading index."""
+    return np.matmul(a[..., None, :], b[..., :, None])[..., 0, 0]
+
+
 def _angle(a, b):
-    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.einsum("...i,...i", a, b))
+    return np.arctan2(norm3(cross3(a, b)), _dot(a, b))
 
 
-def classify(sum_beta: np.ndarray, relation: str, *, tol: float = EXACT_RELATIVE) -> list:
-    """Kind of every crease vertex from its sector-angle sum (ends: None)."""
-    kinds = []
-    for s in sum_beta:
-        if not np.isfinite(s):
-            kinds.append(None)
-        elif relation == "ccf":
-            kinds.append("ccf")
-        elif s < TWO_PI - tol:
-            kinds.append("synclastic")
-        elif s > TWO_PI + tol:
-            kinds.append("anticlastic")
-        else:
-            kinds.append("straight")
-    return kinds
+#: The vertex kinds by code (0: an end vertex, no kind).
+KINDS = np.array([None, "ccf", "synclastic", "anticlastic", "straight"], dtype=object)
+
+
+def _is_ccf(relation) -> np.ndarray:
+    """Bool array: ``relation`` (a string or an array of them) is "ccf"."""
+    if isinstance(relation, str):
+        return np.asarray(relation == "ccf")
+    return np.asarray(relation, dtype=object) == "ccf"
+
+
+def classify(sum_beta: np.ndarray, relation, *, tol: float = EXACT_RELATIVE) -> list:
+    """Kind of every crease vertex from its sector-angle sum (ends: None).
+
+    ``sum_beta`` is (..., n + 1); ``relation`` is "ccu" or "ccf", or an array of them that
+    broadcasts against the leading axes of ``sum_beta`` (one per crease). Returns a list
+    (nested lists for leading axes) of "synclastic", "anticlastic", "straight", "ccf" or None.
+    """
+    s = np.asarray(sum_beta, dtype=float)
+    ccf = _is_ccf(relation)
+    ccf = ccf.reshape(ccf.shape + (1,) * (ccf.ndim > 0))  # one per crease: over its vertices
+    code = np.select(
+        [~np.isfinite(s), ccf, s < TWO_PI - tol, s > TWO_PI + tol],
+        [0, 1, 2, 3],
+        default=4,
+    )
+    return KINDS[code].tolist()
 
 
 def crease_relations(
@@ -91,99 +124,110 @@ def crease_relations(
     ruling_b: np.ndarray,
     plane_normal: np.ndarray,
     *,
-    relation: str = "ccu",
+    relation="ccu",
 ) -> CreaseRelations:
     """Evaluate sector angles, curvatures, alpha, alpha', torsion and Eq. 1-5 on a crease.
 
+    Any leading axes batch creases (for example ``(k, c)``: every crease of every state): the
+    result has the same leading axes, and every crease's values are those of the crease alone.
+
     Parameters
     ----------
-    hinge : (n + 1, 3) float
+    hinge : (..., n + 1, 3) float
         Deployed crease vertices.
-    ruling_a, ruling_b : (n + 1, 3) float
+    ruling_a, ruling_b : (..., n + 1, 3) float
         Directions from the crease into plate a and plate b (any length).
-    plane_normal : (3,) float
+    plane_normal : (..., 3) float
         Normal of the crease plane O.
-    relation : {"ccu", "ccf"}
-        How plate b is joined to plate a.
+    relation : {"ccu", "ccf"} or array of them
+        How plate b is joined to plate a (an array: per crease, broadcasting against the
+        leading axes).
 
     Returns
     -------
     CreaseRelations
+        Arrays with the leading axes; ``kinds`` a list (nested for leading axes).
     """
     p = np.asarray(hinge, dtype=float)
-    ra = unit(np.asarray(ruling_a, dtype=float))
-    rb = unit(np.asarray(ruling_b, dtype=float))
-    nrm = unit(np.asarray(plane_normal, dtype=float))
-    m = len(p)
-    edges = np.diff(p, axis=0)
-    h = np.linalg.norm(edges, axis=1)
-    u = edges / h[:, None]
-    nan = np.full(m, np.nan)
+    ra = unit3(np.asarray(ruling_a, dtype=float))
+    rb = unit3(np.asarray(ruling_b, dtype=float))
+    nrm = unit3(np.asarray(plane_normal, dtype=float))
+    m = p.shape[-2]
+    edges = np.diff(p, axis=-2)
+    h = norm3(edges)
+    u = edges / h[..., None]
+    nan = np.full(p.shape[:-1], np.nan)
 
-    beta = np.full((m, 4), np.nan)
-    beta[1:-1, 0] = _angle(u[1:], ra[1:-1])
-    beta[1:-1, 1] = _angle(ra[1:-1], -u[:-1])
-    beta[1:-1, 2] = _angle(-u[:-1], rb[1:-1])
-    beta[1:-1, 3] = _angle(rb[1:-1], u[1:])
-    sum_beta = beta.sum(axis=1)
-    gamma_a = 0.5 * (np.pi + beta[:, 0] - beta[:, 1])
-    gamma_b = 0.5 * (np.pi + beta[:, 3] - beta[:, 2])
+    beta = np.full(p.shape[:-1] + (4,), np.nan)
+    beta[..., 1:-1, 0] = _angle(u[..., 1:, :], ra[..., 1:-1, :])
+    beta[..., 1:-1, 1] = _angle(ra[..., 1:-1, :], -u[..., :-1, :])
+    beta[..., 1:-1, 2] = _angle(-u[..., :-1, :], rb[..., 1:-1, :])
+    beta[..., 1:-1, 3] = _angle(rb[..., 1:-1, :], u[..., 1:, :])
+    sum_beta = beta.sum(axis=-1)
+    gamma_a = 0.5 * (np.pi + beta[..., 0] - beta[..., 1])
+    gamma_b = 0.5 * (np.pi + beta[..., 3] - beta[..., 2])
 
     # curvature in plate a's pattern (intrinsic: law of cosines with the plate angle)
-    plate_angle = beta[:, 0] + beta[:, 1]
+    plate_angle = beta[..., 0] + beta[..., 1]
     kappa_2d = nan.copy()
-    chord_2d = np.sqrt(h[:-1] ** 2 + h[1:] ** 2 - 2 * h[:-1] * h[1:] * np.cos(plate_angle[1:-1]))
-    kappa_2d[1:-1] = 2.0 * np.sin(np.pi - plate_angle[1:-1]) / chord_2d
+    h0, h1 = h[..., :-1], h[..., 1:]
+    inner = plate_angle[..., 1:-1]
+    chord_2d = np.sqrt(h0**2 + h1**2 - 2 * h0 * h1 * np.cos(inner))
+    kappa_2d[..., 1:-1] = 2.0 * np.sin(np.pi - inner) / chord_2d
     # curvature in space, signed towards plate a
     kappa_3d = nan.copy()
-    turn = _angle(u[:-1], u[1:])
-    chord_3d = np.linalg.norm(p[2:] - p[:-2], axis=1)
-    towards = np.sign(np.einsum("ij,ij->i", 0.5 * (p[2:] + p[:-2]) - p[1:-1], ra[1:-1]))
-    kappa_3d[1:-1] = towards * 2.0 * np.sin(turn) / chord_3d
+    turn = _angle(u[..., :-1, :], u[..., 1:, :])
+    p0, p1, p2 = p[..., :-2, :], p[..., 1:-1, :], p[..., 2:, :]
+    chord_3d = norm3(p2 - p0)
+    towards = np.sign(_dot(0.5 * (p2 + p0) - p1, ra[..., 1:-1, :]))
+    kappa_3d[..., 1:-1] = towards * 2.0 * np.sin(turn) / chord_3d
 
     # reflection angle at the vertices: elevation of S (normal to T in span(T, ruling a))
     tangent = np.empty_like(p)
-    tangent[0], tangent[-1] = u[0], u[-1]
-    tangent[1:-1] = unit(u[:-1] + u[1:])
+    tangent[..., 0, :], tangent[..., -1, :] = u[..., 0, :], u[..., -1, :]
+    tangent[..., 1:-1, :] = unit3(u[..., :-1, :] + u[..., 1:, :])
     if m >= 3:  # ends: the neighbouring tangent reflected in the end edge (as in strips.frames)
-        tangent[0] = 2.0 * (tangent[1] @ u[0]) * u[0] - tangent[1]
-        tangent[-1] = 2.0 * (tangent[-2] @ u[-1]) * u[-1] - tangent[-2]
-    tangent = unit(tangent - np.outer(tangent @ nrm, nrm))
-    s = ra - np.einsum("ij,ij->i", ra, tangent)[:, None] * tangent
-    out_of_plane = np.abs(s @ nrm)
-    alpha = np.arctan2(out_of_plane, np.linalg.norm(s - np.outer(s @ nrm, nrm), axis=1))
+        t1, t2 = tangent[..., 1, :], tangent[..., -2, :]
+        u0, u1 = u[..., 0, :], u[..., -1, :]
+        tangent[..., 0, :] = 2.0 * _vecvec(t1, u0)[..., None] * u0 - t1
+        tangent[..., -1, :] = 2.0 * _vecvec(t2, u1)[..., None] * u1 - t2
+    n3 = nrm[..., None, :]
+    tangent = unit3(tangent - _matvec(tangent, nrm)[..., None] * n3)
+    s = ra - _dot(ra, tangent)[..., None] * tangent
+    out_of_plane = np.abs(_matvec(s, nrm))
+    alpha = np.arctan2(out_of_plane, norm3(s - _matvec(s, nrm)[..., None] * n3))
     # reflection angle of every segment: tilt of quad j of plate a about crease edge j
-    w = ra[:-1] - np.einsum("ij,ij->i", ra[:-1], u)[:, None] * u
-    segment_alpha = np.arctan2(np.abs(w @ nrm), np.linalg.norm(w - np.outer(w @ nrm, nrm), axis=1))
+    ra0 = ra[..., :-1, :]
+    w = ra0 - _dot(ra0, u)[..., None] * u
+    segment_alpha = np.arctan2(np.abs(_matvec(w, nrm)), norm3(w - _matvec(w, nrm)[..., None] * n3))
     alpha_prime = nan.copy()
-    alpha_prime[1:-1] = np.diff(segment_alpha) / (0.5 * (h[:-1] + h[1:]))
+    alpha_prime[..., 1:-1] = np.diff(segment_alpha, axis=-1) / (0.5 * (h0 + h1))
 
     # discrete torsion: angle between consecutive osculating planes (mod pi) per edge length
     torsion = nan.copy()
     if m >= 4:
-        binormal = np.cross(u[:-1], u[1:])
-        size = np.linalg.norm(binormal, axis=1)
+        binormal = cross3(u[..., :-1, :], u[..., 1:, :])
+        size = norm3(binormal)
         with np.errstate(invalid="ignore", divide="ignore"):
-            binormal = binormal / size[:, None]
-            b0, b1 = binormal[:-1], binormal[1:]
+            binormal = binormal / size[..., None]
+            b0, b1 = binormal[..., :-1, :], binormal[..., 1:, :]
             edge_tau = (
                 np.arctan2(
-                    np.einsum("ij,ij->i", np.cross(b0, b1), u[1:-1]),
-                    np.abs(np.einsum("ij,ij->i", b0, b1)),
+                    _dot(cross3(b0, b1), u[..., 1:-1, :]),
+                    np.abs(_dot(b0, b1)),
                 )
-                / h[1:-1]
+                / h[..., 1:-1]
             )
-        torsion[2:-2] = 0.5 * (edge_tau[:-1] + edge_tau[1:])
+        torsion[..., 2:-2] = 0.5 * (edge_tau[..., :-1] + edge_tau[..., 1:])
 
     cot_a, cot_b = 1.0 / np.tan(gamma_a), 1.0 / np.tan(gamma_b)
     drive = 0.5 * kappa_2d * np.tan(alpha)
-    eq1, eq2, eq3, eq4 = nan.copy(), nan.copy(), nan.copy(), nan.copy()
-    if relation == "ccf":
-        eq1 = alpha_prime - (cot_a - cot_b) * drive
-        eq3 = torsion + (cot_a + cot_b) * drive
-    else:
-        eq2 = alpha_prime - (cot_a + cot_b) * drive
-        eq4 = torsion + (cot_a - cot_b) * drive
+    ccf = _is_ccf(relation)
+    ccf = ccf.reshape(ccf.shape + (1,) * (ccf.ndim > 0))
+    eq1 = np.where(ccf, alpha_prime - (cot_a - cot_b) * drive, np.nan)
+    eq3 = np.where(ccf, torsion + (cot_a + cot_b) * drive, np.nan)
+    eq2 = np.where(ccf, np.nan, alpha_prime - (cot_a + cot_b) * drive)
+    eq4 = np.where(ccf, np.nan, torsion + (cot_a - cot_b) * drive)
     with np.errstate(divide="ignore", invalid="ignore"):  # straight vertices: kappa = 0
         eq5 = np.where(kappa_3d != 0.0, np.cos(alpha) - kappa_2d / kappa_3d, np.nan)
     return CreaseRelations(

@@ -32,7 +32,7 @@ from compas_ccu.kinematics.plates import PlateIndex, stack_rows
 from compas_ccu.kinematics.relations import crease_relations
 from compas_ccu.kinematics.relaxation import links_from_mechanism, relax
 from compas_ccu.model.checks import check_design, check_path, check_size
-from compas_ccu.model.records import state_structure
+from compas_ccu.model.records import path_structures, state_structure
 from compas_ccu.strips.intrinsics import quad_lengths
 from compas_ccu.structure import Structure
 
@@ -221,6 +221,35 @@ class CCUModel(Data):
             hinge, other - hinge, rb, states.plane_normals[k, crease], relation=link.relation
         )
 
+    def all_relations(self, states, ks=slice(None)):
+        """:meth:`relations` of every crease in every state ``ks`` in one vectorised call.
+
+        Parameters
+        ----------
+        states : compas_ccu.kinematics.mechanism.MechanismStates
+        ks : slice or (k,) int, optional
+            The states; default: all.
+
+        Returns
+        -------
+        compas_ccu.kinematics.relations.CreaseRelations
+            Arrays (k, c, ...): entry ``[i, ci]`` is the same as ``relations(states, ks[i],
+            ci)`` (bit for bit); ``kinds`` nested lists ``[i][ci]``.
+        """
+        creases = self.mechanism.creases
+        a = np.array([c.plate_a for c in creases], dtype=int)
+        b = np.array([c.plate_b for c in creases], dtype=int)
+        on_far = np.array([c.boundary_a == "far" for c in creases], dtype=bool)[:, None, None]
+        near, far = states.near[ks], states.far[ks]
+        near_a, far_a = near[:, a], far[:, a]
+        hinge = np.where(on_far, far_a, near_a)
+        other = np.where(on_far, near_a, far_a)
+        rb = far[:, b] - near[:, b]
+        relation = np.array([c.relation for c in creases], dtype=object)
+        return crease_relations(
+            hinge, other - hinge, rb, states.plane_normals[ks], relation=relation
+        )
+
     def crease_kinds(self) -> list:
         """Per crease: (kind, per-vertex kinds, sector angles) from the design state."""
         if self._kinds is None:
@@ -231,12 +260,13 @@ class CCUModel(Data):
                 else 0.0
             )
             st = self.mechanism.place(s0)
+            rel = self.all_relations(st, slice(0, 1))
             out = []
             for ci in range(len(self.mechanism.creases)):
-                rel = self.relations(st, 0, ci)
-                kinds = {k for k in rel.kinds if k not in (None, "straight")}
+                vertex_kinds = rel.kinds[0][ci]
+                kinds = {k for k in vertex_kinds if k not in (None, "straight")}
                 kind = kinds.pop() if len(kinds) == 1 else ("mixed" if kinds else "straight")
-                out.append((kind, rel.kinds, rel.sector_angles))
+                out.append((kind, vertex_kinds, rel.sector_angles[0, ci]))
             self._kinds = out
         return self._kinds
 
@@ -316,6 +346,8 @@ class CCUModel(Data):
         Returns
         -------
         list of compas_ccu.structure.Structure
+            Their crease records and metrics are computed when first read, for all the states
+            of the call at once (:class:`compas_ccu.model.records.StateRecords`).
 
         Raises
         ------
@@ -326,8 +358,7 @@ class CCUModel(Data):
         states = self.mechanism.deploy(np.radians(alphas))
         if check:
             self.check_overlap(states, alphas)
-        invariants = self.invariants(states)
-        return [self.structure(states, k, float(a), invariants) for k, a in enumerate(alphas)]
+        return path_structures(self, states, alphas)
 
     def structure(self, states, k: int, alpha: float, invariants: dict | None = None) -> Structure:
         """The :class:`Structure` of state ``k`` of placed mechanism ``states`` at reference

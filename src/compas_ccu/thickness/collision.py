@@ -13,8 +13,51 @@ the test gives
   plane with the crossing point inside the cell's footprint (plates that pass through each other
   without a vertex inside).
 
-Everything is vectorised over states, vertices and cells; plate pairs whose bounding boxes are
-further apart than ``reach`` are skipped.
+Per ordered plate pair and state the worst contact is kept: the largest depth, or without
+penetration the smallest clearance, and its vertex (the lowest vertex number on a tie). Plate
+pairs whose bounding boxes are further apart than ``reach`` are skipped, and a smallest gap
+larger than ``reach`` is no contact (clearance inf): the clearance is measured within the reach.
+
+**Candidate search** (``method="cells"``, the default). Testing every vertex against every cell
+costs O(n²) per pair while a vertex lies over one or two cells; so the cells of a plate are
+grouped in blocks of ``CELLS`` consecutive cells and the face vertices of a plate in blocks of
+``RULINGS`` consecutive rulings (both rows, both faces: the vertices and the rulings between
+them), and the exact tests run only on block pairs that can meet. What a block pair can miss:
+
+* *What a cell accepts.* The lateral test accepts, at height ``h`` over the cell's mid plane,
+  the quadrilateral cut from that plane by the four lateral half-spaces (each moved out by
+  ``tol``). Every plane keeps its direction in the cut, so the cut's corners lie on the four
+  lines where adjacent lateral planes meet, ``X(h) = X(0) + h w``, and every vertex of the cut,
+  even where the two side lines cross, lies on a segment between two such corners. A vertex
+  whose gap counts (``|d| - t/2 <= reach``) has ``|h| <= t/2 + reach``, so it lies in the convex
+  hull of the eight points ``X(±(t/2 + reach))`` of the cell (:func:`_cell_hulls`; a corner line
+  parallel to the mid plane gives infinite points: that cell meets everything). A crossing
+  point lies on the mid plane (``h = 0`` up to round-off) inside the footprint, so in the same
+  hull, and on its ruling, so in the hull of the ruling block's vertices.
+* *Blocks.* A cell block is boxed in the frame of its middle cell around the hulls of its
+  cells, a ruling block in the frame of its plate's middle cell around its vertices (both
+  widened by ``1e-9`` of the coordinates plus ``tol`` for round-off). Along each plate the
+  blocks form a binary tree whose nodes are boxed around their children's boxes; for every pair
+  and state a walk from the two roots keeps the node pairs whose boxes overlap (the separating
+  axis test on the six face axes) down to the leaf blocks. Two plates joined by a hinge leave
+  out its row of vertices and the crossing test, so for them the leaf box of the ruling
+  block's other row stands in. No accepted vertex, counted gap or crossing is outside both
+  boxes of its block pair, nor of any node pair above it, so none is lost: every contact within
+  the reach, and every crossing at any distance, is found.
+* *The same numbers.* On the remaining block pairs the heights are the same BLAS matrix
+  products as in the brute force (one product of the ``4 RULINGS`` vertices with the ``5 CELLS``
+  plane normals per block pair: BLAS sums the three terms of every entry the same way whatever
+  the shape of the product, which the tests check) minus the same plane offsets, and the
+  tests, minima and crossing points are the brute force's element-wise operations. The results
+  equal those of ``method="all"`` (the brute force, kept as :func:`_contacts_all`) bit for bit;
+  the tests compare the two on many layouts. (Plates of a single cell go to the brute force:
+  their heights are matrix-vector products, which BLAS rounds differently.)
+
+The work is linear in the segments: a block meets a bounded number of blocks of every plate
+within the reach, and the walk tests a bounded number of node pairs per kept pair on every
+level (docs/benchmarks.md: the vault from 32 to 512 segments). A k-d tree over balls around the
+blocks, tried first, keeps pairs up to the plate width plus the reach apart along the strip:
+their number grows with the square of the segments.
 """
 
 from __future__ import annotations
@@ -23,7 +66,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from compas_ccu.geometry import unit
+from compas_ccu.geometry import cross3, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["Contact", "plate_contacts"]
@@ -53,18 +96,18 @@ def _cells(mid_near, mid_far, offsets):
     """Half-space description of the cells of plates (..., n cells)."""
     a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]
     c, d = mid_far[..., 1:, :], mid_far[..., :-1, :]
-    normal = unit(np.cross(c - a, d - b))
-    ruling = unit(mid_far - mid_near)
-    side = unit(np.cross(ruling, offsets))  # plane of ruling j and ν_j
+    normal = unit3(cross3(c - a, d - b))
+    ruling = unit3(mid_far - mid_near)
+    side = unit3(cross3(ruling, offsets))  # plane of ruling j and ν_j
     # orient the side planes so that the cell is on their positive side
     centre = 0.25 * (a + b + c + d)
     s0 = side[..., :-1, :]
     s0 = s0 * np.sign(_dot(centre - a, s0))[..., None]
     s1 = side[..., 1:, :]
     s1 = s1 * np.sign(_dot(centre - b, s1))[..., None]
-    e_near = unit(np.cross(normal, b - a))
+    e_near = unit3(cross3(normal, b - a))
     e_near = e_near * np.sign(_dot(centre - a, e_near))[..., None]
-    e_far = unit(np.cross(normal, c - d))
+    e_far = unit3(cross3(normal, c - d))
     e_far = e_far * np.sign(_dot(centre - d, e_far))[..., None]
     return centre, normal, (a, s0), (b, s1), (a, e_near), (d, e_far)
 
@@ -85,6 +128,165 @@ def _lateral(points, cells, tol):
     return inside
 
 
+#: Cells per cell block and rulings per vertex block of the candidate search.
+CELLS = 4
+RULINGS = 8
+#: Block pairs per batch of the exact tests (bounds the temporaries: ~1 MB per 100 pairs).
+BATCH = 2048
+
+
+def _apart(faces, pairs, reach):
+    """(k, len(pairs)) bool: the pairs whose bounding boxes are further apart than ``reach``."""
+    flat = faces.reshape(faces.shape[0], faces.shape[1], -1, 3)
+    lo = flat.min(axis=2) - 0.5 * reach
+    hi = flat.max(axis=2) + 0.5 * reach
+    a = [pa for pa, _ in pairs]
+    b = [pb for _, pb in pairs]
+    return np.any((lo[:, a] > hi[:, b]) | (lo[:, b] > hi[:, a]), axis=2)
+
+
+def _cell_hulls(cells, tol, height):
+    """(..., n, 8, 3) points whose convex hull holds every point that the lateral test of a cell
+    accepts at a distance of up to ``height`` from the cell's mid plane (module docstring).
+
+    In the planes parallel to the mid plane each lateral plane leaves a line of fixed direction;
+    the accepted set is bounded by the four corners where adjacent lines meet if, along each
+    line, its two neighbours bound it from opposite sides. Where that fails, or a corner line
+    never meets those planes (a degenerate cell), the points are infinite.
+    """
+    centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
+    near, far, side0, side1 = (a, e_near), (d, e_far), (a, s0), (b, s1)
+    oc = _dot(centre, normal)[..., None]
+    out = []
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for (ba, na), (bb, nb) in ((near, side0), (side0, far), (far, side1), (side1, near)):
+            oa = _dot(ba, na)[..., None] - tol  # the lateral half-spaces, moved out by tol
+            ob = _dot(bb, nb)[..., None] - tol
+            axis = cross3(na, nb)
+            det = _dot(normal, axis)[..., None]
+            x0 = (oa * cross3(nb, normal) + ob * cross3(normal, na) + oc * axis) / det
+            out += [x0 - height * axis / det, x0 + height * axis / det]
+    out = np.stack(out, axis=-2)
+    bounded = np.ones(out.shape[:-2], dtype=bool)
+    for (_, line), (_, one), (_, other) in (
+        (near, side0, side1),
+        (far, side0, side1),
+        (side0, near, far),
+        (side1, near, far),
+    ):
+        u = cross3(normal, line)  # the line's direction in the planes parallel to the mid plane
+        bounded &= _dot(one, u) * _dot(other, u) < 0.0
+    out[~bounded] = np.inf
+    return out
+
+
+def _frames(mid_near, normal, cell):
+    """(k, p, c, 3, 3) orthonormal frames (columns: edge, ruling side, normal) of cells
+    ``cell`` (c,) of every plate."""
+    t = mid_near[:, :, cell + 1] - mid_near[:, :, cell]  # the crease-side edge b - a
+    nrm = normal[:, :, cell]
+    t = unit3(t - _dot(t, nrm)[..., None] * nrm)
+    return np.stack([t, cross3(nrm, t), nrm], axis=-1)
+
+
+def _box(points, axes, tol):
+    """Oriented boxes around point sets (..., s, 3) in the frames ``axes`` (..., 3, 3): centres
+    (..., 3), the axes and the half-extents (..., 3), widened for round-off (inf where a point
+    is not finite)."""
+    x, y, z = (points[..., i] for i in range(3))
+    lo, hi = [], []
+    with np.errstate(invalid="ignore", over="ignore"):
+        for c in range(3):  # coordinates along axis c
+            a = axes[..., c]
+            along = x * a[..., 0, None] + y * a[..., 1, None] + z * a[..., 2, None]
+            lo.append(along.min(axis=-1))
+            hi.append(along.max(axis=-1))
+        lo, hi = np.stack(lo, axis=-1), np.stack(hi, axis=-1)
+        mid = 0.5 * (lo + hi)
+        half = 0.5 * (hi - lo) + 1e-9 * (np.abs(lo) + np.abs(hi)) + tol
+    bad = ~np.isfinite(half).all(axis=-1)
+    mid[bad], half[bad] = 0.0, np.inf
+    centre = np.einsum("...ij,...j->...i", axes, mid)
+    return centre, axes, half
+
+
+def _pack(box):
+    """Boxes as columns ``(centre, axes (row by row), half-extents)`` of 15 numbers: (15, ...),
+    so that the separating-axis test runs on contiguous rows."""
+    centre, axes, half = box
+    rows = np.concatenate([centre, axes.reshape(*axes.shape[:-2], 9), half], axis=-1)
+    return np.moveaxis(rows, -1, 0)
+
+
+def _separated(box_a, box_b):
+    """(N,) bool: packed boxes ``a`` and ``b`` (15, N) are disjoint by a face axis of either
+    (the separating axis test on those six axes; False where undecided)."""
+    d = box_b[:3] - box_a[:3]
+    a, b = box_a[3:12], box_b[3:12]  # axes[row, column] at 3 row + column
+    ha, hb = box_a[12:], box_b[12:]
+    # |a_i . b_j| and the projections of d on the axes a_i and b_j
+    r = [
+        [np.abs(a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j]) for j in range(3)]
+        for i in range(3)
+    ]
+    da = [np.abs(a[i] * d[0] + a[3 + i] * d[1] + a[6 + i] * d[2]) for i in range(3)]
+    db = [np.abs(b[j] * d[0] + b[3 + j] * d[1] + b[6 + j] * d[2]) for j in range(3)]
+    with np.errstate(invalid="ignore"):
+        slack = 1e-9 * (norm3(d.T) + ha.sum(axis=0) + hb.sum(axis=0))
+        out = np.zeros(d.shape[1], dtype=bool)
+        for i in range(3):
+            out |= da[i] > ha[i] + r[i][0] * hb[0] + r[i][1] * hb[1] + r[i][2] * hb[2] + slack
+        for j in range(3):
+            out |= db[j] > hb[j] + r[0][j] * ha[0] + r[1][j] * ha[1] + r[2][j] * ha[2] + slack
+    return out
+
+
+def _blocks(count, size):
+    """(blocks, size) indices ``0 .. count - 1`` in consecutive blocks (the last one padded
+    with its last index)."""
+    blocks = -(-count // size)
+    return np.minimum(np.arange(blocks * size).reshape(blocks, size), count - 1)
+
+
+def _corners(box):
+    """(..., 8, 3) corners of boxes."""
+    centre, axes, half = box
+    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+    with np.errstate(invalid="ignore"):
+        offsets = np.einsum("...ij,...cj->...ci", axes, signs * half[..., None, :])
+    return centre[..., None, :] + offsets
+
+
+def _tree(box, middle, frame, tol):
+    """Boxes of a binary tree over the leaf boxes of every plate (leaves along axis 2).
+
+    ``middle(level, node)`` is the cell whose frame a node takes, ``frame(cells)`` the frames
+    of cells; a parent's box holds the corners of its children's boxes. Leaves are padded to a
+    power of two with empty ones. Returns the levels from the leaves up, each the packed boxes
+    (15, states x plates x nodes) and which nodes are not padding.
+    """
+    count = box[0].shape[2]
+    size = 1 << max(count - 1, 0).bit_length()
+    pad = size - count
+    valid = np.r_[np.ones(count, dtype=bool), np.zeros(pad, dtype=bool)]
+    box = tuple(np.concatenate([x, np.repeat(x[:, :, -1:], pad, axis=2)], axis=2) for x in box)
+    levels = [(box, valid)]
+    level = 0
+    while size > 1:
+        size //= 2
+        level += 1
+        corners = _corners(box)  # (k, p, 2 size, 8, 3)
+        pair = valid.reshape(size, 2)
+        # an empty child takes its sibling's corners (a parent of two empty ones is empty)
+        corners = corners.reshape(*corners.shape[:2], size, 2, 8, 3)
+        corners = np.where(pair[:, :, None, None], corners, corners[:, :, :, ::-1])
+        corners = corners.reshape(*corners.shape[:2], size, 16, 3)
+        box = _box(corners, frame(middle(level, np.arange(size))), tol)
+        valid = pair.any(axis=1)
+        levels.append((box, valid))
+    return [(_pack(box).reshape(15, -1), valid) for box, valid in levels]
+
+
 def plate_contacts(
     mid_near,
     mid_far,
@@ -96,6 +298,7 @@ def plate_contacts(
     hinged=None,
     reach=0.1,
     tol=EXACT_RELATIVE,
+    method="cells",
 ):
     """Worst contact of every ordered plate pair in every state.
 
@@ -114,10 +317,15 @@ def plate_contacts(
         crossing test: two plates joined by a hinge only pass through each other by a negative
         fold angle, which the kinematics excludes.
     reach : float
-        Pairs whose bounding boxes are further apart than this (m) in a state are skipped:
-        their clearance is reported as inf.
+        Contact reach, m: pairs whose bounding boxes are further apart than this in a state are
+        skipped, and a smallest gap larger than this is no contact; both report clearance inf
+        (depth -inf, vertex 0).
     tol : float
         Lateral tolerance of the footprint test, m.
+    method : {"cells", "all"}
+        "cells": the exact tests only where a block of cells and a block of rulings can meet
+        (module docstring), O(n) per pair; "all": every vertex against every cell, O(n^2) per
+        pair (the reference). Both give the same results, bit for bit.
 
     Returns
     -------
@@ -126,6 +334,198 @@ def plate_contacts(
     where : (k, len(pairs)) int
         Vertex of ``b`` with the largest depth (or, without penetration, the smallest clearance).
     """
+    if method not in ("cells", "all"):
+        raise ValueError(f"method must be 'cells' or 'all', got {method!r}")
+    k, p, m = mid_near.shape[:3]
+    if method == "all" or m < 3:  # one cell: its heights are matrix-vector products
+        found = _contacts_all(
+            mid_near, mid_far, offsets, faces, thickness, pairs, hinged, reach, tol
+        )
+        return _cut_off(*found, reach)
+    n = m - 1
+    npairs = len(pairs)
+    depth = np.full((k, npairs), -np.inf)
+    clearance = np.full((k, npairs), np.inf)
+    crossing = np.zeros((k, npairs), dtype=bool)
+    where = np.zeros((k, npairs), dtype=int)
+    if not (k and npairs and n):
+        return depth, clearance, crossing, where
+    half = 0.5 * thickness
+    apart = _apart(faces, pairs, reach)
+    pair_of = np.full((p, p), -1, dtype=np.intp)  # (a, b) -> pair
+    for q, (pa, pb) in enumerate(pairs):
+        pair_of[pa, pb] = q
+    nv = 2 * faces.shape[3]  # face vertices of a plate: lower face, then upper face
+    skip = np.zeros((npairs, nv), dtype=bool)
+    rulings_tested = np.ones(npairs, dtype=bool)
+    for q, h in enumerate(() if hinged is None else hinged):
+        if h is not None:
+            skip[q] = h
+            rulings_tested[q] = False
+
+    # cells and their five planes (mid plane, then the lateral ones), every state and plate
+    cells = _cells(mid_near, mid_far, offsets)
+    centre, normal, planes = cells[0], cells[1], cells[2:]
+    normals = np.stack([normal] + [nrm for _, nrm in planes], axis=-2)  # (k, p, n, 5, 3)
+    plane_offsets = np.stack(
+        [_dot(centre, normal)] + [_dot(base, nrm) for base, nrm in planes], axis=-1
+    )  # (k, p, n, 5)
+
+    # cell blocks: a box (in the frame of the middle cell) and a ball around the hull of what
+    # their lateral tests accept up to the reach
+    cell_block = _blocks(n, CELLS)  # (J, CELLS)
+    nj = len(cell_block)
+    hull = _cell_hulls(cells, tol, half + reach)[:, :, cell_block].reshape(k, p, nj, -1, 3)
+    cell_box = _box(hull, _frames(mid_near, normal, cell_block[:, CELLS // 2]), tol)
+    # the five planes of the cells of every block: normals (plane, cell) and offsets
+    block_normals = normals[:, :, cell_block].swapaxes(3, 4).reshape(k, p, nj, 5 * CELLS, 3)
+    block_offsets = plane_offsets[:, :, cell_block].swapaxes(3, 4)[..., None]
+
+    # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
+    # near / far row, then the ruling): the vertices and the rulings between them (vertex
+    # numbers grow along a block); a box in the frame of the middle cell and a ball
+    column = _blocks(m, RULINGS)  # (I, RULINGS)
+    ni = len(column)
+    local = np.arange(2)[:, None, None] * (2 * m) + np.arange(2)[None, :, None] * m
+    local = (local[None] + column[:, None, None, :]).reshape(ni, 4 * RULINGS)
+    points = faces.reshape(k, p, nv, 3)
+    block_points = points[:, :, local]  # (k, p, I, 4 RULINGS, 3)
+    frames = _frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
+    vertex_box = _box(block_points, frames, tol)
+    skip_block = skip[:, local]  # (pairs, I, 4 RULINGS)
+    # a pair whose one row is all on their hinge meets the other row only (no crossing test):
+    # boxes of the near rows and of the far rows too, and which box each pair meets
+    rows = local.reshape(ni, 2, 2, RULINGS)
+    boxes = [vertex_box] + [
+        _box(points[:, :, rows[:, :, r].reshape(ni, -1)], frames, tol) for r in (0, 1)
+    ]
+    boxes = [np.stack(parts).reshape(-1, *parts[0].shape[3:]) for parts in zip(*boxes)]
+    on_hinge = [skip[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
+    box_of_pair = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
+
+    # candidate block pairs: a walk down the two trees of boxes of every pair and state, from
+    # their roots to the leaf blocks, keeping the node pairs whose boxes overlap
+    def frame(cells):
+        return _frames(mid_near, normal, np.minimum(cells, n - 1))
+
+    def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
+        return lambda level, node: ((2 * node + 1) << level) * size // 2
+
+    cell_tree = _tree(cell_box, middle(CELLS), frame, tol)
+    ruling_tree = _tree(vertex_box, middle(RULINGS), frame, tol)
+    boxes = _pack(tuple(boxes)).reshape(15, -1)  # the leaf boxes of both rows, each row
+    kq, qq = np.nonzero(~apart & (box_of_pair >= 0)[None])
+    pairs_ab = np.array(pairs, dtype=np.intp).reshape(-1, 2)
+    node_a = kq * p + pairs_ab[qq, 0]  # (state, plate, node) at the current levels
+    node_b = kq * p + pairs_ab[qq, 1]
+    la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
+    while True:
+        (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
+        keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
+        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        if la == 0 and lb == 0:  # the leaves: for hinged pairs, the box of the free row
+            plate_b, ii = np.divmod(node_b, len(valid_b))
+            b_of = boxes.take(box_of_pair[qq] * (k * p * ni) + plate_b * ni + ii, axis=1)
+        else:
+            b_of = box_b.take(node_b, axis=1)
+        keep = ~_separated(box_a.take(node_a, axis=1), b_of)
+        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        if la == 0 and lb == 0:
+            break
+        split_a, split_b = la >= lb, lb >= la  # the deeper tree first, both if level
+        fan = (2 if split_a else 1) * (2 if split_b else 1)
+        qq, node_a, node_b = (np.repeat(x, fan) for x in (qq, node_a, node_b))
+        child = np.tile(np.arange(fan), len(qq) // fan)
+        if split_a:
+            node_a = 2 * node_a + child % 2
+        if split_b:
+            node_b = 2 * node_b + (child // 2 if split_a else child)
+        la, lb = la - split_a, lb - split_b
+    plate_a, jj = np.divmod(node_a, len(cell_tree[0][1]))
+    plate_b, ii = np.divmod(node_b, len(ruling_tree[0][1]))
+    kq, pa = np.divmod(plate_a, p)
+    cell_id = plate_a * nj + jj  # (state, plate, block) without the padding
+    ruling_id = plate_b * ni + ii
+    block_normals = block_normals.reshape(-1, 5 * CELLS, 3)
+    block_offsets = block_offsets.reshape(-1, 5, CELLS, 1)
+    block_points = block_points.reshape(-1, 4 * RULINGS, 3)
+    skip_block = skip_block.reshape(-1, 4 * RULINGS)
+
+    # the exact tests of the brute force on the candidate blocks
+    keys, firsts, gaps = [], [], []
+    for start in range(0, len(kq), BATCH):
+        part = slice(start, start + BATCH)
+        kb, qb, ab, jb, ib = kq[part], qq[part], pa[part], jj[part], ii[part]
+        count = len(kb)
+        vertices = local[ib]  # (N, 4 RULINGS)
+        x = block_points.take(ruling_id[part], axis=0)  # (N, 4 RULINGS, 3)
+        block = cell_block[jb]  # (N, CELLS)
+        # heights (N, plane, cell, vertex) by the same matrix products as the brute force
+        heights = block_normals.take(cell_id[part], axis=0) @ x.swapaxes(1, 2)
+        heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
+        heights -= block_offsets.take(cell_id[part], axis=0)
+        lateral = heights[:, 1] >= -tol
+        for plane in (2, 3, 4):
+            lateral &= heights[:, plane] >= -tol
+        lateral &= ~skip_block.take(qb * ni + ib, axis=0)[:, None]
+        # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
+        size = np.abs(heights[:, 0])
+        size[~lateral] = np.inf
+        gap = size.min(axis=1) - half
+        best = gap.argmin(axis=1)  # the first of the smallest gaps: the lowest vertex number
+        rows = np.arange(count)
+        value = gap[rows, best]
+        near = value <= reach
+        keys.append((kb * npairs + qb)[near])
+        firsts.append(vertices[rows, best][near])
+        gaps.append(value[near])
+        # crossings: a ruling of b (near row -> far row) through a's mid plane inside the cell
+        test = rulings_tested[qb]
+        if not test.any():
+            continue
+        d = heights[test, 0].reshape(-1, CELLS, 2, 2, RULINGS)  # (N, cell, face, row, ruling)
+        d0, d1 = d[:, :, :, 0], d[:, :, :, 1]
+        change = np.nonzero((d0 * d1) < 0.0)  # (N, cell, face, ruling)
+        if not len(change[0]):
+            continue
+        nb, c, f, r = change
+        d0, d1 = d0[change], d1[change]
+        xs = x[test].reshape(-1, 2, 2, RULINGS, 3)
+        x0, x1 = xs[nb, f, 0, r], xs[nb, f, 1, r]
+        s = d0 / (d0 - d1)
+        point = x0 + s[:, None] * (x1 - x0)
+        cell = block[test][nb, c]
+        ks, as_ = kb[test][nb], ab[test][nb]
+        inside = np.ones(len(s), dtype=bool)
+        for base, plane in planes:
+            inside &= _dot(point - base[ks, as_, cell], plane[ks, as_, cell]) >= tol
+        crossing.flat[(ks * npairs + qb[test][nb])[inside]] = True
+
+    # the smallest gap of every pair and state, the first vertex on a tie
+    if not keys:
+        return depth, clearance, crossing, where
+    key, vertex, gap = np.concatenate(keys), np.concatenate(firsts), np.concatenate(gaps)
+    first = np.lexsort((vertex, gap, key))
+    first = first[np.r_[True, key[first][1:] != key[first][:-1]]] if len(first) else first
+    value = gap[first]
+    depth.flat[key[first]] = -value
+    clearance.flat[key[first]] = np.where(value >= 0.0, value, 0.0)
+    where.flat[key[first]] = vertex[first]
+    return depth, clearance, crossing, where
+
+
+def _cut_off(depth, clearance, crossing, where, reach):
+    """A smallest gap larger than ``reach`` is no contact (as :func:`plate_contacts`)."""
+    far = -depth > reach
+    depth = np.where(far, -np.inf, depth)
+    clearance = np.where(far, np.inf, clearance)
+    where = np.where(far, 0, where)
+    return depth, clearance, crossing, where
+
+
+def _contacts_all(mid_near, mid_far, offsets, faces, thickness, pairs, hinged, reach, tol):
+    """The brute force: every face vertex of ``b`` against every cell of ``a`` (O(n^2) per
+    pair), without the clearance cut-off at ``reach``. The reference of the tests."""
     k = mid_near.shape[0]
     npairs = len(pairs)
     depth = np.full((k, npairs), -np.inf)

@@ -324,7 +324,9 @@ class ThickModel:
         return out
 
     # -- checks -------------------------------------------------------------------------------
-    def collisions(self, alphas=None, *, tolerance: float = 1e-6) -> CollisionReport:
+    def collisions(
+        self, alphas=None, *, tolerance: float = 1e-6, method: str = "cells"
+    ) -> CollisionReport:
         """Interpenetration of the thick plates along a path.
 
         Parameters
@@ -333,6 +335,9 @@ class ThickModel:
             Reference angles, degrees; default: 41 states from the flat stack to the design.
         tolerance : float
             Penetration depth below which plates only touch, m.
+        method : {"cells", "all"}
+            :func:`compas_ccu.thickness.collision.plate_contacts`: the candidate search
+            (default) or every vertex against every cell (the reference; same report).
         """
         if alphas is None:
             alphas = np.linspace(0.0, self.model.alpha_design, 41)
@@ -357,7 +362,14 @@ class ThickModel:
             rows[(b, a)] = np.concatenate([on_a, on_a])
         hinged = [rows.get(q) for q in pairs]
         depth, clear, crossing, where = plate_contacts(
-            mid_near, mid_far, st.offsets, faces, self.thickness, pairs=pairs, hinged=hinged
+            mid_near,
+            mid_far,
+            st.offsets,
+            faces,
+            self.thickness,
+            pairs=pairs,
+            hinged=hinged,
+            method=method,
         )
         neighbours = np.array([tuple(sorted(q)) in self._pairs_neighbours for q in pairs])
         penetration = np.maximum(depth.max(axis=1), 0.0)
