@@ -40,6 +40,7 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from bench_deploy import measure  # noqa: E402
 
 from compas_ccu.catalog import catalog_path  # noqa: E402
 from compas_ccu.design import Design  # noqa: E402
@@ -55,20 +56,9 @@ STATES = 5  # collision check: states per call
 
 
 def median_ms(calls, *, target=1.0, min_repeats=5, max_repeats=2000) -> float:
-    """Median wall time (ms) of cycling through ``calls`` for about ``target`` seconds."""
-    gc.collect()
-    t0 = time.perf_counter()
-    for call in calls:  # warm-up
-        call()
-    per_call = (time.perf_counter() - t0) / len(calls)
-    repeats = int(min(max_repeats, max(min_repeats, target / max(per_call, 1e-9))))
-    times = []
-    for i in range(repeats):
-        call = calls[i % len(calls)]
-        t0 = time.perf_counter()
-        call()
-        times.append(time.perf_counter() - t0)
-    return 1e3 * statistics.median(times)
+    """Median wall time (ms) of cycling through ``calls`` for about ``target`` seconds
+    (:func:`bench_deploy.measure`)."""
+    return 1e3 * measure(calls, target=target, min_repeats=min_repeats, max_repeats=max_repeats)[0]
 
 
 def bench_deploy(target: float) -> dict:

@@ -36,7 +36,6 @@ os.environ["MKL_NUM_THREADS"] = "1"
 import argparse  # noqa: E402
 import gc  # noqa: E402
 import json  # noqa: E402
-import platform  # noqa: E402
 import statistics  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
@@ -44,6 +43,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
+from bench_deploy import machine as deploy_machine  # noqa: E402
 from scipy.linalg import solveh_banded  # noqa: E402
 from scipy.sparse.linalg import splu  # noqa: E402
 
@@ -180,14 +180,8 @@ def iteration_split(name: str = "fig12a-asymmetric", alpha: float = 17.5) -> dic
 
 
 def machine() -> dict:
-    return {
-        "platform": platform.platform(),
-        "processor": platform.processor() or platform.machine(),
-        "cpu_count": os.cpu_count(),
-        "python": sys.version.split()[0],
-        "numpy": np.__version__,
-        "scipy": scipy.__version__,
-    }
+    """:func:`bench_deploy.machine` and the SciPy version."""
+    return {**deploy_machine(), "scipy": scipy.__version__}
 
 
 def main(argv=None) -> int:

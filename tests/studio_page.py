@@ -6,20 +6,12 @@ from __future__ import annotations
 import io
 import os
 import re
-import shutil
 import socket
 
 import numpy as np
 
-CHROMIUM_ARGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-    "--disable-quic",
-]
+from browser import CHROMIUM_ARGS, chromium  # noqa: F401 - the page tests' browser
+
 VIEWPORT = {"width": 1400, "height": 900}
 SHOTS = os.environ.get("CCU_STUDIO_SHOTS")  # folder to keep screenshots in, if set
 
@@ -43,11 +35,6 @@ PROBE = """
   requestAnimationFrame(tick);
 })();
 """
-
-
-def chromium() -> str | None:
-    """The Chromium executable (``CCU_CHROMIUM`` or ``chromium`` on the PATH), or None."""
-    return os.environ.get("CCU_CHROMIUM") or shutil.which("chromium")
 
 
 def free_port() -> int:

@@ -30,26 +30,17 @@ import io
 import json
 import os
 import re
-import shutil
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
+from browser import CHROMIUM_ARGS, chromium
 from compas_ccu.viz.colors import KIND_COLORS
 from compas_ccu.viz.viewer import VIEWER_DIV_ID, viewer_figure, write_viewer
 
 STEPS = 12
 VIEWPORT = {"width": 1280, "height": 800}
-CHROMIUM_ARGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--no-first-run",
-    "--disable-quic",
-]
 SHOTS = os.environ.get("CCU_VIEWER_SHOTS")  # folder to keep the screenshots in, if set
 
 # thresholds (see the module docstring for the measured values)
@@ -91,10 +82,8 @@ class _NoBrowser:
 
 
 def _chromium():
-    """The Chromium executable (``CCU_CHROMIUM`` or ``chromium`` on the PATH), or None."""
-    if os.environ.get("CCU_SKIP_BROWSER") == "1":
-        pytest.skip("CCU_SKIP_BROWSER=1: browser tests skipped")
-    return os.environ.get("CCU_CHROMIUM") or shutil.which("chromium")
+    """The Chromium executable, or None (:func:`browser.chromium`)."""
+    return chromium()
 
 
 @pytest.fixture(scope="module")
