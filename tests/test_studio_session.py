@@ -17,7 +17,7 @@ import strategies
 from compas_ccu.catalog import catalog_path
 from compas_ccu.design.document import parse_toml
 from compas_ccu.design.schema import SCHEMA
-from compas_ccu.errors import OptionError
+from compas_ccu.errors import DesignError, OptionError
 from compas_ccu.key_figures import key_figures
 from compas_ccu.model import load_model
 from compas_ccu.studio import StudioSession
@@ -253,6 +253,14 @@ def test_the_recovery_copy_restores_an_unsaved_edit(folders):
     assert third.model.design.crease.rise == 0.85
 
 
+def test_a_value_toml_cannot_hold_is_named(session):
+    with pytest.raises(DesignError, match=r"deployment.alpha: a NoneType cannot be written"):
+        document_text({"deployment": {"alpha": None}})
+    session.replace({**session.document, "deployment": {"alpha": None}})
+    assert session.problem.key == "deployment.alpha"
+    assert "could not write the recovery copy" in session.notice
+
+
 def test_document_text_without_a_source():
     document = {"crease": {"profile": "arc", "points": [[0.0, 1.0], [2.0, 3.0]]}}
     text = document_text(document)
@@ -405,8 +413,15 @@ def test_any_design_is_a_model_or_a_problem_and_saves_as_it_reads(tmp_path_facto
     else:
         assert problem.kind != "bug", problem.message
         assert session.model is vault  # the last valid model stays
-    # what Save writes reads back as the document (over the vault file's comments)
-    assert _same(parse_toml(session.text()), document)
+    # what Save writes reads back as the document (over the vault file's comments), or a value
+    # TOML cannot hold is named
+    try:
+        text = session.text()
+    except DesignError as exc:
+        assert "cannot be written to a TOML file" in str(exc) and exc.key
+        assert "could not write the recovery copy" in session.notice
+        return
+    assert _same(parse_toml(text), document)
     # and every control shows a value that edits back to the same document value
     for control in design_controls():
         value = session.value(control.section, control.name)

@@ -175,12 +175,14 @@ def format_value(control: Control, value) -> str:
     >>> c = next(c for c in design_controls() if c.key == "crease.points")
     >>> format_value(c, [[0.0, 0.0], [1.25, 0.5]])
     '[[0.0, 0.0], [1.25, 0.5]]'
+    >>> format_value(next(c for c in design_controls() if c.key == "crease.rise"), "2")
+    '"2"'
     """
     if value is None or value is UNSET:
         return ""
-    if isinstance(value, str):
+    if isinstance(value, str) and (control.kind == "str" or control.widget == "dropdown"):
         return value
-    return _toml(value)
+    return _toml(value)  # a string where a number belongs shows its quotes: "2" is not 2
 
 
 def parse_value(control: Control, text: str):

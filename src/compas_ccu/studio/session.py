@@ -71,7 +71,32 @@ def _problem(exc: BaseException) -> Problem:
 
 def document_text(document: dict, source: str | None = None) -> str:
     """TOML text of ``document``; with ``source`` (the text it was read from) the comments,
-    order and layout of the unchanged keys are kept (tomlkit)."""
+    order and layout of the unchanged keys are kept (tomlkit).
+
+    Raises
+    ------
+    DesignError
+        A value TOML cannot hold (None, an object), naming its key.
+    """
+    for section, values in document.items():
+        for name, value in values.items() if isinstance(values, dict) else [("", values)]:
+            if not _writable(value):
+                key = f"{section}.{name}" if name else f"[{section}]"
+                raise DesignError(
+                    f"a {type(value).__name__} cannot be written to a TOML file", key=key
+                )
+    return _document_text(document, source)
+
+
+def _writable(value) -> bool:
+    if isinstance(value, (list, tuple)):
+        return all(map(_writable, value))
+    if isinstance(value, dict):
+        return all(map(_writable, value.values()))
+    return isinstance(value, (str, int, float, bool))
+
+
+def _document_text(document: dict, source: str | None) -> str:
     import tomlkit
 
     doc = tomlkit.parse(source) if source else tomlkit.document()
@@ -355,13 +380,14 @@ class StudioSession:
 
     def _recover(self) -> None:
         """Keep the current text in the recovery copy (a killed server loses no edit)."""
-        meta = {
-            "name": self.name,
-            "origin": self.origin,
-            "time": time.strftime("%Y-%m-%d %H:%M:%S"),
-            "sha256": _sha(self.text()),
-        }
         try:
-            self.files.save_recovery(self.text(), meta)
-        except OSError as exc:  # the page says so; the edit itself is not lost
+            text = self.text()
+            meta = {
+                "name": self.name,
+                "origin": self.origin,
+                "time": time.strftime("%Y-%m-%d %H:%M:%S"),
+                "sha256": _sha(text),
+            }
+            self.files.save_recovery(text, meta)
+        except (OSError, CCUError) as exc:  # the page says so; the edit itself is not lost
             self.notice = f"could not write the recovery copy: {exc}"
