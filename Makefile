@@ -61,6 +61,7 @@ demo: setup
 	@echo "  $(OUT)/cone-fe/                    (FE validation of the cone pair: Kratos + OpenSees)"
 	@echo "FE validation of the vault (about 2 minutes): .venv/bin/ccu validate examples/vault.toml --out $(OUT)/vault-fe"
 	@echo "Design-space sweep, 270 variants on a local Dask cluster (about 30 s): make explore"
+	@echo "Edit the vault live in the browser (design studio, Ctrl-C stops it): make studio"
 
 # the live design studio on the vault (http://127.0.0.1:8080; Ctrl-C stops it; docs/studio.md)
 studio: setup
