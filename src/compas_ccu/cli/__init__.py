@@ -1,5 +1,5 @@
 """Command line interface: ``ccu deploy | path | info | planarity | catalog | validate | fabricate |
-explore | figures | animate | view | sheet | report | studio``.
+explore | scale | figures | animate | view | sheet | report | studio``.
 
 Every command takes a design TOML file (see ``docs/design-files.md``) or a sweep file. The
 commands are declared as data, one module per group (:mod:`.model_commands`, :mod:`.pictures`,
@@ -18,7 +18,16 @@ from __future__ import annotations
 import sys
 import traceback
 
-from compas_ccu.cli import catalog, explore, fabrication, fea, model_commands, pictures, studio
+from compas_ccu.cli import (
+    catalog,
+    explore,
+    fabrication,
+    fea,
+    model_commands,
+    pictures,
+    scale,
+    studio,
+)
 from compas_ccu.cli.parser import OUT, check_options
 from compas_ccu.cli.parser import build_parser as _build_parser
 from compas_ccu.cli.text import thickness_lines
@@ -31,11 +40,11 @@ __all__ = ["main", "build_parser", "COMMANDS", "thickness_lines"]
 #: Every command, in the order ``ccu --help`` lists them.
 _ALL = {
     c.name: c
-    for module in (model_commands, pictures, catalog, fea, explore, fabrication, studio)
+    for module in (model_commands, pictures, catalog, fea, explore, scale, fabrication, studio)
     for c in module.COMMANDS
 }
 _ORDER = ("deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
-_ORDER += ("catalog", "validate", "explore", "fabricate", "report", "studio")
+_ORDER += ("catalog", "validate", "explore", "scale", "fabricate", "report", "studio")
 COMMANDS = tuple(_ALL[name] for name in _ORDER)
 
 BUG = (

@@ -64,6 +64,8 @@ KEY_FIGURE_COLUMNS = {
         "plate_area": "plate_area",
         "stack_length": "stack_length",
         "stack_width": "stack_width",
+        "plate_length": "plate_length",
+        "plate_width": "plate_width",
         "global_curvature": "global_curvature",
         "invariant_error": "invariant_max_relative",
     },

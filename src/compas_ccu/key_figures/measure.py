@@ -8,6 +8,7 @@ import numpy as np
 
 from compas_ccu.analysis import global_curvature
 from compas_ccu.analysis.planarity import path_alphas, planarity_along_path
+from compas_ccu.analysis.plate_size import plate_rectangles
 from compas_ccu.errors import OptionError
 from compas_ccu.io import flat_footprint
 from compas_ccu.key_figures.table import FIGURES, figure
@@ -179,6 +180,7 @@ def design_state_figures(model, structure=None) -> dict:
     alphas = [a for c in structure.creases for a in c["alpha"]] + list(m["alpha_leading"])
     plan_x, plan_y, height = (float(v) for v in m["bounding_box"])
     stack_x, stack_y = flat_footprint(structure)
+    rectangles = plate_rectangles(structure.flat)
     overlap = float(model.overlap_alpha)
     invariants = {
         key: float(m[key])
@@ -220,6 +222,8 @@ def design_state_figures(model, structure=None) -> dict:
             "stack_y": stack_y,
             "stack_length": max(stack_x, stack_y),
             "stack_width": min(stack_x, stack_y),
+            "plate_length": float(rectangles[:, 0].max()),
+            "plate_width": float(rectangles[:, 1].max()),
             **invariants,
             "invariant_max_relative": structure.max_invariant_error,
             "crease_planarity_design": m["crease_planarity_max"],

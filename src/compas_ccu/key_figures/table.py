@@ -167,6 +167,19 @@ FIGURES = (
             ("stack_y", "float", "m", "Flat-folded stack: extent along y of the stack plane."),
             ("stack_length", "float", "m", "Flat-folded stack: bounding box in the plane, long."),
             ("stack_width", "float", "m", "Flat-folded stack: bounding box in the plane, short."),
+            (
+                "plate_length",
+                "float",
+                "m",
+                "Largest cut pattern: the longest side of the minimum-area rectangles around the "
+                "plates (what a stock sheet must hold).",
+            ),
+            (
+                "plate_width",
+                "float",
+                "m",
+                "Largest cut pattern: the longest short side of those rectangles.",
+            ),
         ],
     ),
     *_group(

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from compas_ccu.analysis.plate_size import fits_sheet, plate_rectangles
 from compas_ccu.fabrication.meshes import solid_mesh
 from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.viz import colors as C
@@ -279,19 +280,12 @@ def cut_patterns_svg(model, *, sheet=SHEET, width: int = 560) -> tuple:
     too_large : list of int
         Plate ids whose cut pattern does not fit on ``sheet`` (in any orientation).
     """
-    import shapely
-
     flat = model.flat()
     ids = model.plate_ids
     offsets = pattern_layout(flat)
     outlines = [plate_outline(f) + o for f, o in zip(flat, offsets)]
-    too_large = []
-    for pid, ring in zip(ids, outlines):
-        box = shapely.minimum_rotated_rectangle(shapely.Polygon(ring))
-        xy = np.asarray(box.exterior.coords)[:4]
-        sides = sorted(np.linalg.norm(np.diff(np.r_[xy, xy[:1]], axis=0), axis=1)[:2])
-        if sides[1] > max(sheet) or sides[0] > min(sheet):
-            too_large.append(pid)
+    fits = fits_sheet(plate_rectangles(flat), sheet)
+    too_large = [pid for pid, ok in zip(ids, fits) if not ok]
     pts = np.concatenate(outlines)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     gap = 0.05 * float(max(hi - lo))

@@ -1,0 +1,118 @@
+"""``ccu scale``: a span scaling study of a design (docs/explore.md)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from compas_ccu.cli.common import load_model, missing_modules, say
+from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
+from compas_ccu.errors import OptionError
+from compas_ccu.explore.scale import SHEET, THICKNESS_LAWS, plot_scale, scale_study, write_csv
+from compas_ccu.viz.export import save_figure
+
+__all__ = ["COMMANDS"]
+
+
+def _numbers(text: str | None, option_name: str) -> list | None:
+    if text is None:
+        return None
+    try:
+        return [float(v) for v in text.replace("x", ",").split(",") if v.strip()]
+    except ValueError:
+        raise OptionError(
+            f"{option_name} must be numbers separated by commas, got {text!r}"
+        ) from None
+
+
+def scale(args) -> int:
+    sheet = _numbers(args.sheet, "--sheet")
+    if len(sheet) != 2 or min(sheet) <= 0:
+        raise OptionError(f"--sheet must be LENGTHxWIDTH in m, e.g. 2.44x1.22, got {args.sheet!r}")
+    thicknesses = _numbers(args.thickness, "--thickness")
+    law = args.thickness_law or ("given" if thicknesses else "constant")
+    model = load_model(args.design)
+    base = model.deploy().metrics["span"]
+    fe = {} if args.fe else None
+
+    def progress(row):
+        if row["status"] == "ok":
+            say(
+                args,
+                f"span {row['span']:6.3f} m  t {row['thickness'] * 1000:5.2f} mm  "
+                f"mass {row['mass']:8.1f} kg  bending {row['bending_utilisation']:.3f}  plate "
+                f"{row['plate_length']:.3f} x {row['plate_width']:.3f} m"
+                + ("" if row["fits_sheet"] else " (larger than the sheet)"),
+            )
+        else:
+            say(args, f"span {row['span_target']:6.3f} m  failed: {row['error']}")
+
+    rows = scale_study(
+        model.design.document,
+        base,
+        to_span=args.to,
+        steps=args.steps,
+        law=law,
+        thicknesses=thicknesses,
+        sheet=tuple(sheet),
+        collisions=True,
+        fe=fe,
+        progress=progress,
+    )
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / "scale.csv")
+    say(args, f"wrote {out / 'scale.csv'}")
+    if not missing_modules(["matplotlib"]):
+        fig = plot_scale(
+            rows, sheet=tuple(sheet), title=f"{model.design.name}: span scaling ({law})"
+        )
+        for path in save_figure(fig, out / "scale"):
+            say(args, f"wrote {path}")
+    return 0
+
+
+COMMANDS = (
+    Command(
+        "scale",
+        "scale a design to other spans (a span scaling study)",
+        "Scale every length of DESIGN from its crease span to --to in --steps equal steps, the "
+        "plate thickness following --thickness-law, and measure every span as ccu explore does "
+        "(stack and plate size, mass, bending utilisation, collisions; FE with --fe). Writes "
+        "scale.csv and scale.png / .svg (the columns against the span) into --out.",
+        (
+            DESIGN,
+            OUT,
+            option("--to", type=float, required=True, help="the largest span, m"),
+            option(
+                "--steps",
+                type=int,
+                default=7,
+                minimum=1,
+                help="steps after the base span (default 7)",
+            ),
+            option(
+                "--thickness-law",
+                choices=THICKNESS_LAWS,
+                default=None,
+                help="constant (default), proportional, cuberoot (t0 (s)^(2/3)) or given",
+            ),
+            option(
+                "--thickness",
+                default=None,
+                help="with law 'given': one thickness per span, m, comma separated",
+            ),
+            option(
+                "--sheet",
+                default=f"{SHEET[0]}x{SHEET[1]}",
+                help="stock sheet LENGTHxWIDTH, m (default 2.44x1.22)",
+            ),
+            option(
+                "--fe",
+                action="store_true",
+                help="also run the FE validation at every span (minutes each)",
+            ),
+            QUIET,
+        ),
+        scale,
+    ),
+)

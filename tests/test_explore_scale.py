@@ -1,0 +1,106 @@
+"""Span scaling studies: similar designs whose numbers follow the exact scaling laws."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+from compas_ccu.cli import main
+from compas_ccu.design import load_design
+from compas_ccu.errors import OptionError
+from compas_ccu.explore.scale import law_thickness, scale_study, scaled_document
+from conftest import EXAMPLES
+
+
+@pytest.fixture(scope="module")
+def vault():
+    return load_design(EXAMPLES / "vault.toml").document
+
+
+@pytest.mark.parametrize(
+    "law, bending_power, mass_power",
+    [("constant", -1.0, 2.0), ("proportional", 0.0, 3.0), ("cuberoot", -1.0 / 3.0, 8.0 / 3.0)],
+)
+def test_similar_designs_follow_the_scaling_laws(vault, law, bending_power, mass_power):
+    # curvature ~ 1/s, bending stress ~ t kappa: utilisation ~ t / s; mass ~ s^2 t
+    rows = scale_study(vault, 2.5, to_span=6.0, steps=3, law=law, collisions=False)
+    base = rows[0]
+    assert [r["status"] for r in rows] == ["ok"] * 4
+    for r in rows:
+        s = r["scale"]
+        assert r["span"] == pytest.approx(2.5 * s, rel=1e-12)
+        assert r["rise"] == pytest.approx(base["rise"] * s, rel=1e-12)
+        assert r["plate_length"] == pytest.approx(base["plate_length"] * s, rel=1e-9)
+        assert r["bending_utilisation"] == pytest.approx(
+            base["bending_utilisation"] * s**bending_power, rel=1e-9
+        )
+        assert r["mass"] == pytest.approx(base["mass"] * s**mass_power, rel=1e-12)
+        assert r["stack_height"] == pytest.approx(10 * r["thickness"], rel=1e-12)
+    assert [r["span_target"] for r in rows] == pytest.approx([2.5, 3.666666, 4.833333, 6.0])
+
+
+def test_the_sheet_check_and_the_given_law(vault):
+    rows = scale_study(vault, 2.5, to_span=3.0, steps=1, law="given",
+                       thicknesses=[0.008, 0.012], sheet=(3.0, 1.25), collisions=False)  # fmt: skip
+    assert [r["thickness"] for r in rows] == [0.008, 0.012]
+    assert [r["fits_sheet"] for r in rows] == [True, False]  # 2.72 x 0.99 fits; 3.27 m does not
+
+
+def test_every_length_of_the_schema_is_scaled_and_nothing_else():
+    doc = {
+        "crease": {"profile": "funicular", "span": 2.0, "rise": 0.5, "segments": 40,
+                   "point_loads": [[0.2, 3.0]], "distributed_loads": [[-1.0, 1.0, 1.0, 2.0]],
+                   "reference": 0.5},
+        "rulings": {"type": "conical", "apex": [0.0, -2.0]},
+        "deployment": {"alpha": 30.0},
+        "layout": {"type": "inclined", "plates": 4, "spacing": [0.1, 0.2, 0.1, 0.2],
+                   "spacing_start": 0.05},
+        "target": {"apex": [[0.0, 0.5], [1.0, 0.6]]},
+        "plates": {"thickness": 0.008, "hinge_width": 0.05, "grain": 30.0},
+        "plane": {"origin": [1.0, 2.0, 3.0], "xaxis": [1.0, 0.0, 0.0]},
+    }  # fmt: skip
+    out = scaled_document(doc, 2.0)
+    assert out["crease"] == {**doc["crease"], "span": 4.0, "rise": 1.0,
+                             "point_loads": [[0.4, 3.0]],
+                             "distributed_loads": [[-2.0, 2.0, 1.0, 2.0]]}  # fmt: skip
+    assert out["rulings"]["apex"] == [0.0, -4.0]
+    assert out["layout"]["spacing"] == [0.2, 0.4, 0.2, 0.4] and out["layout"]["plates"] == 4
+    assert out["layout"]["spacing_start"] == 0.1
+    assert out["target"]["apex"] == [[0.0, 1.0], [2.0, 1.2]]
+    assert out["plates"] == doc["plates"]  # thickness by its law, hinge width and grain kept
+    assert out["plane"] == {"origin": [2.0, 4.0, 6.0], "xaxis": [1.0, 0.0, 0.0]}
+    assert out["deployment"] == doc["deployment"]
+    assert doc["crease"]["span"] == 2.0  # the input is not changed
+
+
+def test_refusals(vault):
+    with pytest.raises(OptionError, match="needs 4 thicknesses"):
+        scale_study(vault, 2.5, to_span=6.0, steps=3, law="given", thicknesses=[0.01])
+    with pytest.raises(OptionError, match="unknown thickness law 'square'"):
+        scale_study(vault, 2.5, to_span=6.0, law="square")
+    with pytest.raises(OptionError, match="scale factor must be > 0"):
+        scaled_document(vault, 0.0)
+    with pytest.raises(OptionError, match="steps must be >= 1"):
+        scale_study(vault, 2.5, to_span=6.0, steps=0)
+    assert law_thickness("proportional", 0.01, 1.5) == pytest.approx(0.015)
+
+
+def test_ccu_scale_writes_the_table_and_the_plots(tmp_path, capsys):
+    out = tmp_path / "scale"
+    code = main(["scale", str(EXAMPLES / "vault.toml"), "--to", "4", "--steps", "2",
+                 "--thickness-law", "cuberoot", "--out", str(out)])  # fmt: skip
+    assert code == 0
+    with open(out / "scale.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [float(r["span"]) for r in rows] == pytest.approx([2.5, 3.25, 4.0])
+    assert all(r["status"] == "ok" and r["collision_free"] == "True" for r in rows)
+    t = np.array([float(r["thickness"]) for r in rows])
+    assert t == pytest.approx(0.008 * (np.array([2.5, 3.25, 4.0]) / 2.5) ** (2 / 3))
+    assert (out / "scale.png").stat().st_size > 10_000 and (out / "scale.svg").is_file()
+    text = capsys.readouterr().out
+    assert "larger than the sheet" in text and "wrote" in text
+    assert main(["scale", str(EXAMPLES / "vault.toml"), "--to", "4", "--sheet", "2.4",
+                 "--out", str(tmp_path / "x")]) == 2  # fmt: skip
+    assert "--sheet must be LENGTHxWIDTH" in capsys.readouterr().err
