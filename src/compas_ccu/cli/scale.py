@@ -32,7 +32,11 @@ def scale(args) -> int:
     law = args.thickness_law or ("given" if thicknesses else "constant")
     model = load_model(args.design)
     base = model.deploy().metrics["span"]
-    fe = {} if args.fe else None
+    if args.area_load is not None and not args.fe:
+        raise OptionError("--area-load is the load of the FE checks: give --fe as well")
+    fe = None
+    if args.fe:
+        fe = {} if args.area_load is None else {"area_load": args.area_load}
 
     def progress(row):
         if row["status"] == "ok":
@@ -109,7 +113,14 @@ COMMANDS = (
             option(
                 "--fe",
                 action="store_true",
-                help="also run the FE validation at every span (minutes each)",
+                help="also run the FE validation at every span (minutes each): deflection, "
+                "utilisation and linear buckling factor under self-weight + --area-load",
+            ),
+            option(
+                "--area-load",
+                type=float,
+                default=None,
+                help="with --fe: the distributed load of the checks, N/m2 (default 1500)",
             ),
             QUIET,
         ),
