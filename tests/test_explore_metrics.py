@@ -64,7 +64,17 @@ def test_cone_bending_is_the_thick_model_check_over_the_path(cone_row):
     bend = ThickModel(model).bending(np.linspace(0.0, 40.0, 9))
     assert cone_row["bending_utilisation"] == bend.max
     assert cone_row["bending_curvature"] == float(np.abs(bend.curvature).max())
-    assert 0.0 < cone_row["bending_utilisation"] < 1.0
+    assert cone_row["bending_utilisation_characteristic"] == bend.max_characteristic
+    assert 0.0 < cone_row["bending_utilisation_characteristic"] < 1.0
+    # the default basis (EC5, SC1, permanent): f_d = 0.6 f_k / 1.2, the utilisation doubles
+    assert cone_row["bending_utilisation"] == pytest.approx(
+        2.0 * cone_row["bending_utilisation_characteristic"], rel=1e-12
+    )
+    assert (cone_row["bending_basis"], cone_row["k_mod"], cone_row["gamma_M"]) == (
+        "EC5 SC1 permanent",
+        0.6,
+        1.2,
+    )
 
 
 def test_row_has_exactly_the_declared_columns(cone_row):
