@@ -53,6 +53,7 @@ def structural_checks(history: DeploymentHistory) -> dict | None:
         "deflection_ratio": float(deflection.max() / limit),
         "deflection_ok": bool(deflection.max() <= limit),
         "utilisation_max": float(utilisation[worst]),
+        "utilisation_max_characteristic": float((peak / m.strength).max()),
         "utilisation_plate": int(h.model.plate_ids[h.mesh.element_plate[worst]]),
         "strength_MPa": strength / 1e6,
         "strength_characteristic_MPa": m.strength / 1e6,
