@@ -151,7 +151,9 @@ def test_fe_metrics_of_the_cone():
     row = evaluate_variant(copy.deepcopy(CONE), path_states=5, fe=fe)
     assert row["status"] == "ok", row["error"]
     assert 0.0 < row["fe_deviation_percent"] < 1.0  # the FE plates follow the kinematics
-    assert 0.0 < row["fe_bending_MPa"] < 30.0 and 0.0 < row["fe_utilisation"] < 1.0
+    # below the characteristic 30 MPa; the utilisation is against the design strength of the
+    # default basis (EC5 SC1 permanent: 0.6 x 30 / 1.2 = 15 MPa), hence up to 2
+    assert 0.0 < row["fe_bending_MPa"] < 30.0 and 0.0 < row["fe_utilisation"] < 2.0
     assert row["fe_buckling_factor"] > 1.0 and row["fe_elements"] > 0 and row["t_fe"] > 0.0
 
 
