@@ -191,6 +191,9 @@ def designs(draw) -> dict:
             ),
             "hinge_width": draw(_number(0.01, 0.1, wild)),
         }
+        if doc["plates"]["material"] == "gfrp" and not wild:
+            # gfrp has no default design factors (docs/thickness.md, "Design values")
+            doc["design_code"] = {"gamma_M": 1.3, "k_mod": 0.5}
     if draw(st.integers(0, 3)) == 0:
         doc["plane"] = {
             "origin": [draw(_number(-1e7, 1e7, wild)), draw(_number(-10.0, 10.0, wild)), 0.0],

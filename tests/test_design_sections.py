@@ -25,7 +25,8 @@ BASE = {
 
 
 def test_one_typed_section_per_schema_section_with_every_key():
-    assert [f.name for f in dataclasses.fields(DesignSections)] == list(SCHEMA)
+    # and the named tables [materials.NAME] (compas_ccu.design.sections.MaterialsSection)
+    assert [f.name for f in dataclasses.fields(DesignSections)] == [*SCHEMA, "materials"]
     for section, keys in SCHEMA.items():
         names = [f.name for f in dataclasses.fields(SECTION_TYPES[section])]
         assert names == [k for k in keys if not k.startswith("_")]
@@ -107,6 +108,24 @@ BROKEN = {
     ("layout.axis", "radial"): (
         _doc(layout={"type": "radial", "plates": 4, "angle": 10.0}),
         r"layout\.axis: required for layout type 'radial'",
+    ),
+    ("plates.material", "unknown"): (
+        _doc(plates={"material": "oak"}, materials={"myply": {"base": "plywood"}}),
+        r"plates\.material: unknown material 'oak'; known: 'plywood', .*'aluminium', 'myply'",
+    ),
+    ("design_code.gamma_M", "gfrp"): (
+        _doc(plates={"material": "gfrp"}, design_code={"k_mod": 0.5}),
+        r"design_code\.gamma_M: required for code 'EC5' with plate material 'gfrp' of kind "
+        r"'gfrp' \(no default design factors\); or code = 'characteristic'",
+    ),
+    ("design_code.k_mod", "other"): (
+        _doc(
+            plates={"material": "resin"},
+            design_code={"gamma_M": 1.4},
+            materials={"resin": {"E": 3e9, "nu12": 0.35, "density": 1200.0, "f": 60e6}},
+        ),
+        r"design_code\.k_mod: required for code 'EC5' with plate material 'resin' of kind "
+        r"'other'",
     ),
 }
 

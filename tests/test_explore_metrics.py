@@ -64,7 +64,17 @@ def test_cone_bending_is_the_thick_model_check_over_the_path(cone_row):
     bend = ThickModel(model).bending(np.linspace(0.0, 40.0, 9))
     assert cone_row["bending_utilisation"] == bend.max
     assert cone_row["bending_curvature"] == float(np.abs(bend.curvature).max())
-    assert 0.0 < cone_row["bending_utilisation"] < 1.0
+    assert cone_row["bending_utilisation_characteristic"] == bend.max_characteristic
+    assert 0.0 < cone_row["bending_utilisation_characteristic"] < 1.0
+    # the default basis (EC5, SC1, permanent): f_d = 0.6 f_k / 1.2, the utilisation doubles
+    assert cone_row["bending_utilisation"] == pytest.approx(
+        2.0 * cone_row["bending_utilisation_characteristic"], rel=1e-12
+    )
+    assert (cone_row["bending_basis"], cone_row["k_mod"], cone_row["gamma_M"]) == (
+        "EC5 SC1 permanent",
+        0.6,
+        1.2,
+    )
 
 
 def test_row_has_exactly_the_declared_columns(cone_row):
@@ -141,7 +151,9 @@ def test_fe_metrics_of_the_cone():
     row = evaluate_variant(copy.deepcopy(CONE), path_states=5, fe=fe)
     assert row["status"] == "ok", row["error"]
     assert 0.0 < row["fe_deviation_percent"] < 1.0  # the FE plates follow the kinematics
-    assert 0.0 < row["fe_bending_MPa"] < 30.0 and 0.0 < row["fe_utilisation"] < 1.0
+    # below the characteristic 30 MPa; the utilisation is against the design strength of the
+    # default basis (EC5 SC1 permanent: 0.6 x 30 / 1.2 = 15 MPa), hence up to 2
+    assert 0.0 < row["fe_bending_MPa"] < 30.0 and 0.0 < row["fe_utilisation"] < 2.0
     assert row["fe_buckling_factor"] > 1.0 and row["fe_elements"] > 0 and row["t_fe"] > 0.0
 
 

@@ -15,6 +15,7 @@ pytest.importorskip("rhino3dm")
 pytest.importorskip("trimesh")
 
 from compas_ccu.cli import main  # noqa: E402
+from compas_ccu.cli.text import thickness_lines  # noqa: E402
 from compas_ccu.fabrication.dxf import read_plate_dxf  # noqa: E402
 from compas_ccu.fabrication.fabricate import fabricate  # noqa: E402
 from compas_ccu.fabrication.fold import read_fold  # noqa: E402
@@ -48,10 +49,36 @@ def test_manifest_numbers(fabricated, vault_model):
     assert m["thickness"] == 0.008 and m["material"] == "plywood"
     assert m["collisions"]["interpenetration"] is False
     assert m["collisions"]["min_clearance"] == pytest.approx(0.008, abs=1e-12)
-    assert 0.4 < m["bending"]["max_utilisation"] < 0.7
-    assert m["bending"]["exceeded"] is False
+    # 8 mm plywood in the vault: characteristic 0.56, design (EC5 SC1 permanent) 1.12
+    assert 0.4 < m["bending"]["max_utilisation_characteristic"] < 0.7
+    assert m["bending"]["max_utilisation"] == pytest.approx(
+        m["bending"]["max_utilisation_characteristic"] * 1.2 / 0.6, rel=1e-12
+    )
+    assert m["bending"]["exceeded"] is True
+    basis = m["bending"]["basis"]
+    assert (basis["code"], basis["service_class"], basis["load_duration"]) == (
+        "EC5",
+        1,
+        "permanent",
+    )
+    assert (basis["k_mod"], basis["gamma_M"], basis["k_def"]) == (0.6, 1.2, 0.8)
+    assert basis["basis"] == "EC5 SC1 permanent" and basis["strength_factor"] == 0.5
     assert max(m["correction_design"]) < 1e-12
     assert m["stack_order"] == ThickModel(vault_model).stack_order
+
+
+def test_printed_check_states_the_basis(fabricated):
+    """``ccu fabricate`` prints thickness_lines(manifest): the basis and the factors."""
+    _, m = fabricated
+    text = "\n".join(thickness_lines(m))
+    assert "EXCEEDED" in text
+    assert "limit f_d/(E t/2)" in text
+    assert (
+        "bending basis     EC5 SC1 permanent: f_d = k_mod f_k / gamma_M, k_mod 0.6, gamma_M 1.2"
+        in text
+    )
+    assert "characteristic utilisation 0.56" in text
+    assert "creep: k_def 0.8, final stiffness E/(1 + k_def) 5 / 5 GPa (E1 / E2)" in text
 
 
 def test_plate_dxf_matches_cut_pattern(fabricated, vault_model):

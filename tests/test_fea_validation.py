@@ -217,7 +217,12 @@ def test_structural_checks_on_the_deployed_state(cone):
         v.spans[2] / 500.0
     )
     assert c["deflection_ok"] == (c["deflection_max_m"] <= c["deflection_limit_m"])
-    assert 0.0 < c["utilisation_max"] < 2.0 and c["strength_MPa"] == 30.0
+    # the design strength of the default basis (EC5 SC1 permanent): 0.6 x 30 / 1.2 = 15 MPa
+    assert c["strength_MPa"] == pytest.approx(15.0, rel=1e-15)
+    assert c["strength_characteristic_MPa"] == 30.0
+    assert c["basis"]["basis"] == "EC5 SC1 permanent" and c["basis"]["k_mod"] == 0.6
+    assert 0.0 < c["utilisation_max_characteristic"] < 2.0
+    assert c["utilisation_max"] == pytest.approx(2.0 * c["utilisation_max_characteristic"])
     assert c["buckling_factor"] is None and "kratos" in c["buckling_note"]
 
 
@@ -342,3 +347,6 @@ def test_validate_uses_the_designs_plates_and_says_so(tmp_path, capsys):
     assert "plates: 10 mm aluminium (thickness from option, material from design [plates])" in out
     saved = json.loads((tmp_path / "fe" / "validation.json").read_text())
     assert saved["plates"]["thickness"] == 0.01
+    # aluminium: gamma_M 1.1 (EN 1999-1-1), k_mod 1: the design strength is 130 / 1.1 MPa
+    assert "strength: 118.2 MPa, EC5 SC1 permanent: f_d = k_mod f_k / gamma_M, k_mod 1" in out
+    assert saved["checks"]["strength_MPa"] == pytest.approx(130.0 / 1.1, rel=1e-12)

@@ -152,7 +152,12 @@ def test_thickness_and_path_figures(vault_model):
     assert k.thickness == 0.008 and k.material == "plywood"
     assert k.stack_height == pytest.approx(0.08, abs=1e-15)
     assert k.mass == pytest.approx(k.plate_area * 0.008 * 600.0, rel=1e-13)
-    assert 0.0 < k.bending_utilisation < 1.0
+    assert 0.0 < k.bending_utilisation_characteristic < 1.0
+    # the default basis, EC5 SC1 permanent: k_mod 0.6, gamma_M 1.2 (docs/thickness.md)
+    assert (k.bending_basis, k.k_mod, k.gamma_M, k.k_def) == ("EC5 SC1 permanent", 0.6, 1.2, 0.8)
+    assert k.bending_utilisation == pytest.approx(
+        k.bending_utilisation_characteristic * 1.2 / 0.6, rel=1e-12
+    )
     assert k.relaxed_strain is None  # exact designs are not relaxed
 
 

@@ -9,8 +9,11 @@ import pytest
 
 from compas_ccu.cli import main
 from compas_ccu.design import load_design
-from compas_ccu.materials import material
+from compas_ccu.kinematics.plates import stack_rows
+from compas_ccu.materials import MaterialError, design_factors, material
+from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.thickness import ThickModel, bending_check
+from compas_ccu.thickness.bending import bending_angles
 from conftest import EXAMPLES
 
 
@@ -65,12 +68,18 @@ def test_vault_utilisation_per_plate(vault_model):
     per_plate = check.per_plate
     assert per_plate.shape == (7, 10)
     assert np.all(np.diff(per_plate.max(axis=1)) > 0)  # bending grows as the vault opens
-    # u = |κ| / (f / (E t/2)) with the measured curvature
-    assert check.max == pytest.approx(np.abs(check.curvature).max() / (30e6 / 36e6), rel=1e-12)
-    assert 0.4 < check.max < 0.7
+    # u_k = |κ| / (f_k / (E t/2)) with the measured curvature
+    kappa = np.abs(check.curvature).max()
+    assert check.max_characteristic == pytest.approx(kappa / (30e6 / 36e6), rel=1e-12)
+    assert 0.4 < check.max_characteristic < 0.7
+    # the default basis: EC5 design strength f_d = 0.6 f_k / 1.2 = f_k / 2 (docs/thickness.md)
+    assert check.max == pytest.approx(kappa / (15e6 / 36e6), rel=1e-12)
     summary = thick.summary(path_states=7)["bending"]
-    assert summary["exceeded"] is False
+    assert summary["exceeded"] is True  # 8 mm plywood exceeds the design strength
     assert summary["max_utilisation"] == pytest.approx(check.max)
+    assert summary["max_utilisation_characteristic"] == pytest.approx(check.max_characteristic)
+    characteristic = ThickModel(vault_model, design_code={"code": "characteristic"})
+    assert characteristic.summary(path_states=7)["bending"]["exceeded"] is False
 
 
 def test_thicker_plates_fail_and_are_flagged(vault_model, capsys):
@@ -97,3 +106,88 @@ def test_info_flags_exceeded_bending(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "EXCEEDED" in out
     assert "16 mm plywood" in out
+
+
+# -- design values (docs/thickness.md, "Design values") -------------------------------------------
+def test_cylinder_characteristic_and_design_utilisation_exactly():
+    """R = 2 m, 8 mm plywood: 0.6 characteristic; 0.6 · γ_M / k_mod = 0.6 · 1.2 / 0.6 = 1.2
+    with the design strength of a permanent action in service class 1."""
+    plate, flat = _cylinder()
+    ply = material("plywood")
+    characteristic = bending_check(plate, flat, 0.008, ply)
+    design = bending_check(plate, flat, 0.008, ply, factors=design_factors(ply))
+    # at the exact curvature κ = 0.5 1/m of the cylinder (the limits are uniform)
+    assert abs(0.5 / characteristic.limit.max() - 0.6) < 1e-12
+    assert abs(0.5 / design.limit.max() - 1.2) < 1e-12
+    assert np.ptp(design.limit) == 0.0
+    # measured on the 40-segment polyline (κ within 3e-5 of 0.5): the same ratio
+    assert round(characteristic.max, 4) == 0.6 and round(design.max, 4) == 1.2
+    assert abs(design.max / characteristic.max - 1.2 / 0.6) < 1e-12
+    assert design.max_characteristic == characteristic.max
+    assert characteristic.factors.is_characteristic
+    assert design.factors.label == "EC5 SC1 permanent"
+    assert (design.factors.k_mod, design.factors.gamma_M) == (0.6, 1.2)
+    assert np.array_equal(design.limit_characteristic, characteristic.limit)
+    # service class 3, short-term: k_mod 0.70 -> 0.6 · 1.2 / 0.7
+    factors = design_factors(ply, "EC5", 3, "short-term")
+    sc3 = bending_check(plate, flat, 0.008, ply, factors=factors)
+    assert abs(0.5 / sc3.limit.max() - 0.6 * 1.2 / 0.7) < 1e-12
+
+
+def test_characteristic_basis_reproduces_the_old_numbers_bit_for_bit(vault_model):
+    """``code = "characteristic"`` is today's check: |κ| / (f / (E t/2)), the same floats."""
+    thick = ThickModel(vault_model, design_code={"code": "characteristic"})
+    alphas = np.linspace(0.0, 30.0, 5)
+    check = thick.bending(alphas)
+    st = thick.place(alphas)
+    mid = thick.model.plates.to_output(stack_rows(st.near, st.far), axis=1)
+    kappa = plate_curvature(mid)
+    old_limit = material("plywood").curvature_limit_at(
+        0.008, bending_angles(vault_model.flat(), 0.0)
+    )
+    assert np.array_equal(check.limit, old_limit)
+    assert np.array_equal(check.utilisation, np.abs(kappa) / old_limit[None])
+    assert check.max == 0.5591662457663561  # docs/thickness.md: 0.559
+    design = ThickModel(vault_model).bending(alphas)
+    assert np.array_equal(design.utilisation_characteristic, check.utilisation)
+    assert design.max == pytest.approx(2.0 * check.max, rel=1e-15)
+
+
+def test_info_states_the_basis_and_the_factors(tmp_path, capsys):
+    assert main(["info", str(EXAMPLES / "vault.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "utilisation 1.12" in out and "EXCEEDED" in out
+    assert (
+        "bending basis     EC5 SC1 permanent: f_d = k_mod f_k / gamma_M, k_mod 0.6, gamma_M 1.2 "
+        "(k_mod EN 1995-1-1 Table 3.1; gamma_M EN 1995-1-1 Table 2.3)" in out
+    )
+    assert "characteristic utilisation 0.56" in out
+    assert "creep: k_def 0.8, final stiffness E/(1 + k_def) 5 / 5 GPa (E1 / E2)" in out
+    path = tmp_path / "characteristic.toml"
+    path.write_text(
+        (EXAMPLES / "vault.toml").read_text() + '\n[design_code]\ncode = "characteristic"\n'
+    )
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "utilisation 0.56" in out and "EXCEEDED" not in out
+    assert "bending basis     characteristic strengths f_k (k_mod = gamma_M = 1)" in out
+    sc2 = tmp_path / "sc2.toml"
+    sc2.write_text(
+        (EXAMPLES / "vault.toml").read_text()
+        + '\n[design_code]\nservice_class = 2\nload_duration = "long-term"\ngamma_M = 1.3\n'
+    )
+    assert main(["info", str(sc2)]) == 0
+    out = capsys.readouterr().out
+    assert "EC5 SC2 long-term: f_d = k_mod f_k / gamma_M, k_mod 0.7, gamma_M 1.3" in out
+    assert "k_def 1," in out
+
+
+def test_thick_model_uses_the_design_code_section(vault_model):
+    from_section = ThickModel(vault_model).factors
+    assert from_section == design_factors("plywood")
+    given = ThickModel(vault_model, design_code=design_factors("plywood", k_mod=0.9))
+    assert given.factors.k_mod == 0.9
+    with pytest.raises(MaterialError, match="has no default k_mod"):
+        ThickModel(vault_model, material="gfrp")
+    gfrp = ThickModel(vault_model, material="gfrp", design_code={"k_mod": 0.5, "gamma_M": 1.5})
+    assert gfrp.factors.strength_factor == 0.5 / 1.5

@@ -23,7 +23,24 @@ from dataclasses import asdict, dataclass, replace
 from compas_ccu.errors import CCUError
 from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
-__all__ = ["Material", "MATERIALS", "material", "MaterialError"]
+__all__ = [
+    "Material",
+    "MATERIALS",
+    "MATERIAL_KINDS",
+    "material",
+    "MaterialError",
+    "LOAD_DURATIONS",
+    "K_MOD_PLYWOOD",
+    "K_DEF_PLYWOOD",
+    "GAMMA_M",
+    "DesignFactors",
+    "design_factors",
+    "k_mod_plywood",
+]
+
+#: What a material is, for its design factors (docs/thickness.md, "Design values"): plywood
+#: (EN 1995-1-1), gfrp, aluminium (EN 1999-1-1) or other.
+MATERIAL_KINDS = ("plywood", "gfrp", "aluminium", "other")
 
 
 class MaterialError(CCUError):
@@ -48,6 +65,9 @@ class Material:
     f1, f2 : float
         Bending (or yield) strength along 1 and 2, Pa.
     description : str
+    kind : str
+        One of :data:`MATERIAL_KINDS`: which default design factors apply
+        (:func:`compas_ccu.materials.design_factors`).
     """
 
     name: str
@@ -59,8 +79,14 @@ class Material:
     f1: float
     f2: float
     description: str = ""
+    kind: str = "other"
 
     def __post_init__(self):
+        if self.kind not in MATERIAL_KINDS:
+            raise MaterialError(
+                f"material {self.name!r}: kind must be one of {', '.join(MATERIAL_KINDS)}, "
+                f"got {self.kind!r}"
+            )
         for key in ("E1", "E2", "G12", "density", "f1", "f2"):
             value = getattr(self, key)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
@@ -112,6 +138,7 @@ class Material:
             self.density,
             self.strength,
             description=self.description,
+            kind=self.kind,
         )
 
     def curvature_limit(self, thickness: float, direction: int | None = None) -> float:
@@ -187,6 +214,7 @@ MATERIALS = {
             600.0,
             30.0e6,
             description="generic 8 mm plywood as an isotropic plate, E = 9 GPa (paper's scale)",
+            kind="plywood",
         ),
         Material(
             "birch-plywood",
@@ -198,6 +226,7 @@ MATERIALS = {
             45.0e6,
             35.0e6,
             description="birch plywood, 7 plies at 9 mm: bending E and f_m,k along / across grain",
+            kind="plywood",
         ),
         Material(
             "poplar-plywood",
@@ -209,6 +238,7 @@ MATERIALS = {
             30.0e6,
             18.0e6,
             description="poplar plywood (light, flexible): bending E, f_m,k along / across grain",
+            kind="plywood",
         ),
         Material.isotropic(
             "gfrp",
@@ -217,6 +247,7 @@ MATERIALS = {
             1900.0,
             200.0e6,
             description="glass-fibre reinforced polymer sheet, quasi-isotropic laminate",
+            kind="gfrp",
         ),
         Material.isotropic(
             "aluminium",
@@ -225,6 +256,7 @@ MATERIALS = {
             2700.0,
             130.0e6,
             description="aluminium sheet EN AW-5754 H22, f = 0.2 % proof strength",
+            kind="aluminium",
         ),
     )
 }
@@ -252,3 +284,175 @@ def material(spec) -> Material:
         except TypeError as exc:
             raise MaterialError(f"material values {sorted(values)}: {exc}") from None
     raise MaterialError(f"a material is a name, a dict or a Material, got {spec!r}")
+
+
+# -- design values (Eurocode 5) -----------------------------------------------------------------
+
+#: EN 1995-1-1 2.3.1.2 load-duration classes, longest first.
+LOAD_DURATIONS = ("permanent", "long-term", "medium-term", "short-term", "instantaneous")
+
+#: EN 1995-1-1 Table 3.1, plywood (EN 636): k_mod by service class, in the order of
+#: :data:`LOAD_DURATIONS` (service class 3: EN 636-3 only).
+K_MOD_PLYWOOD = {
+    1: (0.60, 0.70, 0.80, 0.90, 1.10),
+    2: (0.60, 0.70, 0.80, 0.90, 1.10),
+    3: (0.50, 0.55, 0.65, 0.70, 0.90),
+}
+
+#: EN 1995-1-1 Table 3.2, plywood: k_def by service class.
+K_DEF_PLYWOOD = {1: 0.80, 2: 1.00, 3: 2.50}
+
+#: Default partial factor γ_M by material kind: plywood EN 1995-1-1 Table 2.3 (recommended
+#: value; national annexes differ), aluminium EN 1999-1-1 6.1.3 (γ_M1, cross-section
+#: resistance). None: no default, the design file must give it.
+GAMMA_M = {"plywood": 1.2, "aluminium": 1.1, "gfrp": None, "other": None}
+
+CODES = ("EC5", "characteristic")
+
+
+def k_mod_plywood(service_class: int, load_duration: str = "permanent") -> float:
+    """k_mod of plywood (EN 1995-1-1 Table 3.1).
+
+    >>> k_mod_plywood(1), k_mod_plywood(2, "short-term"), k_mod_plywood(3, "instantaneous")
+    (0.6, 0.9, 0.9)
+    """
+    if service_class not in K_MOD_PLYWOOD:
+        raise MaterialError(f"service class must be 1, 2 or 3, got {service_class!r}")
+    if load_duration not in LOAD_DURATIONS:
+        raise MaterialError(
+            f"load duration must be one of {', '.join(LOAD_DURATIONS)}, got {load_duration!r}"
+        )
+    return K_MOD_PLYWOOD[service_class][LOAD_DURATIONS.index(load_duration)]
+
+
+@dataclass(frozen=True)
+class DesignFactors:
+    """The basis of a strength check: ``f_d = k_mod f_k / γ_M`` (or ``f_k``, characteristic).
+
+    Attributes
+    ----------
+    code : {"EC5", "characteristic"}
+    service_class : int
+    load_duration : str
+    k_mod, gamma_M : float
+        1 and 1 for the characteristic basis.
+    k_def : float or None
+        Creep factor (reported: the final stiffness is ``E / (1 + k_def)``); None if unknown.
+    source : str
+        Where the factors come from.
+    """
+
+    code: str = "characteristic"
+    service_class: int = 1
+    load_duration: str = "permanent"
+    k_mod: float = 1.0
+    gamma_M: float = 1.0
+    k_def: float | None = None
+    source: str = "characteristic strengths f_k"
+
+    @property
+    def strength_factor(self) -> float:
+        """``k_mod / γ_M``: the design strength over the characteristic one."""
+        return self.k_mod / self.gamma_M
+
+    @property
+    def is_characteristic(self) -> bool:
+        return self.code == "characteristic"
+
+    @property
+    def label(self) -> str:
+        """A one-line name of the basis, e.g. ``EC5 SC1 permanent``."""
+        if self.is_characteristic:
+            return "characteristic"
+        return f"{self.code} SC{self.service_class} {self.load_duration}"
+
+    def text(self) -> str:
+        """The factors as a line of text (``ccu info``, fabricate, the report)."""
+        if self.is_characteristic:
+            return "characteristic strengths f_k (k_mod = gamma_M = 1)"
+        creep = "" if self.k_def is None else f", k_def {self.k_def:g}"
+        return (
+            f"design strengths f_d = k_mod f_k / gamma_M, {self.label}: k_mod {self.k_mod:g}, "
+            f"gamma_M {self.gamma_M:g}{creep}"
+        )
+
+    def to_dict(self) -> dict:
+        out = asdict(self)
+        out["strength_factor"] = self.strength_factor
+        out["basis"] = self.label
+        return out
+
+
+def design_factors(
+    spec,
+    code: str = "EC5",
+    service_class: int = 1,
+    load_duration: str = "permanent",
+    gamma_M: float | None = None,
+    k_mod: float | None = None,
+    k_def: float | None = None,
+) -> DesignFactors:
+    """The design factors of the material ``spec`` (docs/thickness.md, "Design values").
+
+    The keywords are the keys of the design file's ``[design_code]`` section.
+
+    ``code = "EC5"``: k_mod from EN 1995-1-1 Table 3.1 (plywood) or 1.0 (aluminium: no
+    load-duration factor, EN 1999), γ_M by kind (:data:`GAMMA_M`), k_def from Table 3.2
+    (plywood) or 0 (aluminium); gfrp and kind ``other`` need ``gamma_M`` and ``k_mod``.
+    ``code = "characteristic"``: k_mod = γ_M = 1, today's check.
+
+    >>> f = design_factors(material("plywood"))
+    >>> f.k_mod, f.gamma_M, f.k_def, f.strength_factor
+    (0.6, 1.2, 0.8, 0.5)
+    >>> design_factors(material("plywood"), "characteristic").strength_factor
+    1.0
+    """
+    m = material(spec)
+    if code not in CODES:
+        raise MaterialError(f"design_code.code must be one of {', '.join(CODES)}, got {code!r}")
+    table_k_mod = k_mod_plywood(service_class, load_duration)  # checks both
+    default_k_def = {"plywood": K_DEF_PLYWOOD[service_class], "aluminium": 0.0}.get(m.kind)
+    if k_def is None:
+        k_def = default_k_def
+    if code == "characteristic":
+        return DesignFactors(
+            code, service_class, load_duration, 1.0, 1.0, k_def, "characteristic strengths f_k"
+        )
+    sources = []
+    if k_mod is None:
+        if m.kind == "plywood":
+            k_mod, why = table_k_mod, "EN 1995-1-1 Table 3.1"
+        elif m.kind == "aluminium":
+            k_mod, why = 1.0, "aluminium: no load-duration factor (EN 1999-1-1)"
+        else:
+            raise MaterialError(
+                f"material {m.name!r} (kind {m.kind!r}) has no default k_mod: give "
+                "design_code.k_mod and design_code.gamma_M, or design_code.code = "
+                "'characteristic'"
+            )
+        sources.append(f"k_mod {why}")
+    else:
+        sources.append("k_mod given")
+    if gamma_M is None:
+        gamma_M = GAMMA_M[m.kind]
+        if gamma_M is None:
+            raise MaterialError(
+                f"material {m.name!r} (kind {m.kind!r}) has no default gamma_M: give "
+                "design_code.gamma_M, or design_code.code = 'characteristic'"
+            )
+        why = "EN 1995-1-1 Table 2.3" if m.kind == "plywood" else "EN 1999-1-1 6.1.3"
+        sources.append(f"gamma_M {why}")
+    else:
+        sources.append("gamma_M given")
+    for key, value in (("gamma_M", gamma_M), ("k_mod", k_mod)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
+            raise MaterialError(f"design_code.{key} must be > 0, got {value!r}")
+    return DesignFactors(
+        code,
+        service_class,
+        load_duration,
+        float(k_mod),
+        float(gamma_M),
+        None if k_def is None else float(k_def),
+        "; ".join(sources),
+    )

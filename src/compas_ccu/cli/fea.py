@@ -11,6 +11,7 @@ from pathlib import Path
 
 from compas_ccu.cli.common import load_model, missing_modules, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
+from compas_ccu.cli.text import basis_text
 from compas_ccu.fea.problem import ConvergenceError
 from compas_ccu.fea.record import agreement, remember
 from compas_ccu.fea.validation import validate as run_validation
@@ -109,6 +110,8 @@ def _summary_lines(summary: dict) -> list:
                 else ""
             )
         )
+        if c.get("basis"):
+            lines.append(f"strength: {c['strength_MPa']:.4g} MPa, {basis_text(c['basis'])}")
     if "agreement" in summary:
         a = summary["agreement"]
         lines.append(

@@ -87,13 +87,38 @@ def thickness_lines(summary: dict) -> list:
         )
     )
     worst = b["worst"]
+    basis = b["basis"]
+    design = basis["code"] != "characteristic"
     lines.append(
         f"bending check     max curvature {b['max_curvature']:.3g} 1/m, utilisation "
         f"{b['max_utilisation']:.2f} (plate {worst['plate']} at alpha {worst['alpha']:.3g} deg; "
-        f"limit f/(E t/2) >= {b['curvature_limit_min']:.3g} 1/m)"
+        f"limit f{'_d' if design else '_k'}/(E t/2) >= {b['curvature_limit_min']:.3g} 1/m)"
         + ("  ** EXCEEDED: the plates would break **" if b["exceeded"] else "")
     )
+    lines.append(f"bending basis     {basis_text(basis)}")
+    if design:
+        lines.append(
+            f"                  characteristic utilisation "
+            f"{b['max_utilisation_characteristic']:.2f} (f_k/(E t/2) >= "
+            f"{b['curvature_limit_characteristic_min']:.3g} 1/m)"
+        )
+    if b.get("final_modulus") is not None and basis.get("k_def") is not None:
+        lines.append(
+            f"                  creep: k_def {basis['k_def']:g}, final stiffness E/(1 + k_def) "
+            + " / ".join(f"{e / 1e9:.3g}" for e in b["final_modulus"])
+            + " GPa (E1 / E2)"
+        )
     return lines
+
+
+def basis_text(basis: dict) -> str:
+    """The design factors of a bending or FE check (``DesignFactors.to_dict()``) as text."""
+    if basis["code"] == "characteristic":
+        return "characteristic strengths f_k (k_mod = gamma_M = 1)"
+    return (
+        f"{basis['basis']}: f_d = k_mod f_k / gamma_M, k_mod {basis['k_mod']:g}, gamma_M "
+        f"{basis['gamma_M']:g} ({basis['source']})"
+    )
 
 
 def validation_lines(record: dict | None) -> list:
@@ -122,5 +147,7 @@ def validation_lines(record: dict | None) -> list:
             )
             + ("" if c["deflection_ok"] and c["utilisation_ok"] else "  ** NOT OK **")
         )
+        if c.get("basis"):
+            lines.append(f"                  strength basis {basis_text(c['basis'])}")
     lines.append(f"                  ({record['when']}, {record['out']})")
     return lines

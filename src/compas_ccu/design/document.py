@@ -10,6 +10,8 @@ from compas.data import Data
 from compas_ccu.design.schema import validate
 from compas_ccu.design.sections import DesignSections
 from compas_ccu.errors import DesignError
+from compas_ccu.materials import DesignFactors, Material, MaterialError, design_factors
+from compas_ccu.materials import material as library_material
 
 __all__ = ["Design", "load_design", "read_toml", "parse_toml"]
 
@@ -95,6 +97,56 @@ class Design(Data):
     @property
     def plane(self):
         return self.sections.plane
+
+    @property
+    def design_code(self):
+        return self.sections.design_code
+
+    @property
+    def materials(self):
+        """The file's ``[materials.NAME]`` tables: name -> Material."""
+        return self.sections.materials
+
+    @property
+    def material(self) -> Material:
+        """The plate material (``[plates] material``), resolved: the file's or the library's."""
+        return self.resolve_material(None)
+
+    def resolve_material(self, spec=None) -> Material:
+        """A material by name (the file's ``[materials.NAME]`` first, then the library), a
+        dict of values, a Material, or None for ``[plates] material``.
+
+        Raises
+        ------
+        compas_ccu.materials.MaterialError
+            An unknown name (the message lists the file's and the library's).
+        """
+        if spec is None:
+            spec = self.plates.material
+        if isinstance(spec, str) and spec in self.materials:
+            return self.materials[spec]
+        if isinstance(spec, str):
+            try:
+                return library_material(spec)
+            except MaterialError as exc:
+                if self.materials:
+                    raise MaterialError(
+                        f"{exc}; the design file defines {sorted(self.materials)}"
+                    ) from None
+                raise
+        return library_material(spec)
+
+    def design_factors(self, material=None, **overrides) -> DesignFactors:
+        """The design factors of the bending check: the ``[design_code]`` section (with
+        ``overrides``) for ``material`` (default: the plate material).
+
+        Raises
+        ------
+        compas_ccu.materials.MaterialError
+            A material without default factors (gfrp, other) and no k_mod / gamma_M given.
+        """
+        values = {**self.design_code.to_dict(), **overrides}
+        return design_factors(self.resolve_material(material), **values)
 
     @property
     def alpha(self) -> float:

@@ -9,7 +9,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-__all__ = ["Rule", "RULES", "MULTI_CREASE"]
+from compas_ccu.materials import GAMMA_M, MATERIALS
+
+__all__ = ["Rule", "RULES", "MULTI_CREASE", "plate_material_kind"]
 
 MULTI_CREASE = ("parallel", "inclined", "radial")
 
@@ -51,6 +53,36 @@ def _layout_type(*kinds):
 
 def _has_target(v) -> bool:
     return any(value is not None for value in v["target"].values())
+
+
+def plate_material_kind(v) -> str:
+    """The kind of the plate material of validated values (a library or a file material)."""
+    name = v["plates"]["material"]
+    table = v.get("materials", {}).get(name)
+    if table is None:
+        return MATERIALS[name].kind if name in MATERIALS else "other"
+    if table.get("kind") is not None:
+        return table["kind"]
+    return MATERIALS[table["base"]].kind if table.get("base") is not None else "other"
+
+
+def _needs_factor(v) -> bool:
+    return v["design_code"]["code"] == "EC5" and GAMMA_M.get(plate_material_kind(v)) is None
+
+
+def _factor_rule(name: str) -> Rule:
+    return Rule(
+        f"design_code.{name}",
+        "required for code 'EC5' with a plate material of kind 'gfrp' or 'other' (no default "
+        "design factors)",
+        _needs_factor,
+        lambda v: v["design_code"][name] is not None,
+        lambda v: (
+            f"required for code 'EC5' with plate material {v['plates']['material']!r} of kind "
+            f"{plate_material_kind(v)!r} (no default design factors); or code = "
+            "'characteristic'"
+        ),
+    )
 
 
 #: The conditional rules, checked in this order after every key has been checked on its own.
@@ -118,4 +150,19 @@ RULES = (
     ),
     _required("layout", "angle", "layout type 'radial'", _layout_type("radial")),
     _required("layout", "axis", "layout type 'radial'", _layout_type("radial")),
+    Rule(
+        "plates.material",
+        "a library material or one of the file's [materials.NAME] tables",
+        lambda v: True,
+        lambda v: (
+            v["plates"]["material"] in MATERIALS
+            or v["plates"]["material"] in v.get("materials", {})
+        ),
+        lambda v: (
+            f"unknown material {v['plates']['material']!r}; known: "
+            + ", ".join(repr(n) for n in [*MATERIALS, *v.get("materials", {})])
+        ),
+    ),
+    _factor_rule("gamma_M"),
+    _factor_rule("k_mod"),
 )

@@ -9,13 +9,29 @@ drift from the code.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable
 
 from compas_ccu.design.rules import RULES
 from compas_ccu.errors import DesignError
+from compas_ccu.materials import (
+    LOAD_DURATIONS,
+    MATERIAL_KINDS,
+    MATERIALS,
+    Material,
+    MaterialError,
+)
 
-__all__ = ["Key", "SCHEMA", "validate", "schema_markdown"]
+__all__ = [
+    "Key",
+    "SCHEMA",
+    "MATERIAL_KEYS",
+    "NAMED_SECTIONS",
+    "validate",
+    "file_material",
+    "schema_markdown",
+]
 
 
 @dataclass(frozen=True)
@@ -346,10 +362,11 @@ SCHEMA: dict = {
         ),
         "material": Key(
             "str",
-            "Plate material from the library (docs/thickness.md): its stiffness and strength "
-            "give the curvature limit of the bending check.",
+            "Plate material: a library material (docs/thickness.md) or one defined in this "
+            "file by a [materials.NAME] table; its stiffness and strength give the curvature "
+            "limit of the bending check.",
             default="plywood",
-            choices=("plywood", "birch-plywood", "poplar-plywood", "gfrp", "aluminium"),
+            check_doc=", ".join(f"`{name}`" for name in MATERIALS) + " or a [materials.NAME]",
         ),
         "grain": Key(
             "float",
@@ -363,6 +380,59 @@ SCHEMA: dict = {
             default=0.05,
             check=_positive,
             check_doc="> 0 and <= 1e6",
+        ),
+    },
+    "design_code": {
+        "_doc": 'The basis of the bending check (docs/thickness.md, "Design values"): '
+        "design strengths f_d = k_mod f_k / gamma_M (Eurocode 5 format, EN 1995-1-1 2.4.3, "
+        "3.1.3) or the characteristic strengths f_k. Without this section the design values "
+        "of EN 1995-1-1 apply: service class 1, permanent action (the active-bending stress "
+        "of a permanently bent plate), gamma_M by material kind.",
+        "code": Key(
+            "str",
+            "'EC5': design strengths k_mod f_k / gamma_M; 'characteristic': the "
+            "characteristic strengths f_k (k_mod = gamma_M = 1).",
+            default="EC5",
+            choices=("EC5", "characteristic"),
+        ),
+        "service_class": Key(
+            "int",
+            "EN 1995-1-1 2.3.1.3 service class: 1 heated indoors, 2 covered, 3 outdoors "
+            "(plywood EN 636-3 only). Picks k_mod and k_def.",
+            default=1,
+            check=lambda v: v in (1, 2, 3),
+            check_doc="1, 2 or 3",
+        ),
+        "load_duration": Key(
+            "str",
+            "EN 1995-1-1 2.3.1.2 load-duration class of the action: the active bending of a "
+            "permanently deployed structure is permanent.",
+            default="permanent",
+            choices=LOAD_DURATIONS,
+        ),
+        "gamma_M": Key(
+            "float",
+            "Partial factor of the material; default by material kind: plywood 1.2 "
+            "(EN 1995-1-1 Table 2.3), aluminium 1.1 (EN 1999-1-1 6.1.3, gamma_M1); required "
+            "for gfrp and kind 'other'.",
+            check=lambda v: 1.0 <= v <= 10.0,
+            check_doc="1 ... 10",
+        ),
+        "k_mod": Key(
+            "float",
+            "Modification factor for load duration and moisture, overriding the table "
+            "(plywood: EN 1995-1-1 Table 3.1; aluminium 1.0); required for gfrp and kind "
+            "'other'.",
+            check=lambda v: 0.0 < v <= 1.5,
+            check_doc="> 0 and <= 1.5",
+        ),
+        "k_def": Key(
+            "float",
+            "Creep factor, reported (final stiffness E / (1 + k_def)), not used by the "
+            "strength check; default: plywood EN 1995-1-1 Table 3.2 (0.8 / 1.0 / 2.5 for "
+            "service class 1 / 2 / 3), aluminium 0.",
+            check=lambda v: 0.0 <= v <= 10.0,
+            check_doc=">= 0 and <= 10",
         ),
     },
     "plane": {
@@ -393,11 +463,158 @@ _UNITS = {
     },
     "target": {"apex": "m", "support": "m", "support_end": "m"},
     "plates": {"thickness": "m", "grain": "deg", "hinge_width": "m"},
+    "design_code": {"service_class": "1", "gamma_M": "1", "k_mod": "1", "k_def": "1"},
     "plane": {"origin": "m", "xaxis": "1", "yaxis": "1"},
 }  # fmt: skip
 for _section, _units in _UNITS.items():
     for _name, _unit in _units.items():
         SCHEMA[_section][_name] = replace(SCHEMA[_section][_name], unit=_unit)
+
+
+def _pa(doc: str, **kw) -> Key:
+    return Key("float", doc, check=lambda v: 0.0 < v <= 1.0e13, check_doc="> 0 Pa", unit="Pa", **kw)
+
+
+#: The keys of one ``[materials.NAME]`` table: the values of :class:`compas_ccu.materials.
+#: Material`. A file may define several materials; ``[plates] material`` names one of them or a
+#: library material.
+MATERIAL_KEYS: dict = {
+    "_doc": "Plate materials defined in the design file, one table per material: "
+    '`[materials.myply]` with `base = "plywood"` and the values to change, or every value '
+    "(E1 and E2, or E for an isotropic material; G12, which E and nu12 give for an isotropic "
+    'one; nu12; density; f1 and f2, or f). `[plates] material = "myply"` uses it. A name '
+    "of the library (plywood, birch-plywood, ...) is refused: give the material its own name "
+    "and the library one as its base. Names are letters, digits, '-' and '_'.",
+    "base": Key(
+        "str",
+        "Library material to start from; the other keys override its values.",
+        choices=tuple(MATERIALS),
+    ),
+    "kind": Key(
+        "str",
+        "What the material is, for its default design factors ([design_code]); default: "
+        "the base's kind, else 'other'.",
+        choices=MATERIAL_KINDS,
+    ),
+    "E1": _pa("Young's modulus along direction 1 (face grain), Pa."),
+    "E2": _pa("Young's modulus along direction 2, Pa."),
+    "E": _pa("Isotropic shortcut: E1 = E2 = E (and G12 = E / 2(1 + nu12) unless given), Pa."),
+    "G12": _pa("In-plane shear modulus, Pa."),
+    "nu12": Key(
+        "float",
+        "Poisson's ratio (strain in 2 from stress in 1); nu12^2 < E1/E2.",
+        check=lambda v: -1.0 < v < 0.5,
+        check_doc="-1 < nu12 < 0.5",
+        unit="1",
+    ),
+    "density": Key(
+        "float",
+        "Density, kg/m³.",
+        check=lambda v: 0.0 < v <= 1.0e5,
+        check_doc="> 0 and <= 1e5",
+        unit="kg/m³",
+    ),
+    "f1": _pa("Characteristic bending strength along direction 1, Pa."),
+    "f2": _pa("Characteristic bending strength along direction 2, Pa."),
+    "f": _pa("Isotropic shortcut: f1 = f2 = f, Pa."),
+    "description": Key("str", "Free text (the source of the values)."),
+}
+
+#: Sections that hold named tables (``[materials.NAME]``), with the keys of one table.
+NAMED_SECTIONS = {"materials": MATERIAL_KEYS}
+
+_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*\Z")
+
+
+def file_material(name: str, values: dict) -> Material:
+    """The :class:`~compas_ccu.materials.Material` of a validated ``[materials.NAME]`` table.
+
+    Raises
+    ------
+    DesignError
+        A value is missing, given twice (``E`` and ``E1``) or impossible (``nu12`` against
+        ``E1/E2``); the key is ``materials.NAME.KEY``.
+
+    Examples
+    --------
+    >>> m = file_material("stiff", {"base": "plywood", "E": 10e9})
+    >>> m.E1 == m.E2 == 10e9, round(m.G12 / 1e9, 3), m.f1 / 1e6, m.kind
+    (True, 3.846, 30.0, 'plywood')
+    """
+    where = f"materials.{name}"
+    given = {k: v for k, v in values.items() if v is not None}
+    base = given.pop("base", None)
+    for short, longs in (("E", ("E1", "E2")), ("f", ("f1", "f2"))):
+        both = [k for k in longs if k in given]
+        if short in given and both:
+            raise DesignError(
+                f"give {short} (isotropic) or {' and '.join(longs)}, not both",
+                key=f"{where}.{both[0]}",
+            )
+    out = MATERIALS[base].to_dict() if base is not None else {}
+    out["name"] = name
+    if base is not None:
+        out["description"] = f"{base} with " + ", ".join(
+            f"{k} = {v:g}" for k, v in given.items() if isinstance(v, float)
+        )
+    if "E" in given:
+        E = given.pop("E")
+        nu = given.get("nu12", out.get("nu12"))
+        out.update(E1=E, E2=E)
+        if "G12" not in given and nu is not None:
+            out["G12"] = E / (2.0 * (1.0 + nu))
+    if "f" in given:
+        f = given.pop("f")
+        out.update(f1=f, f2=f)
+    out.update(given)
+    out.setdefault("kind", "other")
+    missing = [k for k in ("E1", "E2", "G12", "nu12", "density", "f1", "f2") if k not in out]
+    if missing:
+        raise DesignError(
+            f"missing {', '.join(missing)}: give every value (E or E1 and E2, G12 unless E is "
+            f"given, nu12, density, f or f1 and f2), or a base = one of {', '.join(MATERIALS)}",
+            key=where,
+        )
+    try:
+        return Material(**out)
+    except MaterialError as exc:
+        text = str(exc)
+        key = next((k for k in ("nu12", "E1", "E2", "G12", "f1", "f2") if k in text), None)
+        message = text.split(": ", 1)[-1]
+        raise DesignError(message, key=f"{where}.{key}" if key else where) from None
+
+
+def _validate_named(section: str, given, keys: dict) -> dict:
+    out = {}
+    for name, table in given.items():
+        where = f"{section}.{name}"
+        if not isinstance(table, dict):
+            raise DesignError(
+                f"must be a table [{section}.NAME] of values, got {_short(table)}", key=where
+            )
+        if not _NAME.match(name):
+            raise DesignError(
+                "a name is letters, digits, '-' and '_' (starting with a letter or digit)",
+                key=f"[{where}]",
+            )
+        if section == "materials" and name in MATERIALS:
+            raise DesignError(
+                f'shadows the library material {name!r}; give it another name and base = "{name}"',
+                key=f"[{where}]",
+            )
+        allowed = [k for k in keys if not k.startswith("_")]
+        for k in table:
+            if k not in allowed:
+                raise DesignError(
+                    f"unknown key; allowed in [{section}.NAME]: {', '.join(allowed)}",
+                    key=f"{where}.{k}",
+                )
+        values = {k: _coerce(where, k, keys[k], table[k]) if k in table else None for k in allowed}
+        if section == "materials":
+            file_material(name, values)  # every value together (missing, nu12 vs E1/E2)
+        out[name] = values
+    return out
+
 
 REQUIRED_SECTIONS = ("crease", "rulings", "deployment")
 
@@ -502,7 +719,8 @@ def validate(document: dict) -> dict:
     Returns
     -------
     dict
-        ``{section: {key: value}}`` with every key of :data:`SCHEMA` present (None if unset).
+        ``{section: {key: value}}`` with every key of :data:`SCHEMA` present (None if unset),
+        and ``{"materials": {name: {key: value}}}`` for the ``[materials.NAME]`` tables.
 
     Raises
     ------
@@ -514,10 +732,15 @@ def validate(document: dict) -> dict:
         raise DesignError(f"a design must be a table, got {type(document).__name__}")
     out: dict = {}
     for section in document:
-        if section not in SCHEMA:
-            raise DesignError(f"unknown section; allowed: {', '.join(SCHEMA)}", key=f"[{section}]")
+        if section not in SCHEMA and section not in NAMED_SECTIONS:
+            raise DesignError(
+                f"unknown section; allowed: {', '.join([*SCHEMA, *NAMED_SECTIONS])}",
+                key=f"[{section}]",
+            )
         if not isinstance(document[section], dict):
             raise DesignError("must be a table", key=f"[{section}]")
+    for section, keys in NAMED_SECTIONS.items():
+        out[section] = _validate_named(section, document.get(section, {}), keys)
     for section, keys in SCHEMA.items():
         given = document.get(section, {})
         if section in REQUIRED_SECTIONS and section not in document:
@@ -558,10 +781,11 @@ def schema_markdown() -> str:
         "impossible value is an error that names the key, the value and what is allowed.",
         "",
     ]
-    for section, keys in SCHEMA.items():
+    for section, keys in [*SCHEMA.items(), *NAMED_SECTIONS.items()]:
         req = " (required)" if section in REQUIRED_SECTIONS else ""
+        title = f"[{section}.NAME]" if section in NAMED_SECTIONS else f"[{section}]"
         lines += [
-            f"## [{section}]{req}",
+            f"## {title}{req}",
             "",
             keys["_doc"],
             "",

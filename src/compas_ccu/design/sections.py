@@ -15,11 +15,13 @@ is an ``AttributeError`` at the line that misspells it rather than a silent ``No
 
 from __future__ import annotations
 
+import copy
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields, make_dataclass
 
-from compas_ccu.design.schema import SCHEMA
+from compas_ccu.design.schema import SCHEMA, file_material
 
-__all__ = ["SECTION_TYPES", "DesignSections"]
+__all__ = ["SECTION_TYPES", "DesignSections", "MaterialsSection"]
 
 
 def _section_type(section: str, keys: dict):
@@ -47,6 +49,42 @@ LayoutSection = SECTION_TYPES["layout"]
 TargetSection = SECTION_TYPES["target"]
 PlatesSection = SECTION_TYPES["plates"]
 PlaneSection = SECTION_TYPES["plane"]
+DesignCodeSection = SECTION_TYPES["design_code"]
+
+
+class MaterialsSection(Mapping):
+    """The ``[materials.NAME]`` tables of a design file: name -> :class:`~compas_ccu.materials.
+    Material` (read only).
+
+    >>> section = MaterialsSection({"stiff": {"base": "plywood", "E": 10e9}})
+    >>> section["stiff"].E1, list(section)
+    (10000000000.0, ['stiff'])
+    """
+
+    def __init__(self, values: dict):
+        self._values = copy.deepcopy(values)
+        self._materials = {name: file_material(name, v) for name, v in self._values.items()}
+
+    def __getitem__(self, name):
+        return self._materials[name]
+
+    def __iter__(self):
+        return iter(self._materials)
+
+    def __len__(self):
+        return len(self._materials)
+
+    def __eq__(self, other):
+        return isinstance(other, MaterialsSection) and self._values == other._values
+
+    __hash__ = None
+
+    def __repr__(self):
+        return f"MaterialsSection({sorted(self._materials)})"
+
+    def to_dict(self) -> dict:
+        """``{name: {key: value}}``, the form :func:`validate` returns."""
+        return copy.deepcopy(self._values)
 
 
 @dataclass(frozen=True)
@@ -60,12 +98,19 @@ class DesignSections:
     layout: LayoutSection
     target: TargetSection
     plates: PlatesSection
+    design_code: DesignCodeSection
     plane: PlaneSection
+    materials: MaterialsSection
 
     @classmethod
     def from_values(cls, values: dict) -> DesignSections:
         """Typed sections from :func:`compas_ccu.design.schema.validate` output."""
-        return cls(**{f.name: SECTION_TYPES[f.name](**values[f.name]) for f in fields(cls)})
+        out = {
+            f.name: SECTION_TYPES[f.name](**values[f.name])
+            for f in fields(cls)
+            if f.name in SECTION_TYPES
+        }
+        return cls(**out, materials=MaterialsSection(values.get("materials", {})))
 
     def to_values(self) -> dict:
         """``{section: {key: value}}``, the form :func:`validate` returns."""

@@ -81,6 +81,10 @@ KEY_FIGURE_COLUMNS = {
             "stack_height",
             "mass",
             "bending_utilisation",
+            "bending_utilisation_characteristic",
+            "bending_basis",
+            "k_mod",
+            "gamma_M",
             "bending_curvature",
         )
     },

@@ -4,7 +4,8 @@ A displacement-controlled history with ``checks`` has two steps after the deploy
 supports held, that add self-weight and the distributed ``area_load``
 (:mod:`compas_ccu.fea.displacement`). Checked at the last of them: the largest deflection from
 the deployed state against ``deflection_limit`` × span, the bending utilisation (largest surface
-principal stress, prestress from the active bending included, over the material's strength),
+principal stress, prestress from the active bending included, over the material's design strength
+``k_mod f_k / γ_M`` of ``settings.design_code``, the same as the bending check's),
 the total reaction and the engine's linear buckling factor of the loaded state.
 """
 
@@ -37,7 +38,9 @@ def structural_checks(history: DeploymentHistory) -> dict | None:
         np.abs(principal(stress["top"])).max(axis=1),
         np.abs(principal(stress["bottom"])).max(axis=1),
     )
-    utilisation = peak / m.strength
+    factors = s.design_code
+    strength = m.strength * factors.strength_factor
+    utilisation = peak / strength
     worst = int(np.argmax(utilisation))
     limit = s.deflection_limit * span
     return {
@@ -50,8 +53,11 @@ def structural_checks(history: DeploymentHistory) -> dict | None:
         "deflection_ratio": float(deflection.max() / limit),
         "deflection_ok": bool(deflection.max() <= limit),
         "utilisation_max": float(utilisation[worst]),
+        "utilisation_max_characteristic": float((peak / m.strength).max()),
         "utilisation_plate": int(h.model.plate_ids[h.mesh.element_plate[worst]]),
-        "strength_MPa": m.strength / 1e6,
+        "strength_MPa": strength / 1e6,
+        "strength_characteristic_MPa": m.strength / 1e6,
+        "basis": factors.to_dict(),
         "utilisation_ok": bool(utilisation[worst] <= 1.0),
         "reaction_total_N": np.round(r.reactions[-1].sum(axis=0), 3).tolist(),
         "buckling_factor": r.buckling_factor,

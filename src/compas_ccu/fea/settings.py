@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass
 
 from compas_ccu.fea.problem import FEError
+from compas_ccu.materials import DesignFactors, design_factors
 from compas_ccu.materials import material as get_material
 
 __all__ = ["FESettings", "MODES", "CONTROLS", "GRAVITY"]
@@ -38,6 +39,10 @@ class FESettings:
         Target reference reflection angle, degrees (None: the design's).
     material : str or dict
         A name of :data:`compas_ccu.materials.MATERIALS` or a dict of values.
+    design_code : dict or DesignFactors or None
+        The basis of the strength check (:func:`compas_ccu.materials.design_factors`): keys
+        of a design file's ``[design_code]`` section or the factors; None: the EC5 defaults of
+        the material. Becomes a :class:`~compas_ccu.materials.DesignFactors`.
     thickness : float
         m (default 8 mm plywood).
     orthotropic : bool
@@ -72,6 +77,7 @@ class FESettings:
     steps: int = 8
     alpha: float | None = None
     material: object = "plywood"
+    design_code: object = None
     thickness: float = 0.008
     orthotropic: bool = False
     hinge_stiffness: float = 0.0
@@ -104,6 +110,8 @@ class FESettings:
                 f"{self.area_load!r} and {self.deflection_limit!r}"
             )
         self.material = get_material(self.material)
+        if not isinstance(self.design_code, DesignFactors):
+            self.design_code = design_factors(self.material, **(self.design_code or {}))
 
     @classmethod
     def from_options(cls, options: dict) -> FESettings:

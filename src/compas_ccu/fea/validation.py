@@ -32,6 +32,7 @@ from compas_ccu.fea.output import write_figures, write_results
 from compas_ccu.fea.problem import FEProblem, FEResult
 from compas_ccu.fea.settings import CONTROLS, MODES, FESettings
 from compas_ccu.fea.stresses import stress_summary
+from compas_ccu.materials import DesignFactors
 
 __all__ = [
     "FESettings",
@@ -213,8 +214,10 @@ def validate(model, **options) -> Validation:
     model : compas_ccu.model.CCUModel
     **options
         Fields of :class:`FESettings` (engine, mode, element_size, steps, alpha, material,
-        thickness, orthotropic, hinge_stiffness, control, checks, area_load, ...). Without
-        ``thickness`` or ``material`` (or with None) the design's ``[plates]`` values are used;
+        thickness, orthotropic, hinge_stiffness, control, checks, area_load, design_code, ...).
+        Without ``thickness`` or ``material`` (or with None) the design's ``[plates]`` values
+        are used (a material name may be one of the file's ``[materials.NAME]``), and the
+        design's ``[design_code]`` gives the design strength of the checks;
         ``summary()["plates"]`` says which were used and where they came from.
 
     Returns
@@ -238,6 +241,11 @@ def validate(model, **options) -> Validation:
         if not given:
             options[key] = getattr(model.design.plates, key)
         plates[key + "_from"] = "option" if given else "design [plates]"
+    options["material"] = model.design.resolve_material(options["material"])
+    if not isinstance(options.get("design_code"), DesignFactors):
+        options["design_code"] = model.design.design_factors(
+            options["material"], **(options.get("design_code") or {})
+        )
     settings = FESettings.from_options(options)
     plates.update(thickness=settings.thickness, material=settings.material.name)
     alpha = model.alpha_design if settings.alpha is None else float(settings.alpha)

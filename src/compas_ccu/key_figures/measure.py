@@ -306,5 +306,10 @@ def thickness_figures(thick, alphas) -> dict:
         "stack_height": float(thick.stack_height),
         "mass": plate_area(thick.model) * thick.thickness * thick.material.density,
         "bending_utilisation": float(bend.max),
+        "bending_utilisation_characteristic": bend.max_characteristic,
+        "bending_basis": bend.factors.label,
+        "k_mod": bend.factors.k_mod,
+        "gamma_M": bend.factors.gamma_M,
+        "k_def": bend.factors.k_def,
         "bending_curvature": float(np.abs(bend.curvature).max()),
     }

@@ -279,15 +279,41 @@ FIGURES = (
         "thickness",
         [
             ("thickness", "float", "m", "Plate thickness ([plates])."),
-            ("material", "str", "", "Plate material ([plates])."),
+            (
+                "material",
+                "str",
+                "",
+                "Plate material ([plates]): a library name or one of the file's [materials.NAME].",
+            ),
             ("stack_height", "float", "m", "Height of the flat-folded stack (sum of thicknesses)."),
             ("mass", "float", "kg", "plate_area * thickness * density."),
             (
                 "bending_utilisation",
                 "float",
                 "",
-                "Largest abs(curvature) / (f / (E t / 2)) over "
-                "all plates and path states (> 1: the plates break).",
+                "Largest abs(curvature) / (f_d / (E t / 2)) over all plates and path states, "
+                "with the design strength f_d = k_mod f_k / gamma_M of [design_code] "
+                "(> 1: the plates break).",
+            ),
+            (
+                "bending_utilisation_characteristic",
+                "float",
+                "",
+                "The same with the characteristic strength f_k (k_mod = gamma_M = 1).",
+            ),
+            (
+                "bending_basis",
+                "str",
+                "",
+                "Basis of the bending check, e.g. `EC5 SC1 permanent` or `characteristic`.",
+            ),
+            ("k_mod", "float", "", "Modification factor of the bending check ([design_code])."),
+            ("gamma_M", "float", "", "Partial material factor of the bending check."),
+            (
+                "k_def",
+                "float",
+                "",
+                "Creep factor (reported; final stiffness E / (1 + k_def)); None if unknown.",
             ),
             ("bending_curvature", "float", "1/m", "Largest plate curvature over the path."),
         ],

@@ -113,7 +113,7 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
     >>> from compas_ccu.model import load_model
     >>> checks = design_checks(load_model("examples/vault.toml"))
     >>> [r.status for r in checks.rows if r.name == "bending"], checks.collision
-    (['ok'], None)
+    (['fail'], None)
     """
     t0 = time.perf_counter()
     rows = []
@@ -183,7 +183,8 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
                 f"{u:.3f}",
                 status,
                 f"largest utilisation (plate {ids[worst]}, {g.material}, t = "
-                f"{g.thickness * 1000:.3g} mm)" + (": the plates would break" if u > 1.0 else ""),
+                f"{g.thickness * 1000:.3g} mm, {bend.factors.label})"
+                + (": the plates would break" if u > 1.0 else ""),
             )
         )
     exact = g.crease_planarity_exact

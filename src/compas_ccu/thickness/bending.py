@@ -9,6 +9,12 @@ pattern) and the material's direction 1 (the face grain). The utilisation is
 
 with the off-axis modulus and Hankinson's off-axis strength of
 :class:`compas_ccu.materials.Material` (for isotropic materials simply ``f / (E t/2)``).
+
+The strength is the design strength ``f_d = k_mod f_k / γ_M`` of the given
+:class:`compas_ccu.materials.DesignFactors` (docs/thickness.md, "Design values"), or the
+characteristic strength ``f_k`` (no factors, or the characteristic basis): the characteristic
+limit is computed first and multiplied by ``k_mod / γ_M``, which is exactly 1 for the
+characteristic basis, so those numbers are the same bit for bit.
 """
 
 from __future__ import annotations
@@ -17,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from compas_ccu.materials import DesignFactors
 from compas_ccu.strips.curvature import plate_curvature
 
 __all__ = ["BendingCheck", "bending_check", "bending_angles"]
@@ -30,14 +37,32 @@ class BendingCheck(NamedTuple):
     curvature : (k, p, 2n + 2) float
         Signed principal curvature at every vertex, 1/m.
     limit : (p, 2n + 2) float
-        Curvature limit at every vertex (depends on the bending direction to the grain), 1/m.
+        Curvature limit at every vertex (depends on the bending direction to the grain), 1/m:
+        with the design strength ``k_mod f_k / γ_M`` of ``factors``.
     utilisation : (k, p, 2n + 2) float
         ``|κ| / κ_lim``.
+    factors : compas_ccu.materials.DesignFactors
+        The basis: code, service class, load duration, k_mod, γ_M, k_def.
+    limit_characteristic : (p, 2n + 2) float
+        The curvature limit with the characteristic strength ``f_k``, 1/m.
     """
 
     curvature: np.ndarray
     limit: np.ndarray
     utilisation: np.ndarray
+    factors: DesignFactors = DesignFactors()
+    limit_characteristic: np.ndarray | None = None
+
+    @property
+    def utilisation_characteristic(self) -> np.ndarray:
+        """(k, p, 2n + 2) ``|κ| / κ_lim`` with the characteristic strength."""
+        if self.limit_characteristic is None:
+            return self.utilisation
+        return np.abs(self.curvature) / self.limit_characteristic[None]
+
+    @property
+    def max_characteristic(self) -> float:
+        return float(self.utilisation_characteristic.max())
 
     @property
     def per_plate(self) -> np.ndarray:
@@ -73,7 +98,9 @@ def bending_angles(flat, grain: float) -> np.ndarray:
     return np.concatenate([phi, phi], axis=1)
 
 
-def bending_check(vertices, flat, thickness: float, material, *, grain: float = 0.0):
+def bending_check(
+    vertices, flat, thickness: float, material, *, grain: float = 0.0, factors=None
+) -> BendingCheck:
     """Curvature against the material's limit at every vertex of every plate and state.
 
     Parameters
@@ -87,6 +114,9 @@ def bending_check(vertices, flat, thickness: float, material, *, grain: float = 
     material : compas_ccu.materials.Material
     grain : float
         Grain direction in the cut patterns, radians from the x axis.
+    factors : compas_ccu.materials.DesignFactors, optional
+        The design factors (:func:`compas_ccu.materials.design_factors`); default: the
+        characteristic strengths.
 
     Returns
     -------
@@ -106,7 +136,19 @@ def bending_check(vertices, flat, thickness: float, material, *, grain: float = 
     >>> check = bending_check(plate, flat, 0.008, material("plywood"))
     >>> round(check.max, 3)
     0.6
+
+    With the design strength for a permanent action in service class 1 (k_mod 0.6, γ_M 1.2),
+    f_d = 15 MPa and the utilisation doubles: 0.6 · 1.2 / 0.6 = 1.2.
+
+    >>> from compas_ccu.materials import design_factors
+    >>> check = bending_check(plate, flat, 0.008, material("plywood"),
+    ...                       factors=design_factors("plywood"))
+    >>> round(check.max, 3), round(check.max_characteristic, 3), check.factors.label
+    (1.2, 0.6, 'EC5 SC1 permanent')
     """
+    if factors is None:
+        factors = DesignFactors()
     kappa = plate_curvature(vertices)
-    limit = material.curvature_limit_at(thickness, bending_angles(flat, grain))
-    return BendingCheck(kappa, limit, np.abs(kappa) / limit[None])
+    characteristic = material.curvature_limit_at(thickness, bending_angles(flat, grain))
+    limit = characteristic * factors.strength_factor
+    return BendingCheck(kappa, limit, np.abs(kappa) / limit[None], factors, characteristic)

@@ -17,8 +17,7 @@ from compas_ccu.errors import GeometryError, SelfIntersectionError
 from compas_ccu.geometry import unit
 from compas_ccu.kinematics.mechanism import MechanismStates
 from compas_ccu.kinematics.plates import stack_rows
-from compas_ccu.materials import MaterialError
-from compas_ccu.materials import material as get_material
+from compas_ccu.materials import DesignFactors, MaterialError
 from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thick, solid_faces
 from compas_ccu.thickness.bending import BendingCheck, bending_check
@@ -141,10 +140,21 @@ class ThickModel:
     thickness : float, optional
         Plate thickness, m; default: the design's ``plates.thickness``.
     material : str, dict or Material, optional
-        Default: the design's ``plates.material``.
+        Default: the design's ``plates.material``; a name may be one of the design file's
+        ``[materials.NAME]`` or a library material.
     grain : float, optional
         Grain direction in the cut patterns, degrees from the plane x axis; default: the
         design's ``plates.grain``.
+    design_code : dict or DesignFactors, optional
+        The basis of the bending check: keys of the design's ``[design_code]`` section that
+        override it, or the factors themselves; default: the section (EC5 design values when
+        the file has none; docs/thickness.md, "Design values").
+
+    Attributes
+    ----------
+    material : compas_ccu.materials.Material
+    factors : compas_ccu.materials.DesignFactors
+        k_mod, γ_M, k_def and the basis of the bending check.
 
     Raises
     ------
@@ -152,13 +162,13 @@ class ThickModel:
         Thickness not positive and finite, or too large for the plates (more than half the
         narrowest plate width), or a design with CCF creases.
     MaterialError
-        Unknown or impossible material.
+        Unknown or impossible material, or a material without default design factors and
+        none given.
     """
 
-    def __init__(self, model, *, thickness=None, material=None, grain=None):
+    def __init__(self, model, *, thickness=None, material=None, grain=None, design_code=None):
         plates = model.design.plates
         thickness = plates.thickness if thickness is None else thickness
-        material = plates.material if material is None else material
         grain = plates.grain if grain is None else grain
         if isinstance(thickness, bool) or not isinstance(thickness, (int, float)):
             raise GeometryError(f"thickness must be a number in metres, got {thickness!r}")
@@ -175,7 +185,11 @@ class ThickModel:
             raise MaterialError(f"grain must be a finite angle in degrees, got {grain!r}")
         self.model = model
         self.thickness = float(thickness)
-        self.material = get_material(material)
+        self.material = model.design.resolve_material(material)
+        if isinstance(design_code, DesignFactors):
+            self.factors = design_code
+        else:
+            self.factors = model.design.design_factors(self.material, **(design_code or {}))
         self.grain = float(grain)
         mech = model.mechanism
         self.mechanism = mech
@@ -441,8 +455,21 @@ class ThickModel:
         st = self.place(alphas)
         mid = self.model.plates.to_output(stack_rows(st.near, st.far), axis=1)
         return bending_check(
-            mid, self.model.flat(), self.thickness, self.material, grain=math.radians(self.grain)
+            mid,
+            self.model.flat(),
+            self.thickness,
+            self.material,
+            grain=math.radians(self.grain),
+            factors=self.factors,
         )
+
+    def _final_modulus(self):
+        """``E1 / (1 + k_def)``, ``E2 / (1 + k_def)`` (Pa): the final-state stiffness under the
+        permanent active bending (EN 1995-1-1 2.3.2.2); None if k_def is unknown."""
+        k_def = self.factors.k_def
+        if k_def is None:
+            return None
+        return [self.material.E1 / (1.0 + k_def), self.material.E2 / (1.0 + k_def)]
 
     def summary(self, *, path_states: int = 41) -> dict:
         """Everything ``ccu info`` and the report show: stack, corrections, checks."""
@@ -467,9 +494,13 @@ class ThickModel:
             "hinge_gap_max_path": float(metrics["hinge_gap"].max()),
             "isometry_max_path": float(metrics["isometry"].max()),
             "bending": {
+                "basis": self.factors.to_dict(),
                 "curvature_limit_min": float(bend.limit.min()),
+                "curvature_limit_characteristic_min": float(bend.limit_characteristic.min()),
                 "max_curvature": float(np.abs(bend.curvature).max()),
                 "max_utilisation": bend.max,
+                "max_utilisation_characteristic": bend.max_characteristic,
+                "final_modulus": self._final_modulus(),
                 "utilisation_per_plate": per_plate.tolist(),
                 "worst": {
                     "alpha": float(alphas[k]),

@@ -339,6 +339,14 @@ def _thickness_section(t) -> str:
         else "within the limit"
     )
     pairs = t["pairing"]
+    basis = b["basis"]
+    design = basis["code"] != "characteristic"
+    basis_line = (
+        f"{basis['basis']}: f_d = k_mod · f_k / γ_M with k_mod = {basis['k_mod']:g}, "
+        f"γ_M = {basis['gamma_M']:g} ({basis['source']})"
+        if design
+        else "characteristic strengths f_k (k_mod = γ_M = 1)"
+    )
     rows = [
         ("Plates", f"{t['thickness'] * 1e3:.4g} mm {e(t['material'])}, grain {t['grain']:g}°"),
         ("Flat-folded stack height (Σt)", f"{t['stack_height'] * 1e3:.4g} mm"),
@@ -356,11 +364,30 @@ def _thickness_section(t) -> str:
         ("Collisions, flat stack → design", collide),
         ("Largest plate curvature", f"{b['max_curvature']:.4g} 1/m"),
         (
-            "Bending utilisation κ / (f / (E t/2))",
+            "Bending utilisation κ / (f_d / (E t/2))"
+            if design
+            else "Bending utilisation κ / (f_k / (E t/2))",
             f"{b['max_utilisation']:.3f} (plate {worst['plate']} at α {worst['alpha']:.3g}°): "
             f"{verdict}",
         ),
+        ("Basis of the bending check", e(basis_line)),
     ]
+    if design:
+        rows.append(
+            (
+                "Characteristic utilisation κ / (f_k / (E t/2))",
+                f"{b['max_utilisation_characteristic']:.3f}",
+            )
+        )
+    if b.get("final_modulus") is not None and basis.get("k_def") is not None:
+        rows.append(
+            (
+                "Creep (k_def), final stiffness E / (1 + k_def)",
+                f"k_def {basis['k_def']:g}: "
+                + " / ".join(f"{v / 1e9:.3g}" for v in b["final_modulus"])
+                + " GPa (E1 / E2)",
+            )
+        )
     body = "\n".join(f"<tr><th>{e(a)}</th><td>{v}</td></tr>" for a, v in rows)
     return (
         '<h2 id="thickness">Thickness and bending (paper §5.3)</h2>'
