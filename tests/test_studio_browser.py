@@ -14,6 +14,7 @@ import time
 
 import numpy as np
 import pytest
+from playwright.sync_api import expect
 
 from compas_ccu.catalog import catalog_path
 from compas_ccu.design.document import parse_toml
@@ -204,7 +205,7 @@ def test_undo_restores_the_previous_design(page, studio):
     _wait(lambda: studio.session.model.plates.count == 10, what="undo")
     _idle(studio, page)
     tab(page, "Design")
-    assert field(page, "plates").input_value() == "10"
+    expect(field(page, "plates")).to_have_value("10")  # the page follows the server
     tab(page, "File")
     page.get_by_role("button", name="Redo", exact=True).click()
     _wait(lambda: studio.session.model.plates.count == 6, what="redo")
@@ -214,9 +215,14 @@ def test_path_traversal_is_refused(page, studio, folders):
     design, _ = folders
     root = design.parent
     for name in ("../secret.toml", str(root / "secret.toml"), "/tmp/x.toml", "sub/../../x.toml"):
+        said = studio.file_panel.content
         field(page, "save as").fill(name)
+        # the click must reach the server after the name (viser throttles control updates)
+        _wait(lambda n=name: studio.save_name.value == n, what="the name on the server")
         page.get_by_role("button", name="Save as", exact=True).click()
-        page.get_by_text("not saved:").first.wait_for(timeout=5_000)
+        _wait(lambda s=said: studio.file_panel.content != s, what="the answer to save as")
+        assert "not saved:" in studio.file_panel.content, studio.file_panel.content
+        page.get_by_text("not saved:").first.wait_for(timeout=10_000)
     assert (root / "secret.toml").read_text() == "# outside the design folder\n"
     assert not (root / "x.toml").exists()
     field(page, "save as").fill("vault.toml")
@@ -276,7 +282,7 @@ def test_the_recovery_copy_survives_a_restart(browser, studio, folders):
         page = open_page(browser, again.url)
         try:
             page.get_by_text("restored unsaved edits of vault.toml").wait_for(timeout=10_000)
-            assert field(page, "rise [m]").input_value() == "0.9"
+            expect(field(page, "rise [m]")).to_have_value("0.9")
         finally:
             page.close()
     finally:
