@@ -6,6 +6,7 @@ Only formatting: the numbers come from the library (:mod:`compas_ccu.key_figures
 
 from __future__ import annotations
 
+from compas_ccu.thickness.bending import bending_verdict
 from compas_ccu.thickness.model import collision_text
 
 __all__ = ["info_lines", "thickness_lines", "validation_lines"]
@@ -93,7 +94,7 @@ def thickness_lines(summary: dict) -> list:
         f"bending check     max curvature {b['max_curvature']:.3g} 1/m, utilisation "
         f"{b['max_utilisation']:.2f} (plate {worst['plate']} at alpha {worst['alpha']:.3g} deg; "
         f"limit f{'_d' if design else '_k'}/(E t/2) >= {b['curvature_limit_min']:.3g} 1/m)"
-        + ("  ** EXCEEDED: the plates would break **" if b["exceeded"] else "")
+        + (f"  ** {bending_verdict(True, basis)} **" if b["exceeded"] else "")
     )
     lines.append(f"bending basis     {basis_text(basis)}")
     if design:

@@ -16,6 +16,7 @@ from compas_ccu.errors import CCUError
 from compas_ccu.key_figures import key_figures
 from compas_ccu.key_figures.table import FIGURES
 from compas_ccu.thickness import ThickModel
+from compas_ccu.thickness.bending import bending_verdict
 
 __all__ = ["Check", "StudioChecks", "design_checks", "first_collision", "PATH_STATES"]
 
@@ -184,7 +185,7 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
                 status,
                 f"largest utilisation (plate {ids[worst]}, {g.material}, t = "
                 f"{g.thickness * 1000:.3g} mm, {bend.factors.label})"
-                + (": the plates would break" if u > 1.0 else ""),
+                + (f": {bending_verdict(True, bend.factors.to_dict())}" if u > 1.0 else ""),
             )
         )
     exact = g.crease_planarity_exact

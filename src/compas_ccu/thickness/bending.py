@@ -26,7 +26,7 @@ import numpy as np
 from compas_ccu.materials import DesignFactors
 from compas_ccu.strips.curvature import plate_curvature
 
-__all__ = ["BendingCheck", "bending_check", "bending_angles"]
+__all__ = ["BendingCheck", "bending_check", "bending_angles", "bending_verdict"]
 
 
 class BendingCheck(NamedTuple):
@@ -152,3 +152,21 @@ def bending_check(
     characteristic = material.curvature_limit_at(thickness, bending_angles(flat, grain))
     limit = characteristic * factors.strength_factor
     return BendingCheck(kappa, limit, np.abs(kappa) / limit[None], factors, characteristic)
+
+
+def bending_verdict(exceeded: bool, basis: dict) -> str:
+    """What an exceeded (or passed) bending check means on its basis, in words: above the
+    characteristic strength the plates would break; above the design strength the check of the
+    code fails (``ccu info``, the report, ``ccu fabricate`` and the studio say the same).
+
+    >>> bending_verdict(True, {"code": "EC5", "service_class": 1, "load_duration": "permanent"})
+    'EXCEEDED: above the design bending strength (EC5 SC1 permanent)'
+    >>> bending_verdict(True, {"code": "characteristic"})
+    'EXCEEDED: above the characteristic bending strength: the plates would break'
+    """
+    if not exceeded:
+        return "within the limit"
+    if basis.get("code", "characteristic") == "characteristic":
+        return "EXCEEDED: above the characteristic bending strength: the plates would break"
+    label = f"{basis['code']} SC{basis['service_class']} {basis['load_duration']}"
+    return f"EXCEEDED: above the design bending strength ({label})"

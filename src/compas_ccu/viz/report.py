@@ -20,6 +20,7 @@ from compas_ccu.errors import CCUError, OptionError
 from compas_ccu.io import write_compas_json, write_obj, write_path_table, write_structure_json
 from compas_ccu.key_figures import KeyFigures, key_figures
 from compas_ccu.thickness import ThickModel
+from compas_ccu.thickness.bending import bending_verdict
 from compas_ccu.thickness.model import collision_text
 from compas_ccu.viz.animation import mp4_available, write_animation
 from compas_ccu.viz.colors import KIND_COLORS
@@ -333,11 +334,8 @@ def _thickness_section(t) -> str:
     if c["first"] is not None:
         collide = f'<b class="skip">{collide}</b>'
     worst = b["worst"]
-    verdict = (
-        '<b class="skip">EXCEEDED: the plates would break</b>'
-        if b["exceeded"]
-        else "within the limit"
-    )
+    verdict = bending_verdict(b["exceeded"], b["basis"])
+    verdict = f'<b class="skip">{e(verdict)}</b>' if b["exceeded"] else e(verdict)
     pairs = t["pairing"]
     basis = b["basis"]
     design = basis["code"] != "characteristic"
