@@ -295,7 +295,8 @@ def test_checks_fail_with_their_reason():
     thick = CCUModel(Design(document, name="thick"))
     rows = {r.name: r for r in design_checks(thick).rows}
     assert rows["bending"].status == "fail"
-    assert "EXCEEDED: above the design bending strength (EC5 SC1 permanent)" in rows["bending"].reason
+    reason = rows["bending"].reason
+    assert "EXCEEDED: above the design bending strength (EC5 SC1 permanent)" in reason
 
 
 def test_first_collision_is_refined_between_scanned_states():
