@@ -232,7 +232,7 @@ def plot_scale(rows: list, *, sheet=SHEET, title: str | None = None):
     ]
     for name, label, limit in (
         ("fe_buckling_factor", "linear buckling factor (FE)", (1.0, "factor 1")),
-        ("fe_deflection_ratio", "deflection / span (FE)", None),
+        ("fe_deflection_ratio", "deflection / its limit (FE)", (1.0, "limit (span/500)")),
     ):
         if any(r.get(name) is not None for r in ok):
             panels.append((name, label, limit))
