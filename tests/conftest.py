@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from compas_ccu.design import Design
+from compas_ccu.fea.engines import get_engine
 from compas_ccu.model import load_model
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -75,3 +76,12 @@ def make_design(**sections) -> Design:
         else:
             doc[name] = {**doc.get(name, {}), **values}
     return Design(doc)
+
+
+@pytest.fixture(params=["kratos", "opensees"])
+def engine(request):
+    """Each FE backend in turn (both are installed by `make setup`: the tests must run)."""
+    module = get_engine(request.param)
+    ok, info = module.available()
+    assert ok, info
+    return module

@@ -106,4 +106,6 @@ def test_ccu_scale_writes_the_table_and_the_plots(tmp_path, capsys):
     assert "--sheet must be LENGTHxWIDTH" in capsys.readouterr().err
     assert main(["scale", str(EXAMPLES / "vault.toml"), "--to", "4", "--area-load", "900",
                  "--out", str(tmp_path / "y")]) == 2  # fmt: skip
-    assert "--area-load is the load of the FE checks: give --fe" in capsys.readouterr().err
+    assert "--area-load and --load-case choose the load of the FE checks: give --fe" in (
+        capsys.readouterr().err
+    )

@@ -5,19 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from compas_ccu.fea.engines import get_engine
 from compas_ccu.fea.problem import FEError, FEProblem, LoadPattern
 from compas_ccu.materials import Material
-
-
-@pytest.fixture(params=["kratos", "opensees"])
-def engine(request):
-    """Each backend in turn (both are installed by `make setup`: the tests must run)."""
-    module = get_engine(request.param)
-    ok, info = module.available()
-    assert ok, info
-    return module
-
 
 OPTIONS = {"tolerance": 1e-6, "max_iterations": 30, "max_cuts": 6}
 PLYWOOD = Material.isotropic("plywood", 9.0e9, 0.3, 600.0, 30.0e6)

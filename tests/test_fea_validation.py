@@ -221,25 +221,35 @@ def test_structural_checks_on_the_deployed_state(cone):
     assert c["strength_MPa"] == pytest.approx(15.0, rel=1e-15)
     assert c["strength_characteristic_MPa"] == 30.0
     assert c["basis"]["basis"] == "EC5 SC1 permanent" and c["basis"]["k_mod"] == 0.6
-    assert 0.0 < c["utilisation_max_characteristic"] < 2.0
-    assert c["utilisation_max"] == pytest.approx(2.0 * c["utilisation_max_characteristic"])
+    # per case: the design strength of its load duration (self-weight permanent, the area
+    # load short-term: k_mod 0.9 -> 22.5 MPa), the ULS stress over it
+    by = {k["name"]: k for k in c["cases"]}
+    assert list(by) == ["self-weight", "area-load"]
+    assert by["area-load"]["strength_MPa"] == pytest.approx(22.5, rel=1e-15)
+    for k in c["cases"]:
+        assert 0.0 < k["utilisation_max_characteristic"] < 2.0
+        assert k["utilisation_max"] == pytest.approx(
+            30.0 / k["strength_MPa"] * k["utilisation_max_characteristic"], rel=1e-12
+        )
+    assert c["utilisation_max"] == max(k["utilisation_max"] for k in c["cases"])
     assert c["buckling_factor"] is None and "kratos" in c["buckling_note"]
 
 
 @pytest.mark.slow
 def test_buckling_factor_of_the_loaded_cone_pair_scales_with_the_load(cone):
-    """Kratos: the factor falls roughly in proportion when the area load grows tenfold."""
+    """Kratos: the factor falls roughly in proportion when the area load grows fivefold."""
     light = validate(cone, engine="kratos", area_load=1500.0, **FAST).summary()["checks"]
-    heavy = validate(cone, engine="kratos", area_load=15000.0, **FAST).summary()["checks"]
-    assert 5.0 < light["buckling_factor"] < 20.0  # measured 9.8
-    assert 1.0 < heavy["buckling_factor"] < light["buckling_factor"] / 5.0  # measured 1.18
-    # the buckling load itself (factor x total load) agrees within 25 % (pre-buckling
-    # nonlinearity): about 15 to 18 kN/m2 on this pair
+    heavy = validate(cone, engine="kratos", area_load=7500.0, **FAST).summary()["checks"]
+    assert 3.0 < light["buckling_factor"] < 20.0  # measured 6.64
+    assert 1.0 < heavy["buckling_factor"] < light["buckling_factor"] / 3.0  # measured 1.46
+    # the buckling load itself (factor x total design load, 1.35 G + 1.5 Q) agrees within
+    # 15 % (pre-buckling nonlinearity; measured 15.4 and 16.5 kN/m2); near the limit point
+    # (15 kN/m2 characteristic, factor 1.06) the linearised factor overshoots by 55 %
     w = 600.0 * 9.81 * 0.008
-    first = light["buckling_factor"] * (1500.0 + w)
-    second = heavy["buckling_factor"] * (15000.0 + w)
-    assert abs(first - second) <= 0.25 * first
-    assert heavy["deflection_max_m"] > 10.0 * light["deflection_max_m"]
+    first = light["buckling_factor"] * (1.5 * 1500.0 + 1.35 * w)
+    second = heavy["buckling_factor"] * (1.5 * 7500.0 + 1.35 * w)
+    assert abs(first - second) <= 0.15 * first
+    assert heavy["deflection_max_m"] > 4.0 * light["deflection_max_m"]
 
 
 @pytest.mark.slow
@@ -348,5 +358,8 @@ def test_validate_uses_the_designs_plates_and_says_so(tmp_path, capsys):
     saved = json.loads((tmp_path / "fe" / "validation.json").read_text())
     assert saved["plates"]["thickness"] == 0.01
     # aluminium: gamma_M 1.1 (EN 1999-1-1), k_mod 1: the design strength is 130 / 1.1 MPa
-    assert "strength: 118.2 MPa, EC5 SC1 permanent: f_d = k_mod f_k / gamma_M, k_mod 1" in out
+    assert (
+        "strength of the governing case: 118.2 MPa, EC5 SC1 short-term: f_d = k_mod f_k / "
+        "gamma_M, k_mod 1" in out
+    )
     assert saved["checks"]["strength_MPa"] == pytest.approx(130.0 / 1.1, rel=1e-12)

@@ -11,7 +11,7 @@ pytest.importorskip("matplotlib")
 
 from compas_ccu.cli import main  # noqa: E402
 from compas_ccu.outputs import MANIFEST
-from compas_ccu.viz.report import FIGURES  # noqa: E402
+from compas_ccu.viz.report import FIGURES, structural_section  # noqa: E402
 from conftest import EXAMPLES  # noqa: E402
 from imagecheck import assert_picture, load_rgb  # noqa: E402
 
@@ -117,3 +117,53 @@ def test_thickness_section_is_on_the_page(report):
     )
     assert "Characteristic utilisation κ / (f_k / (E t/2)) 0.559" in text
     assert "k_def 0.8: 5 / 5 GPa (E1 / E2)" in text
+
+
+def test_structural_section_shows_every_case_and_marks_the_failed_ones():
+    actions = [
+        dict(name="self-weight", value_N_per_m2=47.1, where="surface", half_span=False, gamma=1.35),
+        dict(
+            name="wet concrete",
+            value_N_per_m2=2040.5,
+            where="projected",
+            half_span=False,
+            gamma=1.5,
+        ),
+    ]
+    case = dict(
+        name="wet-concrete",
+        actions=actions,
+        deflection_max_m=0.0061,
+        deflection_ratio=1.22,
+        deflection_ok=False,
+        utilisation_max=0.8,
+        utilisation_ok=True,
+        basis={"k_mod": 0.9},
+        strength_MPa=22.5,
+        buckling_factor=3.2,
+        reactions_uls=dict(
+            start_vertical_N=1200.4,
+            start_horizontal_N=800.0,
+            end_vertical_N=1199.6,
+            end_horizontal_N=800.0,
+            tie_N=0.0,
+        ),
+        hinges_uls=dict(
+            tension_max_N_per_m=12.0, out_of_plane_max_N_per_m=900.0, line_mean_N_per_m=300.0
+        ),
+    )
+    checks = {
+        "cases": [case, {**case, "name": "snow", "deflection_ok": True, "buckling_factor": None}],
+        "supports": {"type": "springs", "tie": False},
+        "deflection_limit_m": 0.005,
+        "governing": dict(deflection="wet-concrete", utilisation="snow", buckling="wet-concrete"),
+    }
+    html = structural_section({"checks": checks, "engine": "kratos"}, ["figures/fe_load_cases.png"])
+    assert "feet springs" in html and "deflection limit 5.00 mm" in html
+    assert "<tr class=bad><th>wet-concrete</th>" in html and "<tr><th>snow</th>" in html
+    assert "wet concrete 2040 N/m² (projected, γ 1.5)" in html
+    assert "6.10 mm (1.22)" in html and "0.80 (k_mod 0.9, 22.5 MPa)" in html
+    assert "1200 / 800 | 1200 / 800" in html and "12 / 900 / 300" in html
+    assert "<td class=num>—</td>" in html  # no buckling factor: a dash, not a number
+    assert '<img src="figures/fe_load_cases.png"' in html
+    assert structural_section({"checks": {"deflection_max_m": 0.001}}) == ""  # an old file

@@ -11,7 +11,8 @@ from pathlib import Path
 
 from compas_ccu.cli.common import load_model, missing_modules, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
-from compas_ccu.cli.text import basis_text
+from compas_ccu.cli.text import basis_text, load_case_lines
+from compas_ccu.fea.loads import CASE_NAMES
 from compas_ccu.fea.problem import ConvergenceError
 from compas_ccu.fea.record import agreement, remember
 from compas_ccu.fea.validation import validate as run_validation
@@ -52,6 +53,7 @@ def validate(args) -> int:
         control=args.control,
         checks=not args.no_checks,
         area_load=args.area_load,
+        load_cases=args.load_case,
     )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -99,19 +101,12 @@ def _summary_lines(summary: dict) -> list:
     ]
     c = summary["checks"]
     if c:
-        lines.append(
-            f"checks (self-weight + {c['load']['area_load_N_per_m2']:.0f} N/m2): deflection "
-            f"{c['deflection_max_m'] * 1e3:.2f} mm <= {c['deflection_limit_m'] * 1e3:.2f} mm "
-            f"{'ok' if c['deflection_ok'] else 'EXCEEDED'}, utilisation "
-            f"{c['utilisation_max']:.2f} {'ok' if c['utilisation_ok'] else 'EXCEEDED'}"
-            + (
-                f", buckling factor {c['buckling_factor']:.3g}"
-                if c.get("buckling_factor") is not None
-                else ""
-            )
-        )
+        lines.extend(load_case_lines(c))
         if c.get("basis"):
-            lines.append(f"strength: {c['strength_MPa']:.4g} MPa, {basis_text(c['basis'])}")
+            lines.append(
+                f"strength of the governing case: {c['strength_MPa']:.4g} MPa, "
+                f"{basis_text(c['basis'])}"
+            )
     if "agreement" in summary:
         a = summary["agreement"]
         lines.append(
@@ -132,8 +127,10 @@ COMMANDS = (
         "validate the deployment with a nonlinear FE engine",
         "Mesh the plates as quad shells (8 mm plywood by default), tie the hinges, "
         "deploy geometrically nonlinearly and compare with the kinematic model; then check "
-        "the deployed state under self-weight + an area load. Writes validation.json, "
-        "fe_results.npz and fe_stress / fe_deviation / fe_curves pictures into --out.",
+        "the deployed state under the design's load cases ([loads], [supports], [hinges]: "
+        "self-weight, wet concrete, construction, snow, half-span snow, wind). Writes "
+        "validation.json, fe_results.npz and the fe_stress / fe_deviation / fe_curves / "
+        "fe_load_cases pictures into --out.",
         (
             DESIGN,
             OUT,
@@ -159,8 +156,8 @@ COMMANDS = (
             option(
                 "--hinge-stiffness",
                 type=float,
-                default=0.0,
-                help="rotational hinge spring, Nm/rad/m",
+                default=None,
+                help="rotational hinge spring, Nm/rad/m (default: the design's [hinges])",
             ),
             option(
                 "--control",
@@ -168,7 +165,20 @@ COMMANDS = (
                 default="supports",
                 help="nodes that follow the kinematic path (displacement mode)",
             ),
-            option("--area-load", type=float, default=1500.0, help="check load, N/m2 (1500)"),
+            option(
+                "--area-load",
+                type=float,
+                default=None,
+                help="an extra uniform load case on the plates, N/m2 (default: 1500 if the "
+                "design's [loads] define no action, else none)",
+            ),
+            option(
+                "--load-case",
+                action="append",
+                choices=CASE_NAMES,
+                default=None,
+                help="run only this load case (repeat for several; default: all the design's)",
+            ),
             option("--no-checks", action="store_true", help="skip the structural checks"),
             option("--compare", action="store_true", help="cross-check with the other engine"),
             option("--no-figures", action="store_true", help="skip the pictures"),

@@ -6,12 +6,14 @@ The viz modules are imported inside the commands, after the check for the extra,
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
 from compas_ccu.cli.common import comma_list, load_model, need_viz, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, QUIET_PROGRESS, Command, option
 from compas_ccu.errors import OptionError
+from compas_ccu.fea.record import last_validation
 from compas_ccu.io import read_values
 from compas_ccu.viz.animation import ANIMATION_FORMATS, mp4_available, write_animation
 from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
@@ -118,12 +120,40 @@ def sheet(args) -> int:
     return 0
 
 
+def _last_validation(design) -> tuple:
+    """The ``validation.json`` of the last ``ccu validate`` of this design file's contents (and
+    its load-case picture), if its folder still holds it."""
+    record = last_validation(design)
+    if not record or not record.get("out"):
+        return None, []
+    folder = Path(record["out"])
+    try:
+        summary = json.loads((folder / "validation.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None, []
+    if summary.get("design") != record.get("design") or not summary.get("converged", True):
+        return None, []
+    if "cases" not in (summary.get("checks") or {}):
+        return None, []  # no load cases (before they existed, or --no-checks)
+    summary["_folder"] = str(folder)
+    return summary, [folder / "fe_load_cases.png"]
+
+
 def report(args) -> int:
     need_viz("report")
 
     model = load_model(args.design)
+    validation, pictures = _last_validation(args.design)
+    if validation is not None:
+        say(args, f"with the FE validation in {validation['_folder']}")
     written = write_report(
-        model, args.out, steps=args.steps, frames=args.frames, progress=not args.quiet
+        model,
+        args.out,
+        steps=args.steps,
+        frames=args.frames,
+        progress=not args.quiet,
+        validation=validation,
+        validation_figures=pictures,
     )
     for name, reason in sorted(written.skipped.items()):
         print(f"ccu: warning: {name} not produced: {reason}", file=sys.stderr)

@@ -8,6 +8,7 @@ from compas_ccu.cli.common import load_model, missing_modules, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
 from compas_ccu.errors import OptionError
 from compas_ccu.explore.scale import SHEET, THICKNESS_LAWS, plot_scale, scale_study, write_csv
+from compas_ccu.fea.loads import CASE_NAMES
 from compas_ccu.viz.export import save_figure
 
 __all__ = ["COMMANDS"]
@@ -32,18 +33,23 @@ def scale(args) -> int:
     law = args.thickness_law or ("given" if thicknesses else "constant")
     model = load_model(args.design)
     base = model.deploy().metrics["span"]
-    if args.area_load is not None and not args.fe:
-        raise OptionError("--area-load is the load of the FE checks: give --fe as well")
+    if (args.area_load is not None or args.load_case) and not args.fe:
+        raise OptionError(
+            "--area-load and --load-case choose the load of the FE checks: give --fe as well"
+        )
     fe = None
     if args.fe:
         fe = {} if args.area_load is None else {"area_load": args.area_load}
+        if args.load_case:
+            fe["load_cases"] = list(args.load_case)
 
     def progress(row):
         if row["status"] == "ok":
             say(
                 args,
                 f"span {row['span']:6.3f} m  t {row['thickness'] * 1000:5.2f} mm  "
-                f"mass {row['mass']:8.1f} kg  bending {row['bending_utilisation']:.3f}  plate "
+                f"mass {row['mass']:8.1f} kg  bending {row['bending_utilisation']:.3f}  "
+                f"actuation {row['actuation_force']:7.0f} N  plate "
                 f"{row['plate_length']:.3f} x {row['plate_width']:.3f} m"
                 + ("" if row["fits_sheet"] else " (larger than the sheet)"),
             )
@@ -81,7 +87,8 @@ COMMANDS = (
         "scale a design to other spans (a span scaling study)",
         "Scale every length of DESIGN from its crease span to --to in --steps equal steps, the "
         "plate thickness following --thickness-law, and measure every span as ccu explore does "
-        "(stack and plate size, mass, bending utilisation, collisions; FE with --fe). Writes "
+        "(stack and plate size, mass, bending utilisation, actuation force, collisions; FE "
+        "load cases with --fe). Writes "
         "scale.csv and scale.png / .svg (the columns against the span) into --out.",
         (
             DESIGN,
@@ -114,13 +121,22 @@ COMMANDS = (
                 "--fe",
                 action="store_true",
                 help="also run the FE validation at every span (minutes each): deflection, "
-                "utilisation and linear buckling factor under self-weight + --area-load",
+                "utilisation, linear buckling factor and hinge forces under the design's load "
+                "cases ([loads]) or self-weight + --area-load",
             ),
             option(
                 "--area-load",
                 type=float,
                 default=None,
-                help="with --fe: the distributed load of the checks, N/m2 (default 1500)",
+                help="with --fe: a uniform load case, N/m2 (default 1500 if the design's [loads] "
+                "define no action)",
+            ),
+            option(
+                "--load-case",
+                action="append",
+                choices=CASE_NAMES,
+                default=None,
+                help="with --fe: run only this load case (repeat for several)",
             ),
             QUIET,
         ),

@@ -122,6 +122,40 @@ def basis_text(basis: dict) -> str:
     )
 
 
+def load_case_lines(checks: dict) -> list:
+    """The load-case table of ``ccu validate`` (the ``checks`` of ``validation.json``)."""
+    c = checks
+    sup = c.get("supports", {})
+    kind = sup.get("type", "pinned") + (" with a tie" if sup.get("tie") else "")
+    lines = [
+        f"load cases (feet {kind}; deflection limit {c['deflection_limit_m'] * 1e3:.2f} mm; "
+        "ULS stresses with the active bending, over k_mod f_k / gamma_M):",
+        f"  {'case':<13}{'deflection':>12}{'util.':>7}{'k_mod':>7}{'buckling':>10}"
+        f"{'reactions V / H, N (start | end)':>36}{'hinge N/m: tension | shear | mean':>36}",
+    ]
+    for k in c["cases"]:
+        r, hg = k["reactions_uls"], k["hinges_uls"]
+        b = k["buckling_factor"]
+        flag = "" if k["deflection_ok"] and k["utilisation_ok"] else "  EXCEEDED"
+        lines.append(
+            f"  {k['name']:<13}{k['deflection_max_m'] * 1e3:>9.2f} mm"
+            f"{k['utilisation_max']:>7.2f}{k['basis']['k_mod']:>7.2f}"
+            f"{'—' if b is None else format(b, '.3g'):>10}"
+            f"{r['start_vertical_N']:>10.0f} /{r['start_horizontal_N']:>6.0f} |"
+            f"{r['end_vertical_N']:>8.0f} /{r['end_horizontal_N']:>6.0f}"
+            + (f" tie {r['tie_N']:.0f}" if r.get("tie_N") else "")
+            + f"{hg.get('tension_max_N_per_m', 0.0):>14.0f} |"
+            f"{hg.get('out_of_plane_max_N_per_m', 0.0):>6.0f} |"
+            f"{hg.get('line_mean_N_per_m', 0.0):>6.0f}{flag}"
+        )
+    g = c["governing"]
+    lines.append(
+        f"governing: deflection {g['deflection']}, utilisation {g['utilisation']}"
+        + (f", buckling {g['buckling']}" if g.get("buckling") else "")
+    )
+    return lines
+
+
 def validation_lines(record: dict | None) -> list:
     """``ccu info`` lines on the last FE validation record of a design file, if any."""
     if record is None:
@@ -148,6 +182,14 @@ def validation_lines(record: dict | None) -> list:
             )
             + ("" if c["deflection_ok"] and c["utilisation_ok"] else "  ** NOT OK **")
         )
+        if c.get("governing"):
+            g = c["governing"]
+            names = ", ".join(k["name"] for k in c.get("cases", []))
+            lines.append(
+                f"                  load cases {names}; governing: deflection "
+                f"{g['deflection']}, utilisation {g['utilisation']}"
+                + (f", buckling {g['buckling']}" if g.get("buckling") else "")
+            )
         if c.get("basis"):
             lines.append(f"                  strength basis {basis_text(c['basis'])}")
     lines.append(f"                  ({record['when']}, {record['out']})")

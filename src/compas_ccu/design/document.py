@@ -103,6 +103,21 @@ class Design(Data):
         return self.sections.design_code
 
     @property
+    def loads(self):
+        """The ``[loads]`` section: the load cases of the structural checks."""
+        return self.sections.loads
+
+    @property
+    def supports(self):
+        """The ``[supports]`` section: how the feet are held under the load cases."""
+        return self.sections.supports
+
+    @property
+    def hinges(self):
+        """The ``[hinges]`` section: rigid or spring hinges in the FE model."""
+        return self.sections.hinges
+
+    @property
     def materials(self):
         """The file's ``[materials.NAME]`` tables: name -> Material."""
         return self.sections.materials

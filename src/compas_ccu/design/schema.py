@@ -435,6 +435,140 @@ SCHEMA: dict = {
             check_doc=">= 0 and <= 10",
         ),
     },
+    "loads": {
+        "_doc": "Load cases of the FE structural checks of the deployed state (`ccu validate`, "
+        "docs/structural.md). Self-weight is always a case; every action below that is not "
+        "zero adds its own: wet-concrete, construction (concrete + live, or live alone), "
+        "snow, snow-half (the asymmetric case: snow on the half of the span before its "
+        "middle) and wind. Characteristic values: the serviceability state (deflection) "
+        "takes them as they are, the ultimate state (utilisation, buckling) multiplies them "
+        "by gamma_G and gamma_Q.",
+        "concrete_thickness": Key(
+            "float",
+            "Thickness of the wet concrete cast on the upper surface of the deployed "
+            "formwork, m (0: no concrete case).",
+            default=0.0,
+            check=lambda v: 0.0 <= v <= 2.0,
+            check_doc=">= 0 and <= 2",
+        ),
+        "concrete_density": Key(
+            "float",
+            "Density of the wet concrete, kg/m³ (normal-weight reinforced concrete, fresh: "
+            "EN 1991-1-1 Table A.1, 25 kN/m³ + 1 kN/m³ fresh).",
+            default=2600.0,
+            check=lambda v: 100.0 <= v <= 10000.0,
+            check_doc="100 ... 10000",
+        ),
+        "concrete_area": Key(
+            "str",
+            "Where the concrete weight is counted: 'projected', the thickness measured "
+            "vertically (a slab with a level soffit line per plan area); 'surface', a layer "
+            "of constant thickness on the plates' surface area.",
+            default="projected",
+            choices=("projected", "surface"),
+        ),
+        "live": Key(
+            "float",
+            "Construction live load on the projected area, N/m² (EN 1991-1-6 4.11.2: 0.75 "
+            "kN/m², up to 1.5 kN/m² in the working area); with concrete it acts together "
+            "with it (case construction).",
+            default=0.0,
+            check=lambda v: 0.0 <= v <= 1.0e5,
+            check_doc=">= 0 and <= 1e5",
+        ),
+        "snow": Key(
+            "float",
+            "Snow load on the projected area, N/m² (mu_i s_k, EN 1991-1-3); also gives the "
+            "asymmetric case snow-half.",
+            default=0.0,
+            check=lambda v: 0.0 <= v <= 1.0e5,
+            check_doc=">= 0 and <= 1e5",
+        ),
+        "wind": Key(
+            "float",
+            "Wind pressure normal to the surface, Pa: positive presses onto the upper face, "
+            "negative is suction (c_pe q_p, EN 1991-1-4).",
+            default=0.0,
+            check=lambda v: -1.0e5 <= v <= 1.0e5,
+            check_doc="-1e5 ... 1e5",
+        ),
+        "gamma_G": Key(
+            "float",
+            "Partial factor of the permanent actions (self-weight), EN 1990 Table A1.2(B).",
+            default=1.35,
+            check=lambda v: 1.0 <= v <= 3.0,
+            check_doc="1 ... 3",
+        ),
+        "gamma_Q": Key(
+            "float",
+            "Partial factor of the variable actions (concrete during execution, live, snow, "
+            "wind), EN 1990 Table A1.2(B).",
+            default=1.5,
+            check=lambda v: 1.0 <= v <= 3.0,
+            check_doc="1 ... 3",
+        ),
+        "deflection_limit": Key(
+            "float",
+            "Allowed deflection under a case (serviceability), as span / this number.",
+            default=500.0,
+            check=lambda v: 1.0 <= v <= 1.0e5,
+            check_doc="1 ... 1e5",
+        ),
+    },
+    "supports": {
+        "_doc": "How the deployed structure stands for the structural checks (`ccu "
+        "validate`): the end rulings of every plate are the feet. During the deployment "
+        "they follow the kinematic path; under the load cases they are held as set here.",
+        "type": Key(
+            "str",
+            "'pinned': the feet held in place (hinges along the end rulings); 'springs': "
+            "the feet on translational springs of `stiffness` in every direction.",
+            default="pinned",
+            choices=("pinned", "springs"),
+        ),
+        "stiffness": Key(
+            "float",
+            "Spring support stiffness per metre of foot line, N/m per m (type 'springs').",
+            default=1.0e7,
+            check=lambda v: 0.0 < v <= 1.0e15,
+            check_doc="> 0 and <= 1e15",
+            when="type = 'springs'",
+        ),
+        "tie": Key(
+            "bool",
+            "A tie between the two feet of every plate: the end foot slides along the span "
+            "(held across and vertically), the tie takes the thrust.",
+            default=False,
+        ),
+        "tie_stiffness": Key(
+            "float",
+            "Axial stiffness EA / L of the tie of one plate, N/m (a 12 mm steel rod over "
+            "2.5 m: 9.5e6 N/m).",
+            default=9.5e6,
+            check=lambda v: 0.0 < v <= 1.0e15,
+            check_doc="> 0 and <= 1e15",
+            when="tie = true",
+        ),
+    },
+    "hinges": {
+        "_doc": "The textile hinges in the FE model (`ccu validate`): the plates' crease "
+        "nodes tied in translation (rigid), or joined by springs, and free to turn, or "
+        "turning against a rotational spring.",
+        "rotational_stiffness": Key(
+            "float",
+            "Rotational spring of the hinge, N m/rad per m of crease (0: free hinge).",
+            default=0.0,
+            check=lambda v: 0.0 <= v <= 1.0e12,
+            check_doc=">= 0 and <= 1e12",
+        ),
+        "translational_stiffness": Key(
+            "float",
+            "Translational springs of the hinge in every direction, N/m per m of crease "
+            "(unset: rigid ties).",
+            check=lambda v: 0.0 < v <= 1.0e15,
+            check_doc="> 0 and <= 1e15",
+        ),
+    },
     "plane": {
         "_doc": "Placement of the leading crease plane in world coordinates (metres). Profile "
         "x runs along xaxis, profile y along yaxis; the plane normal is xaxis x yaxis.",
@@ -464,6 +598,12 @@ _UNITS = {
     "target": {"apex": "m", "support": "m", "support_end": "m"},
     "plates": {"thickness": "m", "grain": "deg", "hinge_width": "m"},
     "design_code": {"service_class": "1", "gamma_M": "1", "k_mod": "1", "k_def": "1"},
+    "loads": {
+        "concrete_thickness": "m", "concrete_density": "kg/m³", "live": "N/m²",
+        "snow": "N/m²", "wind": "Pa", "gamma_G": "1", "gamma_Q": "1", "deflection_limit": "1",
+    },
+    "supports": {"stiffness": "N/m²", "tie_stiffness": "N/m"},
+    "hinges": {"rotational_stiffness": "N", "translational_stiffness": "N/m²"},
     "plane": {"origin": "m", "xaxis": "1", "yaxis": "1"},
 }  # fmt: skip
 for _section, _units in _UNITS.items():

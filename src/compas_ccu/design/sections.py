@@ -50,6 +50,9 @@ TargetSection = SECTION_TYPES["target"]
 PlatesSection = SECTION_TYPES["plates"]
 PlaneSection = SECTION_TYPES["plane"]
 DesignCodeSection = SECTION_TYPES["design_code"]
+LoadsSection = SECTION_TYPES["loads"]
+SupportsSection = SECTION_TYPES["supports"]
+HingesSection = SECTION_TYPES["hinges"]
 
 
 class MaterialsSection(Mapping):
@@ -99,6 +102,9 @@ class DesignSections:
     target: TargetSection
     plates: PlatesSection
     design_code: DesignCodeSection
+    loads: LoadsSection
+    supports: SupportsSection
+    hinges: HingesSection
     plane: PlaneSection
     materials: MaterialsSection
 

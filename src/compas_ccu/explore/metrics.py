@@ -80,6 +80,8 @@ KEY_FIGURE_COLUMNS = {
             "material",
             "stack_height",
             "mass",
+            "deployment_energy",
+            "actuation_force",
             "bending_utilisation",
             "bending_utilisation_characteristic",
             "bending_basis",
@@ -145,11 +147,45 @@ METRICS = (
                 "fe_utilisation",
                 "float",
                 "",
-                "Structural check: largest stress / strength "
-                "under self-weight + area load (fe.checks).",
+                "Structural check: largest ULS stress / design strength over the load cases "
+                "(the design's [loads], or self-weight + area load; fe.checks).",
             ),
-            ("fe_deflection_ratio", "float", "", "Structural check: deflection / allowed."),
-            ("fe_buckling_factor", "float", "", "Linear buckling factor (Kratos only)."),
+            (
+                "fe_deflection_ratio",
+                "float",
+                "",
+                "Structural check: largest deflection / allowed over the load cases.",
+            ),
+            (
+                "fe_buckling_factor",
+                "float",
+                "",
+                "Smallest linear buckling factor over the load cases (Kratos only).",
+            ),
+            (
+                "fe_hinge_tension",
+                "float",
+                "N/m",
+                "Largest hinge line force across a crease (tension) under the load cases.",
+            ),
+            (
+                "fe_hinge_shear",
+                "float",
+                "N/m",
+                "Largest out-of-plane hinge shear under the load cases.",
+            ),
+            (
+                "fe_hinge_mean",
+                "float",
+                "N/m",
+                "Mean hinge line force of the governing case (away from the feet).",
+            ),
+            (
+                "fe_actuation_force",
+                "float",
+                "N",
+                "Largest force between the feet during the FE deployment, dW/d span.",
+            ),
             ("fe_elements", "int", "", "Shell elements of the FE mesh."),
         ],
     ),
@@ -232,6 +268,12 @@ def fe_metrics(model, thick, options: dict) -> dict:
         "fe_utilisation": number(checks.get("utilisation_max")),
         "fe_deflection_ratio": number(checks.get("deflection_ratio")),
         "fe_buckling_factor": number(buckling),
+        "fe_hinge_tension": number(checks.get("hinge_tension_max_N_per_m")),
+        "fe_hinge_shear": number(checks.get("hinge_shear_max_N_per_m")),
+        "fe_hinge_mean": number(checks.get("hinge_mean_N_per_m")),
+        "fe_actuation_force": max(
+            (abs(f) for f in s["load_path"]["foot_force_N"] if f is not None), default=None
+        ),
         "fe_elements": int(s["mesh"]["elements"]),
     }
 

@@ -102,6 +102,8 @@ def scaled_document(document: dict, factor: float, *, thickness: float | None = 
                 continue
             if section == "plates" and name in ("thickness", "hinge_width"):
                 continue  # the thickness follows its law; hinge strips are a product width
+            if section == "loads":
+                continue  # the loads (a concrete thickness) do not grow with the structure
             if key.unit == "m":
                 table[name] = _scale(table[name], factor)
             elif key.unit == "m, load" and isinstance(table[name], list):
@@ -192,8 +194,10 @@ CSV_COLUMNS = (
     "span_target", "scale", "thickness_law", "status", "error",
     "span", "rise", "thickness", "plates", "plate_length", "plate_width", "fits_sheet",
     "stack_length", "stack_width", "stack_height", "mass", "bending_utilisation",
-    "bending_curvature", "collision_free", "min_clearance", "alpha_limit", "overlap_alpha",
+    "bending_curvature", "deployment_energy", "actuation_force", "collision_free",
+    "min_clearance", "alpha_limit", "overlap_alpha",
     "fe_utilisation", "fe_deflection_ratio", "fe_buckling_factor", "fe_bending_MPa",
+    "fe_hinge_tension", "fe_hinge_shear", "fe_hinge_mean", "fe_actuation_force",
 )  # fmt: skip
 
 
@@ -229,10 +233,12 @@ def plot_scale(rows: list, *, sheet=SHEET, title: str | None = None):
             (max(sheet), f"stock sheet {max(sheet):g} m"),
         ),
         ("stack_height", "flat stack height (m)", None),
+        ("actuation_force", "force between the feet to deploy (N)", None),
     ]
     for name, label, limit in (
         ("fe_buckling_factor", "linear buckling factor (FE)", (1.0, "factor 1")),
         ("fe_deflection_ratio", "deflection / its limit (FE)", (1.0, "limit (span/500)")),
+        ("fe_hinge_mean", "hinge line force, governing case mean (FE, N/m)", None),
     ):
         if any(r.get(name) is not None for r in ok):
             panels.append((name, label, limit))

@@ -29,39 +29,16 @@ after a best-fit rigid alignment (:mod:`compas_ccu.fea.comparison`).
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from compas_ccu.fea.history import DeploymentHistory
 from compas_ccu.fea.mesh import ShellMesh
-from compas_ccu.fea.problem import FEError, FEProblem, FEResult, LoadPattern
+from compas_ccu.fea.problem import FEError, FEProblem, LoadPattern
 from compas_ccu.fea.settings import FESettings
-from compas_ccu.fea.solving import solve_steps, tie_set
-from compas_ccu.kinematics.plates import plate_quads
-from compas_ccu.strips.curvature import plate_curvature
+from compas_ccu.fea.solving import solve_steps, strip_nodes, tie_set
+from compas_ccu.thickness.actuation import bending_energy
 
-__all__ = ["actuate", "bending_energy"]
-
-
-def bending_energy(vertices: np.ndarray, rigidity: float) -> np.ndarray:
-    """(k,) bending energy ``D/2 Σ κ² A`` of the plates of k kinematic states, J.
-
-    Parameters
-    ----------
-    vertices : (k, p, 2n + 2, 3) float
-    rigidity : float
-        Plate bending stiffness ``D = E t³ / 12 (1 - ν²)``, N m.
-    """
-    v = np.asarray(vertices, dtype=float)
-    n = v.shape[-2] // 2 - 1
-    kappa = plate_curvature(v)
-    q = plate_quads(n)
-    a, b, c, d = (v[..., q[:, i], :] for i in range(4))
-    area = 0.5 * np.linalg.norm(np.cross(c - a, d - b), axis=-1)
-    k2 = (kappa[..., q[:, 0]] ** 2 + kappa[..., q[:, 1]] ** 2) / 2.0
-    k2 = (k2 + (kappa[..., q[:, 3]] ** 2 + kappa[..., q[:, 2]] ** 2) / 2.0) / 2.0
-    return 0.5 * rigidity * (k2 * area).sum(axis=(-1, -2))
+__all__ = ["actuate", "bending_energy"]  # bending_energy: compas_ccu.thickness.actuation
 
 
 def actuate(model, mesh: ShellMesh, settings: FESettings, *, alpha: float) -> DeploymentHistory:
@@ -184,19 +161,10 @@ def actuate(model, mesh: ShellMesh, settings: FESettings, *, alpha: float) -> De
         mesh,
         s,
         problem,
-        _strip_anchors(result, n_nodes),
+        strip_nodes(result, n_nodes),
         reached,
         matched,
         np.array([st.metrics["span"] for st in matched_states]),
         steps,
         extra={"actuation": record},
-    )
-
-
-def _strip_anchors(result: FEResult, n_nodes: int) -> FEResult:
-    """The result without the anchor nodes (reactions keep the anchors: the actuator forces)."""
-    return replace(
-        result,
-        displacements=result.displacements[:, :n_nodes],
-        rotations=result.rotations[:, :n_nodes],
     )

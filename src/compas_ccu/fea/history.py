@@ -19,6 +19,7 @@ from compas_ccu.fea.problem import FEProblem, FEResult
 from compas_ccu.fea.settings import FESettings
 from compas_ccu.fea.solving import tie_set
 from compas_ccu.fea.stresses import surface_stresses
+from compas_ccu.thickness.actuation import actuation_force
 from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = ["DeploymentHistory"]
@@ -48,6 +49,12 @@ class DeploymentHistory:
         The steps of the deployment proper; any after them are the structural check steps.
     extra : dict
         JSON-ready record particular to the strategy (e.g. ``{"actuation": {...}}``).
+    load_steps : list of dict
+        Per load case (displacement mode with checks): ``case``
+        (:class:`~compas_ccu.fea.loads.LoadCase`) and the 0-based steps ``sls`` and ``uls``
+        of its characteristic and design loads.
+    supports : SupportModel or None
+        How the feet were held under the load cases.
     """
 
     model: object
@@ -60,6 +67,8 @@ class DeploymentHistory:
     spans: np.ndarray
     deployment_steps: int
     extra: dict = field(default_factory=dict)
+    load_steps: list = field(default_factory=list)
+    supports: object = None
 
     # -- the FE state at every step ---------------------------------------------------------------
     @property
@@ -108,6 +117,10 @@ class DeploymentHistory:
             )
         return out
 
+    def kinematic_span_at_zero(self) -> float:
+        """Span of the leading crease in the flat-folded stack (alpha = 0), m."""
+        return float(self.model.path([0.0], check=False)[0].metrics["span"])
+
     # -- load path --------------------------------------------------------------------------------
     def work(self) -> np.ndarray:
         """(k,) work done by the supports' prescribed motion up to every step, J.
@@ -128,12 +141,15 @@ class DeploymentHistory:
         a = np.r_[0.0, self.alphas[:k]]
         w = np.r_[0.0, self.work()[:k]]
         force = np.gradient(w, np.radians(a)) if len(a) > 2 else np.zeros_like(a)
+        span = np.r_[self.kinematic_span_at_zero(), self.spans[:k]]
+        foot = actuation_force(a, w, span)
         reac = np.r_[0.0, np.linalg.norm(self.result.reactions[:k].sum(axis=1), axis=1)]
         peak = np.r_[0.0, np.linalg.norm(self.result.reactions[:k], axis=2).max(axis=1)]
         return {
             "alpha": a.tolist(),
             "work_J": w.tolist(),
             "generalised_force_J_per_rad": force.tolist(),
+            "foot_force_N": [None if not np.isfinite(f) else float(f) for f in foot],
             "reaction_resultant_N": reac.tolist(),
             "reaction_peak_N": peak.tolist(),
         }

@@ -10,12 +10,13 @@ import os
 
 import numpy as np
 
+from compas_ccu.fea.checks import structural_checks
 from compas_ccu.fea.comparison import Comparison
 from compas_ccu.fea.stresses import signed_bending_stress
 from compas_ccu.outputs import write_json
-from compas_ccu.viz.fea import plot_fe_curves, plot_fe_shape
+from compas_ccu.viz.fea import plot_fe_curves, plot_fe_shape, plot_load_cases
 
-__all__ = ["write_results", "write_figures"]
+__all__ = ["write_results", "write_figures", "load_case_titles"]
 
 
 def write_results(out, summary: dict, comparison: Comparison, *, figures: bool = True) -> list:
@@ -67,7 +68,8 @@ def write_results(out, summary: dict, comparison: Comparison, *, figures: bool =
 
 
 def write_figures(out, comparison: Comparison) -> list:
-    """``fe_stress.png`` (Fig. 7 colouring), ``fe_deviation.png``, ``fe_curves.png``.
+    """``fe_stress.png`` (Fig. 7 colouring), ``fe_deviation.png``, ``fe_curves.png`` and,
+    with load cases, ``fe_load_cases.png`` (:func:`load_case_titles`).
 
     Drawn at the last deployment step. Needs matplotlib (the ``viz`` extra).
     """
@@ -124,4 +126,33 @@ def write_figures(out, comparison: Comparison) -> list:
     paths.append(os.path.join(out, "fe_curves.png"))
     fig.savefig(paths[-1], dpi=130)
     plt.close(fig)
+    checks = structural_checks(h)
+    if checks:
+        d = h.result.displacements
+        fig = plot_load_cases(
+            h.positions[k],
+            np.array([d[step["sls"]] - d[k] for step in h.load_steps]),
+            h.mesh.elements,
+            load_case_titles(checks),
+        )
+        fig.suptitle(
+            f"{name}: deflection under the characteristic loads of every case "
+            f"(limit {checks['deflection_limit_m'] * 1e3:.2f} mm)",
+            fontsize=11,
+        )
+        paths.append(os.path.join(out, "fe_load_cases.png"))
+        fig.savefig(paths[-1], dpi=130)
+        plt.close(fig)
     return paths
+
+
+def load_case_titles(checks: dict) -> list:
+    """One line per load case: deflection, utilisation and buckling factor (the pictures)."""
+    out = []
+    for c in checks["cases"]:
+        b = c["buckling_factor"]
+        out.append(
+            f"{c['name']}: {c['deflection_max_m'] * 1e3:.2f} mm, utilisation "
+            f"{c['utilisation_max']:.2f}" + ("" if b is None else f", buckling {b:.3g}")
+        )
+    return out

@@ -28,7 +28,33 @@ import numpy as np
 from compas_ccu.errors import CCUError, rebuild_error
 from compas_ccu.materials import Material
 
-__all__ = ["FEProblem", "LoadPattern", "FEResult", "ConvergenceError", "FEError"]
+__all__ = [
+    "FEProblem",
+    "LoadPattern",
+    "FEResult",
+    "ConvergenceError",
+    "FEError",
+    "buckling_steps",
+]
+
+
+def buckling_steps(buckling, steps: int) -> set:
+    """The steps (1 .. ``steps``) at which to compute the linear buckling factor.
+
+    ``buckling`` is False (none), True (the last step) or a sequence of step numbers.
+
+    >>> sorted(buckling_steps(True, 8)), sorted(buckling_steps([3, 5], 8))
+    ([8], [3, 5])
+    """
+    if buckling is True:
+        return {int(steps)}
+    if not buckling:
+        return set()
+    out = {int(k) for k in buckling}
+    bad = sorted(k for k in out if not 1 <= k <= steps)
+    if bad:
+        raise FEError(f"buckling steps must lie in 1 .. {steps}, got {bad}")
+    return out
 
 
 class FEError(CCUError):
@@ -109,6 +135,11 @@ class FEProblem:
         that step (its reaction must then be carried by a load pattern).
     fixed_rotations : (R,) int
         Nodes whose three rotations are held at zero (clamped edges), all steps.
+    springs : (P, 2) int
+        Node pairs joined by linear translational springs (supports on springs, a tie), the
+        force on the second node ``k ⊙ (u_first - u_second)`` per global axis.
+    spring_stiffness : (P, 3) float
+        Stiffness of every spring along the global x, y, z axes, N/m.
     patterns : list of LoadPattern
     steps : int
         Number of steps S.
@@ -129,6 +160,8 @@ class FEProblem:
     fixed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     prescribed: np.ndarray | None = None
     fixed_rotations: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    springs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=int))
+    spring_stiffness: np.ndarray | None = None
     patterns: list = field(default_factory=list)
     name: str = "ccu"
 
@@ -138,6 +171,10 @@ class FEProblem:
         self.ties = np.asarray(self.ties, dtype=int).reshape(-1, 2)
         self.fixed = np.asarray(self.fixed, dtype=int).reshape(-1)
         self.fixed_rotations = np.asarray(self.fixed_rotations, dtype=int).reshape(-1)
+        self.springs = np.asarray(self.springs, dtype=int).reshape(-1, 2)
+        if self.spring_stiffness is None:
+            self.spring_stiffness = np.zeros((len(self.springs), 3))
+        self.spring_stiffness = np.asarray(self.spring_stiffness, dtype=float)
         n, s = len(self.nodes), int(self.steps)
         if s < 1:
             raise FEError(f"steps must be >= 1, got {self.steps!r}")
@@ -145,7 +182,14 @@ class FEProblem:
             raise FEError(f"nodes must be (N, 3), got shape {self.nodes.shape}")
         if self.elements.ndim != 2 or self.elements.shape[1] != 4:
             raise FEError(f"elements must be (E, 4), got shape {self.elements.shape}")
-        for key in ("elements", "ties", "fixed", "fixed_rotations"):
+        if self.spring_stiffness.shape != (len(self.springs), 3) or np.any(
+            ~(self.spring_stiffness >= 0.0)
+        ):
+            raise FEError(
+                f"spring_stiffness must be ({len(self.springs)}, 3) and >= 0, got shape "
+                f"{self.spring_stiffness.shape}"
+            )
+        for key in ("elements", "ties", "fixed", "fixed_rotations", "springs"):
             a = getattr(self, key)
             if a.size and (a.min() < 0 or a.max() >= n):
                 raise FEError(f"{key} refer to nodes outside 0 .. {n - 1}")
@@ -235,6 +279,8 @@ class FEResult:
         Linearised buckling factor of the last state under its loads (if asked for and the
         engine can), ``inf`` if none under increasing load.
     buckling_note : str
+    buckling : dict
+        Step (1 .. S) -> ``(factor, note)`` for every step the buckling factor was asked at.
     """
 
     engine: str
@@ -252,6 +298,7 @@ class FEResult:
     message: str = ""
     buckling_factor: float | None = None
     buckling_note: str = ""
+    buckling: dict = field(default_factory=dict)
 
     @property
     def steps(self) -> int:

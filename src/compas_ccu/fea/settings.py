@@ -10,15 +10,20 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from compas_ccu.fea.loads import CASE_NAMES, GRAVITY, load_cases
 from compas_ccu.fea.problem import FEError
+from compas_ccu.fea.supports import SUPPORT_TYPES
 from compas_ccu.materials import DesignFactors, design_factors
 from compas_ccu.materials import material as get_material
 
-__all__ = ["FESettings", "MODES", "CONTROLS", "GRAVITY"]
+__all__ = ["FESettings", "MODES", "CONTROLS", "GRAVITY", "DEFAULT_AREA_LOAD"]
 
 MODES = ("displacement", "actuation")
 CONTROLS = ("supports", "edges")
-GRAVITY = 9.81
+#: The ``area-load`` case of a design without a ``[loads]`` action, N/m².
+DEFAULT_AREA_LOAD = 1500.0
+_VARIABLE = ("concrete_thickness", "live", "snow", "wind")
+_SUPPORT_KEYS = {"type": "pinned", "stiffness": 1.0e7, "tie": False, "tie_stiffness": 9.5e6}
 
 
 @dataclass
@@ -57,10 +62,20 @@ class FESettings:
     self_weight : bool
         Displacement mode: self-weight during the deployment too.
     checks : bool
-        Displacement mode: run the structural checks (self-weight + ``area_load``, and the
-        linear buckling factor) on the deployed state.
-    area_load : float
-        Distributed load on the plates for the checks, Pa (1.5 kN/m² of wet concrete).
+        Displacement mode: run the load cases on the deployed state (deflection, utilisation,
+        linear buckling factor, reactions, hinge forces; :mod:`compas_ccu.fea.checks`).
+    loads : dict or None
+        The keys of a design file's ``[loads]`` section (:mod:`compas_ccu.fea.loads`); None:
+        self-weight and the ``area-load`` case only.
+    load_cases : sequence of str or None
+        The cases to run (names of :data:`compas_ccu.fea.loads.CASE_NAMES`); None: all that
+        the loads define.
+    area_load : float or None
+        A uniform load on the plate surface, Pa: the ``area-load`` case (0: none). None: 1.5
+        kN/m² if ``loads`` has no action of its own, else none.
+    supports : dict or None
+        The keys of a design file's ``[supports]`` section (:mod:`compas_ccu.fea.supports`);
+        None: pinned feet.
     deflection_limit : float
         Allowed deflection as a fraction of the span (1/500).
     prebend : float
@@ -85,7 +100,10 @@ class FESettings:
     control: str = "supports"
     self_weight: bool = False
     checks: bool = True
-    area_load: float = 1500.0
+    loads: dict | None = None
+    load_cases: tuple | None = None
+    area_load: float | None = None
+    supports: dict | None = None
     deflection_limit: float = 1.0 / 500.0
     prebend: float | None = None
     actuator_stiffness: float = 2.0e5
@@ -104,6 +122,9 @@ class FESettings:
             v = getattr(self, key)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0.0):
                 raise FEError(f"{key} must be > 0, got {v!r}")
+        if self.area_load is None:
+            variable = any((self.loads or {}).get(k) for k in _VARIABLE)
+            self.area_load = 0.0 if variable else DEFAULT_AREA_LOAD
         if self.area_load < 0.0 or not (0.0 < self.deflection_limit < 1.0):
             raise FEError(
                 f"area_load must be >= 0 Pa and deflection_limit in (0, 1), got "
@@ -112,6 +133,36 @@ class FESettings:
         self.material = get_material(self.material)
         if not isinstance(self.design_code, DesignFactors):
             self.design_code = design_factors(self.material, **(self.design_code or {}))
+        supports = dict(self.supports or {})
+        unknown = sorted(set(supports) - set(_SUPPORT_KEYS))
+        if unknown:
+            raise FEError(f"unknown supports key(s) {unknown}; known: {sorted(_SUPPORT_KEYS)}")
+        self.supports = {**_SUPPORT_KEYS, **supports}
+        if self.supports["type"] not in SUPPORT_TYPES:
+            raise FEError(
+                f"supports.type must be one of {SUPPORT_TYPES}, got {self.supports['type']!r}"
+            )
+        if self.load_cases is not None:
+            self.load_cases = tuple(self.load_cases)
+            names = [c.name for c in self.cases(select=False)]
+            missing = [c for c in self.load_cases if c not in names]
+            if missing:
+                known = [c for c in CASE_NAMES if c in names]
+                raise FEError(
+                    f"load case(s) {missing} are not defined: the loads give {known} (set the "
+                    "action in the design's [loads] section, or --area-load)"
+                )
+
+    def cases(self, *, select: bool = True) -> list:
+        """The :class:`~compas_ccu.fea.loads.LoadCase` list of the checks (``load_cases``
+        only, unless ``select`` is False); empty without ``checks``."""
+        if not self.checks and select:
+            return []
+        weight = self.material.density * GRAVITY * self.thickness
+        out = load_cases(self.loads or {}, self_weight=weight, area_load=self.area_load)
+        if select and self.load_cases is not None:
+            out = [c for c in out if c.name in self.load_cases]
+        return out
 
     @classmethod
     def from_options(cls, options: dict) -> FESettings:

@@ -9,6 +9,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from compas_ccu.fea.engines import solve
@@ -16,7 +18,17 @@ from compas_ccu.fea.mesh import ShellMesh
 from compas_ccu.fea.problem import ConvergenceError, FEProblem, FEResult
 from compas_ccu.fea.settings import FESettings
 
-__all__ = ["tie_set", "solve_steps"]
+__all__ = ["tie_set", "solve_steps", "strip_nodes"]
+
+
+def strip_nodes(result: FEResult, n_nodes: int) -> FEResult:
+    """``result`` without the nodes after the first ``n_nodes`` (actuator anchors, ground
+    nodes of support springs): they are no part of the structure. Reactions keep them."""
+    return replace(
+        result,
+        displacements=result.displacements[:, :n_nodes],
+        rotations=result.rotations[:, :n_nodes],
+    )
 
 
 def tie_set(mesh: ShellMesh, fixed: np.ndarray) -> tuple:

@@ -214,11 +214,14 @@ def validate(model, **options) -> Validation:
     model : compas_ccu.model.CCUModel
     **options
         Fields of :class:`FESettings` (engine, mode, element_size, steps, alpha, material,
-        thickness, orthotropic, hinge_stiffness, control, checks, area_load, design_code, ...).
-        Without ``thickness`` or ``material`` (or with None) the design's ``[plates]`` values
-        are used (a material name may be one of the file's ``[materials.NAME]``), and the
-        design's ``[design_code]`` gives the design strength of the checks;
-        ``summary()["plates"]`` says which were used and where they came from.
+        thickness, orthotropic, hinge_stiffness, control, checks, loads, load_cases,
+        area_load, supports, design_code, ...). Without ``thickness`` or ``material`` (or
+        with None) the design's ``[plates]`` values are used (a material name may be one of
+        the file's ``[materials.NAME]``); without ``loads``, ``supports``,
+        ``deflection_limit``, ``hinge_stiffness`` or ``hinge_translational_stiffness`` the
+        design's ``[loads]``, ``[supports]`` and ``[hinges]``; and the design's
+        ``[design_code]`` gives the design strength of the checks. ``summary()["plates"]``
+        says which were used and where they came from.
 
     Returns
     -------
@@ -242,6 +245,20 @@ def validate(model, **options) -> Validation:
             options[key] = getattr(model.design.plates, key)
         plates[key + "_from"] = "option" if given else "design [plates]"
     options["material"] = model.design.resolve_material(options["material"])
+    design = model.design
+    from_design = {
+        "loads": (design.loads.to_dict(), "[loads]"),
+        "supports": (design.supports.to_dict(), "[supports]"),
+        "deflection_limit": (1.0 / design.loads.deflection_limit, "[loads] deflection_limit"),
+        "hinge_stiffness": (design.hinges.rotational_stiffness, "[hinges]"),
+        "hinge_translational_stiffness": (design.hinges.translational_stiffness, "[hinges]"),
+    }
+    sources = {}
+    for key, (value, section) in from_design.items():
+        given = options.get(key) is not None
+        if not given:
+            options[key] = value
+        sources[key] = "option" if given else f"design {section}"
     if not isinstance(options.get("design_code"), DesignFactors):
         options["design_code"] = model.design.design_factors(
             options["material"], **(options.get("design_code") or {})
@@ -256,5 +273,6 @@ def validate(model, **options) -> Validation:
     comparison = compare(history, alignment=ALIGNMENT[settings.mode])
     validation = Validation(history, comparison)
     validation.extra["plates"] = plates
+    validation.extra["structural_inputs"] = sources
     validation.extra["wall_time_total_s"] = time.perf_counter() - start
     return validation

@@ -300,11 +300,14 @@ def thickness_figures(thick, alphas) -> dict:
     ``alphas`` (degrees): stack, mass and the bending check."""
     alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
     bend = thick.bending(alphas)
+    push = thick.actuation(alphas)
     return {
         "thickness": thick.thickness,
         "material": thick.material.name,
         "stack_height": float(thick.stack_height),
         "mass": plate_area(thick.model) * thick.thickness * thick.material.density,
+        "deployment_energy": float(push.energy[-1]),
+        "actuation_force": push.force_max,
         "bending_utilisation": float(bend.max),
         "bending_utilisation_characteristic": bend.max_characteristic,
         "bending_basis": bend.factors.label,

@@ -288,6 +288,20 @@ FIGURES = (
             ("stack_height", "float", "m", "Height of the flat-folded stack (sum of thicknesses)."),
             ("mass", "float", "kg", "plate_area * thickness * density."),
             (
+                "deployment_energy",
+                "float",
+                "J",
+                "Bending energy stored in the plates at the design state, D/2 * integral of "
+                "curvature squared (the work of deploying; docs/structural.md).",
+            ),
+            (
+                "actuation_force",
+                "float",
+                "N",
+                "Largest force between the feet along the path that holds the structure: "
+                "dE/dalpha / (d span/dalpha), quasi-static, no friction or self-weight.",
+            ),
+            (
                 "bending_utilisation",
                 "float",
                 "",

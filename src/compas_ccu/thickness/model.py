@@ -19,6 +19,7 @@ from compas_ccu.kinematics.mechanism import MechanismStates
 from compas_ccu.kinematics.plates import stack_rows
 from compas_ccu.materials import DesignFactors, MaterialError
 from compas_ccu.strips.curvature import plate_curvature
+from compas_ccu.thickness.actuation import Actuation, actuation_force, bending_energy
 from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thick, solid_faces
 from compas_ccu.thickness.bending import BendingCheck, bending_check
 from compas_ccu.thickness.collision import plate_contacts
@@ -462,6 +463,28 @@ class ThickModel:
             grain=math.radians(self.grain),
             factors=self.factors,
         )
+
+    def actuation(self, alphas=None) -> Actuation:
+        """Bending energy and the force between the feet along the path
+        (:mod:`compas_ccu.thickness.actuation`); default: 21 states to the design.
+
+        Examples
+        --------
+        >>> from compas_ccu.model import load_model
+        >>> a = ThickModel(load_model("examples/cone.toml")).actuation()
+        >>> round(float(a.energy[-1]), 2), round(a.force_max, 1)
+        (107.68, 529.0)
+        """
+        if alphas is None:
+            alphas = np.linspace(0.0, self.model.alpha_design, 21)
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        structures = self.model.path(alphas, check=False)
+        vertices = np.array([st.deployed for st in structures])
+        m = self.material.isotropic_equivalent()
+        rigidity = m.E1 * self.thickness**3 / (12.0 * (1.0 - m.nu12**2))
+        energy = bending_energy(vertices, rigidity)
+        span = np.array([st.metrics["span"] for st in structures])
+        return Actuation(alphas, energy, span, actuation_force(alphas, energy, span))
 
     def _final_modulus(self):
         """``E1 / (1 + k_def)``, ``E2 / (1 + k_def)`` (Pa): the final-state stiffness under the

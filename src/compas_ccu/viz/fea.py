@@ -15,7 +15,7 @@ from compas_ccu.tolerances import DIVISION_FLOOR
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.render import _shade, add_colorbar, camera, value_range
 
-__all__ = ["plot_fe_shape", "plot_fe_curves", "FE_MODES"]
+__all__ = ["plot_fe_shape", "plot_fe_curves", "plot_load_cases", "FE_MODES"]
 
 FE_MODES = ("stress", "deviation")
 
@@ -81,6 +81,7 @@ def plot_fe_shape(
     edges=None,
     cmap=None,
     figsize=(8.0, 5.6),
+    note: str | None = None,
 ):
     """A deformed finite-element mesh coloured by a stress or deviation field.
 
@@ -117,6 +118,8 @@ def plot_fe_shape(
         Default: the project's diverging (``stress``) or sequential (``deviation``) map.
     figsize : (float, float)
         Size of a new figure, inches.
+    note : str, optional
+        The line of numbers under the picture; default: the extremes of the painted values.
 
     Returns
     -------
@@ -238,7 +241,9 @@ def plot_fe_shape(
     ax.set_aspect("equal")
     ax.set_axis_off()
     add_colorbar(fig, mappable, ax, label or _LABELS[mode])
-    if finite.any():
+    if note is not None:
+        ax.text(0.0, 0.0, note, transform=ax.transAxes, fontsize=8, color="#444444", va="bottom")
+    elif finite.any():
         if mode == "stress":
             note = (
                 f"max tension {max(float(shown[finite].max()), 0.0):.3g} MPa, "
@@ -376,4 +381,101 @@ def plot_fe_curves(
             right.legend(handles=handles, frameon=False, fontsize=9, loc="upper left")
     if title:
         fig.suptitle(title, fontsize=12)
+    return fig
+
+
+def plot_load_cases(
+    deployed,
+    displacements,
+    elements,
+    titles,
+    *,
+    magnify: float | None = None,
+    view="perspective",
+    figsize: tuple | None = None,
+):
+    """The deflected shape of every load case, coloured by its deflection.
+
+    Parameters
+    ----------
+    deployed : (N, 3) float
+        The deployed node positions (before the loads), m.
+    displacements : (C, N, 3) float
+        The displacement of every node from the deployed state under each case's
+        characteristic loads, m.
+    elements : (E, 4) int
+    titles : sequence of str
+        One title per case (the case's name and numbers).
+    magnify : float, optional
+        Scale of the drawn displacements; default: the largest deflection of all cases drawn
+        as 5 % of the structure's size (the factor is printed on every panel).
+    view : str or Camera
+    figsize : (float, float), optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per case, all on one colour scale (deflection in mm, from 0 to the largest of
+        all cases), so equal colours mean equal deflections across the panels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> u, v = np.meshgrid(np.linspace(0, 1, 4), np.linspace(0, 1, 3), indexing="ij")
+    >>> x = np.c_[u.ravel(), v.ravel(), 0.0 * u.ravel()]
+    >>> i = (np.arange(3)[:, None] * 3 + np.arange(2)).ravel()
+    >>> e = np.c_[i, i + 3, i + 4, i + 1]
+    >>> d = np.zeros((2, 12, 3)); d[1, :, 2] = -0.002 * np.sin(np.pi * u.ravel())
+    >>> fig = plot_load_cases(x, d, e, ["a", "b"])
+    >>> len(fig.axes)  # two panels and one colour bar
+    3
+    """
+    from matplotlib.figure import Figure
+
+    x = np.asarray(deployed, dtype=float)
+    d = np.asarray(displacements, dtype=float)
+    if d.ndim != 3 or d.shape[1:] != x.shape or len(titles) != len(d):
+        raise ValueError(
+            f"displacements must be (cases, {len(x)}, 3) with one title per case, got "
+            f"{d.shape} and {len(titles)} titles"
+        )
+    e = np.asarray(elements, dtype=int)
+    size = float(np.linalg.norm(np.ptp(x, axis=0))) or 1.0
+    magnitude = np.linalg.norm(d, axis=2) * 1e3  # mm
+    peak = float(magnitude.max())
+    if magnify is None:
+        magnify = 0.05 * size / (peak / 1e3) if peak > 0.0 else 1.0
+    cols = min(3, len(d))
+    rows = -(-len(d) // cols)
+    fig = Figure(figsize=figsize or (4.6 * cols, 3.6 * rows + 0.4), layout="constrained")
+    axes = [fig.add_subplot(rows, cols, i + 1) for i in range(len(d))]
+    for ax, disp, mm, title in zip(axes, d, magnitude, titles):
+        per_element = mm[e].mean(axis=1)
+        plot_fe_shape(
+            x + magnify * disp,
+            e,
+            per_element,
+            mode="deviation",
+            view=view,
+            ax=ax,
+            vmin=0.0,
+            vmax=peak or 1.0,
+            label="deflection [mm]",
+            note=f"largest at a node {mm.max():.3g} mm (colours: element means)",
+        )
+        ax.set_title(title, fontsize=9)
+        ax.text(
+            1.0,
+            0.0,
+            f"× {magnify:.3g}",
+            transform=ax.transAxes,
+            fontsize=7,
+            ha="right",
+            color="#444444",
+            va="bottom",
+        )
+    # one colour bar for all panels: keep the last one plot_fe_shape added, drop the others
+    bars = [a for a in fig.axes if a not in axes]
+    for bar in bars[:-1]:
+        bar.remove()
     return fig

@@ -8,6 +8,7 @@ written.
 from __future__ import annotations
 
 import html
+import shutil
 import sys
 import time
 from dataclasses import dataclass, field
@@ -32,7 +33,7 @@ from compas_ccu.viz.sequence import plot_deployment_sequence
 from compas_ccu.viz.viewer import write_viewer
 from compas_ccu.viz.views import plot_views
 
-__all__ = ["write_report", "Report"]
+__all__ = ["write_report", "Report", "structural_section"]
 
 FIGURES = (
     ("views-kind", "3D views, creases coloured by kind"),
@@ -78,6 +79,8 @@ def write_report(
     frames: int = 48,
     formats=("png", "svg"),
     progress: bool = False,
+    validation: dict | None = None,
+    validation_figures=(),
 ) -> Report:
     """Write the report of a design into the folder ``out``.
 
@@ -94,6 +97,12 @@ def write_report(
         Figure formats (PNG is always written: the page shows it).
     progress : bool
         Show a progress bar on stderr.
+    validation : dict, optional
+        A ``validation.json`` of this design (``ccu validate``): the page gets a "Structural
+        checks" section with its load cases.
+    validation_figures : sequence of path
+        Pictures of that validation to copy into ``out/figures`` and show there (e.g.
+        ``fe_load_cases.png``).
 
     Returns
     -------
@@ -173,8 +182,20 @@ def write_report(
         except (CCUError, ValueError) as exc:
             report.skipped[label] = str(exc)
     bar.close()
+    structural = ""
+    if validation is not None:
+        shown = []
+        for src in validation_figures:
+            src = Path(src)
+            if src.exists():
+                dst = out / "figures" / src.name
+                dst.parent.mkdir(exist_ok=True)
+                shutil.copyfile(src, dst)
+                report.files.append(dst)
+                shown.append(dst)
+        structural = structural_section(validation, [_rel(p, out) for p in shown])
     elapsed = time.perf_counter() - started
-    page = _page(figures_of_design, structure, report, figures, elapsed)
+    page = _page(figures_of_design, structure, report, figures, elapsed, structural)
     report.index.write_text(page, encoding="utf-8")
     report.files.append(report.index)
     return report
@@ -200,6 +221,7 @@ _CSS = """
 body { font: 15px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; color: #222;
        margin: 0 auto; max-width: 1180px; padding: 1.2em 1.5em 3em; }
 h1 { margin-bottom: 0.1em; } h2 { margin-top: 1.8em; border-bottom: 1px solid #ddd; }
+tr.bad th, tr.bad td { color: #b00020; }
 .sub { color: #666; margin-top: 0; }
 table { border-collapse: collapse; margin: 0.6em 0; }
 td, th { padding: 0.25em 0.9em 0.25em 0; text-align: left; vertical-align: top; }
@@ -221,7 +243,9 @@ def _rel(path: Path, root: Path) -> str:
     return path.relative_to(root).as_posix()
 
 
-def _page(k: KeyFigures, structure, report: Report, figures: dict, elapsed: float) -> str:
+def _page(
+    k: KeyFigures, structure, report: Report, figures: dict, elapsed: float, structural: str = ""
+) -> str:
     e = html.escape
     root = report.index.parent
     kinds = ", ".join(
@@ -317,7 +341,7 @@ unfolding report · written in {elapsed:.1f} s</p> <h2 id="viewer">Interactive v
 structure size {k.size:.3f} m; exact below 1e-9)</h3>
 <table>{inv_rows}</table> <h3>Creases at the design state</h3>
 <table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
-<th>planarity</th></tr>{crease_rows}</table> {thick} {anim} <h2
+<th>planarity</th></tr>{crease_rows}</table> {thick} {structural} {anim} <h2
 id="figures">Figures</h2>{"".join(figs)} {
         "<h2>Not produced</h2><ul>" + skipped + "</ul>" if skipped else ""
     } <h2 id="files">Files</h2><table>{file_rows}</table> </body></html>
@@ -406,3 +430,64 @@ def _size(path: Path) -> str:
             return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
         n /= 1000.0
     return f"{n} B"
+
+
+def structural_section(validation: dict, pictures=()) -> str:
+    """The page's "Structural checks" section from a ``validation.json`` (its load cases).
+
+    Examples
+    --------
+    >>> structural_section({"checks": None})
+    ''
+    """
+    c = validation.get("checks")
+    if not c or "cases" not in c:  # no checks, or a validation.json from before load cases
+        return ""
+    e = html.escape
+    sup = c.get("supports", {})
+    feet = sup.get("type", "pinned") + (" with a tie" if sup.get("tie") else "")
+    rows = []
+    for k in c["cases"]:
+        r, hg = k["reactions_uls"], k["hinges_uls"]
+        actions = ", ".join(
+            f"{a['name']} {a['value_N_per_m2']:.0f} N/m² ({a['where']}"
+            + (", half span" if a["half_span"] else "")
+            + f", γ {a['gamma']:g})"
+            for a in k["actions"]
+        )
+        b = k["buckling_factor"]
+        ok = k["deflection_ok"] and k["utilisation_ok"]
+        rows.append(
+            f"<tr{'' if ok else ' class=bad'}><th>{e(k['name'])}</th><td>{e(actions)}</td>"
+            f"<td class=num>{k['deflection_max_m'] * 1e3:.2f} mm ({k['deflection_ratio']:.2f})</td>"
+            f"<td class=num>{k['utilisation_max']:.2f} (k_mod {k['basis']['k_mod']:g}, "
+            f"{k['strength_MPa']:.3g} MPa)</td>"
+            f"<td class=num>{'—' if b is None else format(b, '.3g')}</td>"
+            f"<td class=num>{r['start_vertical_N']:.0f} / {r['start_horizontal_N']:.0f} | "
+            f"{r['end_vertical_N']:.0f} / {r['end_horizontal_N']:.0f}"
+            + (f"; tie {r['tie_N']:.0f}" if r.get("tie_N") else "")
+            + f"</td><td class=num>{hg.get('tension_max_N_per_m', 0):.0f} / "
+            f"{hg.get('out_of_plane_max_N_per_m', 0):.0f} / {hg.get('line_mean_N_per_m', 0):.0f}"
+            "</td></tr>"
+        )
+    figs = "".join(
+        f'<figure><a href="{e(p)}"><img src="{e(p)}" alt="deflection of every load case">'
+        "</a><figcaption>Deflection under the characteristic loads of every case (one colour "
+        "scale; displacements magnified as printed)</figcaption></figure>"
+        for p in pictures
+    )
+    g = c["governing"]
+    return (
+        '<h2 id="structural">Structural checks (FE, load cases)</h2>'
+        f"<p>{e(validation.get('engine', ''))} · {e(validation.get('mode', ''))} · feet "
+        f"{e(feet)} · deflection limit {c['deflection_limit_m'] * 1e3:.2f} mm · ULS stresses "
+        "with the active-bending prestress over k_mod f_k / γ_M, the k_mod of each case's "
+        f"load duration · governing: deflection {e(str(g['deflection']))}, utilisation "
+        f"{e(str(g['utilisation']))}, buckling {e(str(g.get('buckling')))}</p>"
+        "<table><tr><th>case</th><th>actions (characteristic)</th><th>deflection "
+        "(/limit)</th><th>utilisation</th><th>buckling factor</th><th>reactions V / H, N "
+        "(start | end)</th><th>hinge N/m: tension / shear / mean</th></tr>"
+        + "".join(rows)
+        + "</table>"
+        + figs
+    )

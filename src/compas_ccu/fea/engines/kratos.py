@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from compas_ccu.fea.problem import FEError, FEProblem, FEResult
+from compas_ccu.fea.problem import FEError, FEProblem, FEResult, buckling_steps
 from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = ["available", "solve"]
@@ -189,6 +189,12 @@ class _Model:
                 el.SetValue(SMA.NODAL_DISPLACEMENT_STIFFNESS, KM.Array3([kt, kt, kt]))
                 el.SetValue(SMA.NODAL_ROTATIONAL_STIFFNESS, KM.Array3([kr, kr, kr]))
                 eid += 1
+        for s, ((a, b), k) in enumerate(zip(p.springs, p.spring_stiffness)):
+            props = mp.GetProperties()[len(p.ties) + 2 + s]
+            el = mp.CreateNewElement("SpringDamperElement3D", eid, [int(a) + 1, int(b) + 1], props)
+            el.SetValue(SMA.NODAL_DISPLACEMENT_STIFFNESS, KM.Array3([float(x) for x in k]))
+            el.SetValue(SMA.NODAL_ROTATIONAL_STIFFNESS, KM.Array3([0.0, 0.0, 0.0]))
+            eid += 1
 
     def _conditions(self):
         mp, p = self.mp, self.problem
@@ -338,12 +344,18 @@ class _Model:
         """
         import scipy.sparse.linalg as sla
 
+        self.__dict__.pop("_active", None)  # the free DOFs of this state's supports
         k0 = self.tangent()
         self.load_scale = 1.0 + delta
         ok, _, _ = self.advance(self.time)
+        k1 = self.tangent() if ok else None
+        self.load_scale = 1.0  # back to the state itself, for the steps that follow
+        back, _, _ = self.advance(self.time)
+        if not back:
+            raise FEError("the state did not converge again after the buckling analysis")
         if not ok:
             return None, "the loads raised by 5 % did not converge: the state is near a limit point"
-        k1 = self.tangent()
+
         dk = (k1 - k0) / delta
         lu = sla.splu(k0.tocsc())
         op = sla.LinearOperator(k0.shape, matvec=lambda x: lu.solve(-(dk @ x)), dtype=float)
@@ -362,10 +374,13 @@ def solve(
     tolerance: float,
     max_iterations: int,
     max_cuts: int,
-    buckling: bool = False,
+    buckling=False,
 ) -> FEResult:
-    """Solve ``problem`` step by step (see :mod:`compas_ccu.fea.problem`)."""
+    """Solve ``problem`` step by step (see :mod:`compas_ccu.fea.problem`); ``buckling``:
+    False, True (the last step) or the steps at which to compute the linear buckling factor."""
     start = time.perf_counter()
+    wanted = buckling_steps(buckling, problem.steps)
+    factors = {}
     history = []  # converged pseudo-times, replayed after a failed attempt
     model = _Model(problem, tolerance, max_iterations)
     rows, iterations = [], []
@@ -398,6 +413,8 @@ def solve(
             break
         iterations.append(its)
         rows.append(model.record())
+        if step in wanted:
+            factors[step] = model.buckling()
     if rows:
         disp, rot, forces, reac, ties = (np.array(a) for a in zip(*rows))
     else:
@@ -409,13 +426,12 @@ def solve(
             np.zeros((0, f, 3)),
             np.zeros((0, len(problem.ties), 3)),
         )
-    factor, note = None, ""
-    if buckling and failed is None:
-        factor, note = model.buckling()
+    factor, note = factors[max(factors)] if factors else (None, "")
     return FEResult(
         engine="kratos",
         buckling_factor=factor,
         buckling_note=note,
+        buckling=factors,
         displacements=disp,
         rotations=rot,
         forces=forces,

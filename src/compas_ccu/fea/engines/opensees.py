@@ -34,7 +34,7 @@ import time
 
 import numpy as np
 
-from compas_ccu.fea.problem import FEError, FEProblem, FEResult
+from compas_ccu.fea.problem import FEError, FEProblem, FEResult, buckling_steps
 from compas_ccu.tolerances import DIVISION_FLOOR
 
 __all__ = ["available", "solve"]
@@ -231,6 +231,14 @@ class _Model:
                 ops.uniaxialMaterial("Elastic", tag, k)
                 mats = [tag, tag, tag]
                 ops.element("zeroLength", tag, a + 1, b + 1, "-mat", *mats, "-dir", *dofs)
+        for (a, b), k in zip(p.springs.tolist(), p.spring_stiffness.tolist()):
+            tag += 1
+            mats = []
+            for j, kj in enumerate(k):
+                ops.uniaxialMaterial("Elastic", tag + j, kj)
+                mats.append(tag + j)
+            ops.element("zeroLength", tag, a + 1, b + 1, "-mat", *mats, "-dir", 1, 2, 3)
+            tag += 2
         for node in p.fixed_rotations.tolist():
             ops.fix(node + 1, 0, 0, 0, 1, 1, 1)
 
@@ -321,7 +329,7 @@ def solve(
     tolerance: float,
     max_iterations: int,
     max_cuts: int,
-    buckling: bool = False,
+    buckling=False,
 ) -> FEResult:
     """Solve ``problem`` geometrically nonlinearly with OpenSeesPy, step by step.
 
@@ -412,9 +420,11 @@ def solve(
     if converged:
         message = f"converged: {problem.steps} step(s), {sum(iterations)} iterations, {cuts} cut(s)"
     note = "linear buckling needs the tangent matrix: available with the kratos engine only"
+    wanted = buckling_steps(buckling, problem.steps)
     return FEResult(
         engine=ENGINE,
-        buckling_note=note if buckling else "",
+        buckling_note=note if wanted else "",
+        buckling={k: (None, note) for k in sorted(wanted) if k <= len(iterations)},
         converged=converged,
         failed_step=failed_step,
         residual=residual,
