@@ -20,11 +20,18 @@ def vault():
 
 
 @pytest.mark.parametrize(
-    "law, bending_power, mass_power",
-    [("constant", -1.0, 2.0), ("proportional", 0.0, 3.0), ("cuberoot", -1.0 / 3.0, 8.0 / 3.0)],
+    "law, bending_power, mass_power, energy_power",
+    [
+        ("constant", -1.0, 2.0, 0.0),
+        ("proportional", 0.0, 3.0, 3.0),
+        ("cuberoot", -1.0 / 3.0, 8.0 / 3.0, 2.0),
+    ],
 )
-def test_similar_designs_follow_the_scaling_laws(vault, law, bending_power, mass_power):
-    # curvature ~ 1/s, bending stress ~ t kappa: utilisation ~ t / s; mass ~ s^2 t
+def test_similar_designs_follow_the_scaling_laws(
+    vault, law, bending_power, mass_power, energy_power
+):
+    # curvature ~ 1/s, bending stress ~ t kappa: utilisation ~ t / s; mass ~ s^2 t;
+    # bending energy ~ t^3 kappa^2 area ~ t^3; the force between the feet ~ energy / s
     rows = scale_study(vault, 2.5, to_span=6.0, steps=3, law=law, collisions=False)
     base = rows[0]
     assert [r["status"] for r in rows] == ["ok"] * 4
@@ -38,6 +45,14 @@ def test_similar_designs_follow_the_scaling_laws(vault, law, bending_power, mass
         )
         assert r["mass"] == pytest.approx(base["mass"] * s**mass_power, rel=1e-12)
         assert r["stack_height"] == pytest.approx(10 * r["thickness"], rel=1e-12)
+        assert r["deployment_energy"] == pytest.approx(
+            base["deployment_energy"] * s**energy_power, rel=1e-9
+        )
+        assert r["actuation_force"] == pytest.approx(
+            base["actuation_force"] * s ** (energy_power - 1.0), rel=1e-9
+        )
+    assert base["deployment_energy"] == pytest.approx(297.2, abs=0.05)
+    assert base["actuation_force"] == pytest.approx(1365.3, abs=0.05)
     assert [r["span_target"] for r in rows] == pytest.approx([2.5, 3.666666, 4.833333, 6.0])
 
 

@@ -86,7 +86,8 @@ def bending_energy(vertices: np.ndarray, rigidity: float) -> np.ndarray:
 
 
 def actuation_force(alphas, energy, span) -> np.ndarray:
-    """(k,) ``F = dE/dα / (d span/dα)`` along a path (N; NaN where the span stands still).
+    """(k,) ``F = dE/dα / (d span/dα)`` along a path (N; NaN at the flat stack, α = 0, and
+    where the span stands still).
 
     >>> a = np.linspace(0.0, 30.0, 7)
     >>> f = actuation_force(a, 2.0 * a**2, 3.0 - 0.01 * a**2)  # E and span quadratic in α
@@ -97,5 +98,7 @@ def actuation_force(alphas, energy, span) -> np.ndarray:
     order = 2 if len(a) > 2 else 1
     de = np.gradient(np.asarray(energy, dtype=float), a, edge_order=order)
     ds = np.gradient(np.asarray(span, dtype=float), a, edge_order=order)
-    still = np.abs(ds) <= 1e-12 * np.maximum(np.abs(np.asarray(span)), 1.0)
+    # the flat stack: both derivatives vanish there (a 0/0 limit the one-sided differences
+    # cannot resolve), and wherever the span stands still
+    still = (np.abs(ds) <= 1e-12 * np.maximum(np.abs(np.asarray(span)), 1.0)) | (a <= 0.0)
     return np.where(still, np.nan, de / np.where(still, 1.0, ds))
