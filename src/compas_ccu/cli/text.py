@@ -109,6 +109,13 @@ def thickness_lines(summary: dict) -> list:
             + " / ".join(f"{e / 1e9:.3g}" for e in b["final_modulus"])
             + " GPa (E1 / E2)"
         )
+    push = summary.get("actuation")
+    if push:
+        lines.append(
+            f"deployment effort bending energy {push['energy_J']:.4g} J at the design; force "
+            f"between the feet {abs(push['force_design_N']):.4g} N there, up to "
+            f"{push['force_max_N']:.4g} N along the path (docs/structural.md)"
+        )
     return lines
 
 

@@ -503,6 +503,7 @@ class ThickModel:
         per_plate = bend.per_plate.max(axis=0)
         k, plate, vertex = bend.worst()
         collisions = self.collisions(alphas)
+        push = self.actuation(alphas)
         design = -1
         return {
             "thickness": self.thickness,
@@ -533,4 +534,9 @@ class ThickModel:
                 "exceeded": bool(bend.max > 1.0),
             },
             "collisions": collisions.summary(),
+            "actuation": {
+                "energy_J": float(push.energy[design]),
+                "force_max_N": push.force_max,
+                "force_design_N": float(push.force[design]),
+            },
         }
