@@ -473,7 +473,7 @@ class ThickModel:
         >>> from compas_ccu.model import load_model
         >>> a = ThickModel(load_model("examples/cone.toml")).actuation()
         >>> round(float(a.energy[-1]), 2), round(a.force_max, 1)
-        (107.68, 529.0)
+        (107.68, 526.6)
         """
         if alphas is None:
             alphas = np.linspace(0.0, self.model.alpha_design, 21)
