@@ -3,6 +3,7 @@
 # `make test-fast`: the tests not marked slow on 2 processes (no FE engine, Dask cluster, browser
 # or notebook kernel), under a minute. `make fuzz`: the robustness campaign (docs/robustness.md).
 # `make explore`: the example design-space sweep (270 variants on a local Dask cluster).
+# `make optimize`: the example optimisation study (300 trials of Optuna's TPE on Dask).
 # `make studio`: the live design studio in the browser on the vault (docs/studio.md).
 PYTHON   ?= python3
 VENV     ?= .venv
@@ -11,7 +12,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore studio test test-fast fuzz lint bench bench-fea bench-thickness bench-explore bench-relax bench-studio clean
+.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-thickness bench-explore bench-optimize bench-relax bench-studio clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -72,6 +73,12 @@ explore: setup
 	$(BIN)/ccu explore examples/sweeps/vault.toml --out $(OUT)/vault-sweep --workers $(WORKERS)
 	@echo "Open $(OUT)/vault-sweep/plots/pareto.png and design_space.png; the table is"
 	@echo "$(OUT)/vault-sweep/results.parquet, the best variants are in $(OUT)/vault-sweep/best/"
+
+# optimisation study of the vault: the largest plan area from 40 kg of plywood cut from stock
+# sheets, 300 trials of TPE on a local Dask cluster (about 1 min on 2 cores; docs/optimize.md)
+optimize: setup
+	$(BIN)/ccu optimize examples/optimize/vault-sheets.toml --out $(OUT)/vault-sheets --workers $(WORKERS)
+	@echo "Open $(OUT)/vault-sheets/plots/convergence.png; the best designs are in $(OUT)/vault-sheets/best/"
 
 lint: setup
 	$(BIN)/ruff check src tests benchmarks tools
@@ -139,6 +146,10 @@ bench-thickness: setup
 
 bench-explore: setup
 	$(BIN)/python benchmarks/bench_explore.py
+
+# the optimiser against grid sweeps of the same problem, kinematic and FE (about 30 min on 2 cores)
+bench-optimize: setup
+	$(BIN)/python benchmarks/bench_optimize.py --workers $(WORKERS) --out $(OUT)/bench_optimize.json
 
 bench-relax: setup
 	$(BIN)/python benchmarks/bench_relax.py

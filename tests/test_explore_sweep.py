@@ -200,8 +200,17 @@ def test_the_example_sweep_has_at_least_200_variants():
         ),
         (
             lambda: sweep({"crease.rise": [1.0]}, objectives={"collision_free": "max"}),
-            r"unknown metric",
-        ),  # needs collisions
+            r"objectives.collision_free: a metric of the collision check: measured only with "
+            r"\[checks\] collisions = true",
+        ),
+        (
+            lambda: sweep({"crease.rise": [1.0]}, constraints={"fe_buckling_factor": {"min": 3}}),
+            r"constraints.fe_buckling_factor: an FE metric: measured only with an \[fe\] section",
+        ),
+        (
+            lambda: sweep({"crease.rise": [1.0]}, objectives={"material": "min"}),
+            r"objectives.material: an objective must be a number; material is str",
+        ),
         (
             lambda: sweep({"crease.rise": [1.0]}, constraints={"rise": {"above": 1}}),
             r"constraints.rise: must be true / false or a table",

@@ -107,7 +107,8 @@ class SelfIntersectionError(CCUError):
 
 
 class SweepError(CCUError):
-    """A sweep file (``ccu explore``) is invalid, or its output folder belongs to another sweep."""
+    """A sweep file (``ccu explore``) or an optimisation study (``ccu optimize``) is invalid, or
+    its output folder belongs to another sweep or study."""
 
     def __init__(self, message: str, *, key: str | None = None):
         self.key = key

@@ -1,11 +1,11 @@
 """Command line interface: ``ccu deploy | path | info | planarity | catalog | validate | fabricate |
-explore | scale | figures | animate | view | sheet | report | studio``.
+explore | optimize | scale | figures | animate | view | sheet | report | studio``.
 
-Every command takes a design TOML file (see ``docs/design-files.md``) or a sweep file. The
-commands are declared as data, one module per group (:mod:`.model_commands`, :mod:`.pictures`,
-:mod:`.catalog`, :mod:`.fea`, :mod:`.fabrication`, :mod:`.explore`; the parser is built by
-:mod:`.parser`); each parses its options, calls the library and formats the result
-(:mod:`.text`).
+Every command takes a design TOML file (see ``docs/design-files.md``), a sweep or a study file.
+The commands are declared as data, one module per group (:mod:`.model_commands`,
+:mod:`.pictures`, :mod:`.catalog`, :mod:`.fea`, :mod:`.fabrication`, :mod:`.explore`,
+:mod:`.optimize`; the parser is built by :mod:`.parser`); each parses its options, calls the
+library and formats the result (:mod:`.text`).
 
 Errors: a :class:`compas_ccu.errors.CCUError` (a bad design, option or state; a missing extra)
 or an OSError on the user's files is printed as one line ``ccu: error: ...`` naming the cause
@@ -24,6 +24,7 @@ from compas_ccu.cli import (
     fabrication,
     fea,
     model_commands,
+    optimize,
     pictures,
     scale,
     studio,
@@ -40,11 +41,21 @@ __all__ = ["main", "build_parser", "COMMANDS", "thickness_lines"]
 #: Every command, in the order ``ccu --help`` lists them.
 _ALL = {
     c.name: c
-    for module in (model_commands, pictures, catalog, fea, explore, scale, fabrication, studio)
+    for module in (
+        model_commands,
+        pictures,
+        catalog,
+        fea,
+        explore,
+        optimize,
+        scale,
+        fabrication,
+        studio,
+    )
     for c in module.COMMANDS
 }
 _ORDER = ("deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
-_ORDER += ("catalog", "validate", "explore", "scale", "fabricate", "report", "studio")
+_ORDER += ("catalog", "validate", "explore", "optimize", "scale", "fabricate", "report", "studio")
 COMMANDS = tuple(_ALL[name] for name in _ORDER)
 
 BUG = (
@@ -71,7 +82,7 @@ def _os_message(exc: OSError) -> str:
 
 def _run(args) -> int:
     """Run the command; one that writes an output folder writes it as one transaction."""
-    if args.spec.name == "explore" or OUT not in args.spec.options:
+    if not args.spec.staged or OUT not in args.spec.options:
         if getattr(args, "out", None) is not None:
             check_output_folder(args.out)
         return args.spec.run(args)

@@ -130,5 +130,6 @@ COMMANDS = (
             QUIET_PROGRESS,
         ),
         explore,
+        staged=False,
     ),
 )

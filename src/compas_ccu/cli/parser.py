@@ -51,6 +51,9 @@ class Command:
     description: str
     options: tuple
     run: Callable  # (argparse.Namespace) -> exit status
+    #: The output folder is written as one transaction (a staging folder moved into place);
+    #: False for commands that continue what a folder holds (explore, optimize).
+    staged: bool = True
 
 
 DESIGN = option("design", help="design TOML file")

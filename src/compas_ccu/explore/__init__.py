@@ -5,15 +5,20 @@ built, deployed and measured (:mod:`.evaluate`, :mod:`.metrics`) on a Dask clust
 (:mod:`.run`); the results go to a Parquet table (:mod:`.results`) and a summary with the
 Pareto front and the best variants (:mod:`.pareto`, :mod:`.summary`). See docs/explore.md.
 
-Dask and pyarrow are imported only when a sweep runs (the ``explore`` extra).
+An optimisation study (``ccu optimize``, docs/optimize.md) searches the parameters of a base
+design with Optuna under constraints (:mod:`.study`, :mod:`.optimize`) on the same runner.
+
+Dask, pyarrow and Optuna are imported only when a sweep or a study runs (the ``explore`` extra).
 """
 
 from __future__ import annotations
 
 from compas_ccu.explore.evaluate import evaluate_variant
 from compas_ccu.explore.metrics import METRICS, metric_names
+from compas_ccu.explore.optimize import StudyResult, run_study
 from compas_ccu.explore.pareto import pareto_mask
 from compas_ccu.explore.run import SweepResult, run_sweep
+from compas_ccu.explore.study import Study, load_study
 from compas_ccu.explore.sweep import Sweep, Variant, load_sweep
 
 __all__ = [
@@ -26,4 +31,8 @@ __all__ = [
     "METRICS",
     "metric_names",
     "pareto_mask",
+    "Study",
+    "load_study",
+    "run_study",
+    "StudyResult",
 ]

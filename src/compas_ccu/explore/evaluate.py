@@ -18,6 +18,7 @@ import numpy as np
 
 from compas_ccu.design.document import Design
 from compas_ccu.explore import metrics as mx
+from compas_ccu.explore.pareto import meets
 from compas_ccu.model import CCUModel
 from compas_ccu.thickness import ThickModel
 
@@ -39,7 +40,12 @@ def row_template(*, collisions: bool = False, fe: bool = False) -> dict:
 
 
 def evaluate_variant(
-    document: dict, *, path_states: int = 21, collisions: bool = False, fe: dict | None = None
+    document: dict,
+    *,
+    path_states: int = 21,
+    collisions: bool = False,
+    fe: dict | None = None,
+    fe_when: dict | None = None,
 ) -> dict:
     """Build, deploy and measure one design.
 
@@ -55,6 +61,11 @@ def evaluate_variant(
     fe : dict, optional
         FE validation options (:class:`compas_ccu.fea.validation.FESettings` fields); None:
         no FE.
+    fe_when : dict, optional
+        Constraints (metric -> ``{min, max}`` or a bool, as a sweep's ``[constraints]``) on the
+        metrics measured before the FE stage: the FE runs only for a design that meets them
+        (:func:`compas_ccu.explore.pareto.meets`); otherwise the FE metrics and ``t_fe`` stay
+        empty and the row is "ok". The cheap checks decide whether the FE time is spent.
 
     Returns
     -------
@@ -74,6 +85,10 @@ def evaluate_variant(
     >>> bad = evaluate_variant(doc)
     >>> bad["status"], bad["stage"], bad["error_type"]
     ('failed', 'model', 'DeploymentLimitError')
+    >>> doc["deployment"]["alpha"] = 40.0  # FE only for designs of at most 1 plate: none here
+    >>> gated = evaluate_variant(doc, path_states=5, fe={}, fe_when={"plates": {"max": 1}})
+    >>> gated["status"], gated["t_fe"], gated["fe_buckling_factor"]
+    ('ok', None, None)
     """
 
     row = row_template(collisions=collisions, fe=fe is not None)
@@ -106,7 +121,7 @@ def evaluate_variant(
             row.update(mx.collision_metrics(thick, alphas))
             row["t_collisions"] = time.perf_counter() - t
 
-        if fe is not None:
+        if fe is not None and (fe_when is None or meets(row, fe_when)):
             stage = "fe"
             t = time.perf_counter()
             row.update(mx.fe_metrics(model, thick, fe))

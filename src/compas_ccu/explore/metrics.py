@@ -23,6 +23,8 @@ __all__ = [
     "METRICS",
     "KEY_FIGURE_COLUMNS",
     "metric_names",
+    "metric",
+    "metric_group",
     "shape_metrics",
     "path_metrics",
     "thickness_metrics",
@@ -204,6 +206,16 @@ def metric_names(*, collisions: bool = False, fe: bool = False) -> list:
 
 def metric(name: str) -> Metric:
     return _BY_NAME[name]
+
+
+def metric_group(name: str) -> str | None:
+    """The group of a metric (``"shape"``, ..., ``"collisions"``, ``"fe"``); None: unknown.
+
+    >>> metric_group("fe_buckling_factor"), metric_group("mass"), metric_group("beauty")
+    ('fe', 'thickness', None)
+    """
+    m = _BY_NAME.get(name)
+    return None if m is None else m.group
 
 
 def _columns(group: str, figures: dict) -> dict:

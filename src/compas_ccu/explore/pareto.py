@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["pareto_mask", "feasible", "objective_matrix", "rank_best"]
+__all__ = ["pareto_mask", "feasible", "violations", "meets", "objective_matrix", "rank_best"]
 
 
 def pareto_mask(values: np.ndarray, senses, *, chunk: int = 512) -> np.ndarray:
@@ -50,6 +50,56 @@ def pareto_mask(values: np.ndarray, senses, *, chunk: int = 512) -> np.ndarray:
     return mask
 
 
+def violations(row: dict, constraints: dict) -> dict:
+    """How far ``row`` is from meeting each constraint.
+
+    Parameters
+    ----------
+    row : dict
+        A results row (metric -> value).
+    constraints : dict
+        Metric -> ``{"min": a, "max": b}`` (either bound) or a required bool value.
+
+    Returns
+    -------
+    dict
+        Metric -> violation: <= 0 met (a range's negative value is the slack), > 0 missed by
+        that much relative to the bound (``(value - max) / |max|``, ``(min - value) / |min|``;
+        a bound of 0 counts absolutely), 1.0 for a wrong bool; None where the metric was not
+        measured (None or NaN).
+
+    Examples
+    --------
+    >>> rules = {"bending_utilisation": {"max": 1.0}, "fe_buckling_factor": {"min": 4.0},
+    ...          "collision_free": True, "fe_deflection_ratio": {"max": 1.0}}
+    >>> row = {"bending_utilisation": 1.25, "fe_buckling_factor": 3.0, "collision_free": True}
+    >>> violations(row, rules)
+    {'bending_utilisation': 0.25, 'fe_buckling_factor': 0.25, 'collision_free': 0.0, \
+'fe_deflection_ratio': None}
+    """
+    out = {}
+    for name, rule in constraints.items():
+        value = row.get(name)
+        if value is None or (isinstance(value, float) and np.isnan(value)):
+            out[name] = None
+        elif isinstance(rule, bool):
+            out[name] = 0.0 if (value is rule or value == rule) else 1.0
+        else:
+            missed = []
+            if "max" in rule:
+                missed.append((value - rule["max"]) / (abs(rule["max"]) or 1.0))
+            if "min" in rule:
+                missed.append((rule["min"] - value) / (abs(rule["min"]) or 1.0))
+            out[name] = float(max(missed))
+    return out
+
+
+def meets(row: dict, constraints: dict) -> bool:
+    """Every constraint measured and met (:func:`violations` all <= 0); the row's status is
+    not looked at."""
+    return all(v is not None and v <= 0.0 for v in violations(row, constraints).values())
+
+
 def feasible(rows: list, constraints: dict) -> np.ndarray:
     """(n,) bool: the row succeeded and meets every constraint.
 
@@ -59,21 +109,9 @@ def feasible(rows: list, constraints: dict) -> np.ndarray:
     constraints : dict
         Metric -> ``{"min": a, "max": b}`` (either bound) or a required bool value.
     """
-    out = np.zeros(len(rows), dtype=bool)
-    for i, row in enumerate(rows):
-        ok = row.get("status") == "ok"
-        for name, rule in constraints.items():
-            if not ok:
-                break
-            value = row.get(name)
-            if isinstance(rule, bool):
-                ok = value is rule or value == rule
-            elif value is None:
-                ok = False
-            else:
-                ok = rule.get("min", -np.inf) <= value <= rule.get("max", np.inf)
-        out[i] = ok
-    return out
+    return np.array(
+        [row.get("status") == "ok" and meets(row, constraints) for row in rows], dtype=bool
+    )
 
 
 def objective_matrix(rows: list, objectives) -> np.ndarray:

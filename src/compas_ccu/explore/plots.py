@@ -1,4 +1,5 @@
-"""Pictures of a design-space sweep: metrics against parameters, and the Pareto front."""
+"""Pictures of a design-space sweep or an optimisation study: metrics against parameters, the
+Pareto front, and the convergence of a study."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import numpy as np
 from compas_ccu.explore.pareto import feasible, objective_matrix, pareto_mask
 from compas_ccu.tolerances import EXACT_RELATIVE
 
-__all__ = ["plot_design_space", "plot_pareto"]
+__all__ = ["plot_design_space", "plot_pareto", "plot_convergence", "running_best"]
 
 FEASIBLE = "#1f77b4"
 INFEASIBLE = "#ff7f0e"
@@ -229,6 +230,71 @@ def plot_pareto(rows: list, objectives: dict, front, best, feasible_mask, *, tit
     fig.suptitle(
         f"{title or 'sweep'}: Pareto front of {', '.join(names)} ({int(front.sum())} "
         f"optimal of {int(feasible_mask.sum())} feasible); best numbered",
+        fontsize=10,
+    )
+    return fig
+
+
+def running_best(values, mask, sense: str) -> np.ndarray:
+    """The best of ``values[mask]`` up to every position (NaN before the first).
+
+    >>> running_best([3.0, 5.0, 2.0, 1.0], [False, True, True, False], "min").tolist()
+    [nan, 5.0, 2.0, 2.0]
+    """
+    v = np.where(np.asarray(mask, dtype=bool), np.asarray(values, dtype=float), np.nan)
+    sign = 1.0 if sense == "min" else -1.0
+    best = np.fmin.accumulate(np.where(np.isnan(v), np.inf, sign * v))
+    return np.where(np.isinf(best), np.nan, sign * best)
+
+
+def plot_convergence(rows: list, objectives: dict, feasible_mask, *, title=None, references=None):
+    """Every trial's objective values in trial order, and the best feasible value so far.
+
+    Parameters
+    ----------
+    rows : list of dict
+        A study's results rows, by trial.
+    objectives : dict
+        Metric -> "min" / "max" (one panel each, at most 3).
+    feasible_mask : (n,) bool
+    references : dict, optional
+        Label -> {metric: value}: horizontal lines (e.g. the best of a grid sweep).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> rows = [{"status": "ok", "mass": m} for m in (5.0, 4.0, 6.0)]
+    >>> fig = plot_convergence(rows, {"mass": "min"}, [True, False, True])
+    >>> len(fig.axes)
+    1
+    """
+    from matplotlib.figure import Figure
+
+    names = list(objectives)[:3]
+    good = np.asarray(feasible_mask, dtype=bool)
+    ok = np.array([r.get("status") == "ok" for r in rows], dtype=bool)
+    x = np.arange(1, len(rows) + 1)
+    fig = Figure(figsize=(5.4 * len(names), 4.0), layout="constrained")
+    axes = fig.subplots(1, len(names), squeeze=False)[0]
+    for ax, name in zip(axes, names):
+        y = _metric(rows, name)
+        ax.scatter(x[ok & ~good], y[ok & ~good], s=10, color=INFEASIBLE, lw=0, label="infeasible")
+        ax.scatter(x[good], y[good], s=14, color=FEASIBLE, lw=0, label="feasible")
+        best = running_best(y, good, objectives[name])
+        ax.step(x, best, where="post", color="k", lw=1.2, label="best feasible so far")
+        for k, (label, values) in enumerate((references or {}).items()):
+            if name in values:
+                ax.axhline(values[name], color=f"C{k + 2}", ls="--", lw=1, label=label)
+        ax.set_xlabel("trial (designs evaluated, in order)")
+        ax.set_ylabel(f"{name} ({objectives[name]})")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7, loc="best")
+    fig.suptitle(
+        f"{title or 'study'}: {len(rows)} trials, {int(good.sum())} feasible, "
+        f"{int((~ok).sum())} failed",
         fontsize=10,
     )
     return fig

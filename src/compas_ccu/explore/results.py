@@ -24,14 +24,17 @@ class Journal:
     ----------
     path : path-like
         ``journal.jsonl`` in the sweep's output folder.
+    key : str
+        The column that identifies a row (``"trial"`` for an optimisation study).
     """
 
-    def __init__(self, path):
+    def __init__(self, path, *, key: str = "variant"):
         self.path = Path(path)
+        self.key = key
         self._checked = False
 
     def read(self) -> dict:
-        """``{variant id: row}`` of every complete line (the last entry of an id wins)."""
+        """``{id: row}`` of every complete line (the last entry of an id wins)."""
         rows: dict = {}
         if not self.path.exists():
             return rows
@@ -43,8 +46,8 @@ class Journal:
                     row = json.loads(line)
                 except json.JSONDecodeError:
                     continue
-                if isinstance(row, dict) and "variant" in row:
-                    rows[row["variant"]] = row
+                if isinstance(row, dict) and self.key in row:
+                    rows[row[self.key]] = row
         return rows
 
     def append(self, row: dict) -> None:

@@ -18,6 +18,7 @@ import logging
 import os
 import sys
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -32,6 +33,8 @@ from compas_ccu.explore.summary import summarise
 from compas_ccu.outputs import write_json
 
 __all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRORS", "WORKER_ENV"]
+__all__ += ["connect", "dask_client", "check_runner", "read_manifest", "write_manifest"]
+__all__ += ["cluster_failure", "progress_bar"]
 
 #: How often the client looks for finished variants and for a stop request, seconds.
 POLL_SECONDS = 0.05
@@ -121,25 +124,41 @@ def columns(sweep) -> tuple:
     return head + metrics + tail, declared
 
 
-def _read_manifest(out: Path, sweep) -> dict:
-    path = out / MANIFEST
+def read_manifest(
+    out: Path,
+    fingerprint: str,
+    *,
+    name: str = MANIFEST,
+    what: str = "sweep",
+    parts: str = "base design, [checks], [fe] or compas_ccu version",
+) -> dict:
+    """The manifest ``out/name`` of an earlier run ({} if none); SweepError if it belongs to
+    another sweep or study (its ``fingerprint`` differs: the message names both)."""
+    path = out / name
     if not path.exists():
         return {}
     try:
         manifest = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, json.JSONDecodeError) as exc:
-        raise SweepError(f"{path} is not a sweep manifest ({exc}); use another --out") from exc
-    if manifest.get("fingerprint") != sweep.fingerprint:
+        raise SweepError(f"{path} is not a {what} manifest ({exc}); use another --out") from exc
+    if manifest.get("fingerprint") != fingerprint:
         raise SweepError(
-            f"{out} holds results of a different sweep (base design, [checks], [fe] or "
-            f"compas_ccu version differ: fingerprint {manifest.get('fingerprint')!r}, this "
-            f"sweep {sweep.fingerprint!r}); choose another --out or delete the folder"
+            f"{out} holds results of a different {what} ({parts} differ: fingerprint "
+            f"{manifest.get('fingerprint')!r}, this {what} {fingerprint!r}); choose another "
+            "--out or delete the folder"
         )
     return manifest
 
 
-def _write_manifest(out: Path, sweep, runs: int) -> None:
-    manifest = {
+def write_manifest(out: Path, manifest: dict, name: str = MANIFEST) -> None:
+    """Write ``out/name`` atomically (a reader never sees half a manifest)."""
+    tmp = out / (name + ".tmp")
+    write_json(tmp, manifest)
+    os.replace(tmp, out / name)
+
+
+def _sweep_manifest(sweep, runs: int) -> dict:
+    return {
         "format": "ccu.sweep",
         "version": 1,
         "name": sweep.name,
@@ -154,12 +173,10 @@ def _write_manifest(out: Path, sweep, runs: int) -> None:
         "runs": runs,
         "variants": [{"variant": v.id, "index": v.index, **v.params} for v in sweep.variants],
     }
-    tmp = out / (MANIFEST + ".tmp")
-    write_json(tmp, manifest)
-    os.replace(tmp, out / MANIFEST)
 
 
-def _cluster_failure(exc: BaseException, options: dict) -> dict:
+def cluster_failure(exc: BaseException, options: dict) -> dict:
+    """The row of a task that failed on the cluster, not in the design (stage ``cluster``)."""
 
     row = row_template(collisions=options["collisions"], fe=options["fe"] is not None)
     name = type(exc).__name__
@@ -173,8 +190,10 @@ def _worker_version():  # runs on every worker of a remote cluster
     return compas_ccu.__version__
 
 
-def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: bool):
-    """(client, cluster or None, label, worker count)."""
+def connect(scheduler: str | None, workers: int | None, todo: int, dashboard: bool = False):
+    """(client, cluster or None, label, worker count): a client of the scheduler at
+    ``scheduler`` (its workers checked for this compas_ccu version), or of a new local cluster
+    of ``workers`` processes (default: one per core, at most ``todo``)."""
     try:
         from distributed import Client
     except ImportError as exc:  # pragma: no cover - the explore extra is missing
@@ -208,6 +227,36 @@ def _connect(scheduler: str | None, workers: int | None, todo: int, dashboard: b
     n = workers or max(1, min(os.cpu_count() or 1, todo))
     cluster = local_cluster(n, dashboard=dashboard)
     return Client(cluster), cluster, "local", n
+
+
+@contextmanager
+def dask_client(client=None, *, scheduler=None, workers=None, todo: int = 1, dashboard=False):
+    """``(client, label, worker count)`` of the cluster to run on: ``client``'s (label
+    "client"), the one at ``scheduler``, or a new local one (:func:`connect`); a client and a
+    cluster it started are closed on exit."""
+    own = cluster = None
+    try:
+        if client is not None:
+            yield client, "client", len(client.scheduler_info().get("workers", {}))
+        else:
+            own, cluster, label, count = connect(scheduler, workers, todo, dashboard)
+            yield own, label, count
+    finally:
+        if own is not None:
+            own.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def check_runner(workers, scheduler) -> None:
+    """Refuse a worker count below 1, and ``workers`` with ``scheduler``, before anything runs."""
+    if workers is not None and (isinstance(workers, bool) or workers < 1):
+        raise SweepError(f"--workers must be >= 1, got {workers}")
+    if scheduler is not None and workers is not None:
+        raise SweepError(
+            "--workers sizes the local cluster; with --scheduler the cluster's own workers "
+            f"are used (got --workers {workers} and --scheduler {scheduler})"
+        )
 
 
 def local_cluster(workers: int, *, dashboard: bool = False):
@@ -280,19 +329,12 @@ def run_sweep(
         The folder belongs to another sweep, the scheduler cannot be reached, or its workers
         run another compas_ccu version.
     """
-    if workers is not None and (isinstance(workers, bool) or workers < 1):
-        raise SweepError(f"--workers must be >= 1, got {workers}")  # before anything is written
-    if scheduler is not None and workers is not None:
-        raise SweepError(
-            "--workers sizes the local cluster; with --scheduler the cluster's own workers "
-            f"are used (got --workers {workers} and --scheduler {scheduler})"
-        )
-
+    check_runner(workers, scheduler)  # before anything is written
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    manifest = _read_manifest(out, sweep)
+    manifest = read_manifest(out, sweep.fingerprint)
     run = int(manifest.get("runs", 0)) + 1
-    _write_manifest(out, sweep, run)
+    write_manifest(out, _sweep_manifest(sweep, run))
     journal = Journal(out / JOURNAL)
     done = journal.read()
     current = {v.id for v in sweep.variants}
@@ -306,7 +348,7 @@ def run_sweep(
     names, declared = columns(sweep)
     state = {"computed": 0, "failed": sum(r.get("status") == "failed" for r in kept.values())}
 
-    bar = _progress(sweep, len(kept), progress)
+    bar = progress_bar(len(sweep.variants), len(kept), sweep.name, progress)
 
     def record(variant, row):
         full = {"variant": variant.id, "index": variant.index, **variant.params, **row, "run": run}
@@ -318,8 +360,7 @@ def run_sweep(
         bar.set_postfix(failed=state["failed"], refresh=False)
 
     interrupted = False
-    own_client = cluster = None
-    label, count, startup = "in-process", 1, 0.0
+    label, count, startup, end = "in-process", 1, 0.0, None
     t0 = time.perf_counter()
     stop = StopRequest()
     try:
@@ -333,28 +374,21 @@ def run_sweep(
                         break
                     record(v, evaluate_variant(sweep.document_for(v), **options))
         else:
-            if client is None:
-                own_client, cluster, label, count = _connect(
-                    scheduler, workers, len(todo), dashboard
-                )
-                use = own_client
-            else:
-                use, label = client, "client"
-                count = len(client.scheduler_info().get("workers", {}))
-            startup = time.perf_counter() - t0
-            t0 = time.perf_counter()
-            with stop:
-                _run_on_dask(use, sweep, todo, options, record, window=window or 0, stop=stop)
+            cluster = dask_client(
+                client, scheduler=scheduler, workers=workers, todo=len(todo), dashboard=dashboard
+            )
+            with cluster as (use, label, count):
+                startup = time.perf_counter() - t0
+                t0 = time.perf_counter()
+                with stop:
+                    _run_on_dask(use, sweep, todo, options, record, window=window or 0, stop=stop)
+                end = time.perf_counter()  # the cluster's shutdown is not the sweep's time
     except KeyboardInterrupt:  # a second Ctrl-C, or one while the cluster starts
         interrupted = True
     finally:
         interrupted = interrupted or stop.requested
-        seconds = time.perf_counter() - t0
+        seconds = (end or time.perf_counter()) - t0
         bar.close()
-        if own_client is not None:
-            own_client.close()
-        if cluster is not None:
-            cluster.close()
         rows = [kept[v.id] for v in sweep.variants if v.id in kept]
         table = write_table(
             rows,
@@ -424,7 +458,7 @@ def _run_on_dask(
                 try:
                     row = future.result()
                 except (Exception, asyncio.CancelledError) as exc:  # CancelledError: Base
-                    row = _cluster_failure(exc, options)
+                    row = cluster_failure(exc, options)
                 future.release()
                 record(v, row)
                 nxt = next(queue, None)
@@ -435,14 +469,15 @@ def _run_on_dask(
             future.cancel()
 
 
-def _progress(sweep, initial: int, show: bool):
+def progress_bar(total: int, initial: int, desc: str, show: bool, unit: str = "variant"):
+    """A tqdm progress bar on stderr (disabled unless ``show``)."""
     from tqdm import tqdm  # the explore extra
 
     return tqdm(
-        total=len(sweep.variants),
+        total=total,
         initial=initial,
-        desc=sweep.name,
-        unit="variant",
+        desc=desc,
+        unit=unit,
         file=sys.stderr,
         mininterval=0.5,
         dynamic_ncols=True,

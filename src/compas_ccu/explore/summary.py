@@ -17,10 +17,10 @@ from compas_ccu.model import CCUModel
 from compas_ccu.outputs import write_json
 from compas_ccu.viz.export import save_figure
 
-__all__ = ["summarise", "write_best"]
+__all__ = ["summarise", "write_best", "stage_seconds", "counts"]
 
 
-def write_best(sweep, picks: list, out) -> list:
+def write_best(sweep, picks: list, out, *, origin=None) -> list:
     """The best variants' files: ``best/<rank>-<variant>/`` with the design (TOML), the
     deployed structure (``structure.json``, docs/structure-json.md) and ``structure.obj``.
 
@@ -30,6 +30,9 @@ def write_best(sweep, picks: list, out) -> list:
     picks : list of (rank, Variant)
     out : path-like
         The sweep's output folder.
+    origin : callable, optional
+        ``origin(rank, variant)``: the first line of the file's header (default: ``variant ...
+        of sweep ... (rank ...)``).
     """
     import tomli_w
 
@@ -39,9 +42,13 @@ def write_best(sweep, picks: list, out) -> list:
         folder.mkdir(parents=True, exist_ok=True)
         document = sweep.document_for(variant)
         text = tomli_w.dumps(document)
-        header = (
-            f"# variant {variant.id} of sweep {sweep.name!r} (rank {rank}); parameters:\n"
-            + "".join(f"#   {k} = {v!r}\n" for k, v in variant.params.items())
+        first = (
+            origin(rank, variant)
+            if origin is not None
+            else f"variant {variant.id} of sweep {sweep.name!r} (rank {rank})"
+        )
+        header = f"# {first}; parameters:\n" + "".join(
+            f"#   {k} = {v!r}\n" for k, v in variant.params.items()
         )
         (folder / "design.toml").write_text(header + text, encoding="utf-8")
         structure = CCUModel(Design(document)).deploy()
@@ -53,12 +60,13 @@ def write_best(sweep, picks: list, out) -> list:
     return files
 
 
-def _counts(values) -> dict:
+def counts(values) -> dict:
     """Occurrences, most frequent first, ties by name."""
     return dict(sorted(Counter(values).items(), key=lambda kv: (-kv[1], str(kv[0]))))
 
 
-def _stage_seconds(rows: list) -> dict:
+def stage_seconds(rows: list) -> dict:
+    """Mean, largest and total time and count of every evaluation stage over ``rows``."""
 
     out = {}
     for stage in STAGES:
@@ -108,8 +116,8 @@ def summarise(sweep, rows: list, out, *, run=None, plots: bool = True) -> dict:
         "variants": len(rows),
         "ok": len(ok),
         "failed": len(failed),
-        "errors": _counts(r.get("error_type") for r in failed),
-        "failed_stage": _counts(r.get("stage") for r in failed),
+        "errors": counts(r.get("error_type") for r in failed),
+        "failed_stage": counts(r.get("stage") for r in failed),
         "feasible": int(feasible_mask.sum()),
         "objectives": sweep.objectives,
         "constraints": sweep.constraints,
@@ -130,7 +138,7 @@ def summarise(sweep, rows: list, out, *, run=None, plots: bool = True) -> dict:
             for name in sweep.objectives
             if (vals := [r[name] for r in ok if r.get(name) is not None])
         },
-        "stage_seconds": _stage_seconds(ok),
+        "stage_seconds": stage_seconds(ok),
     }
     if run is not None:
         summary["run"] = {
