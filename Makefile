@@ -60,7 +60,7 @@ demo: setup
 	@echo "  $(OUT)/vault-fab/                  (workshop files: DXF per plate in mm, hinge strips, .3dm,"
 	@echo "                                     OBJ/glTF solids, FOLD, assembly.svg/pdf, fabrication.json)"
 	@echo "  $(OUT)/cone-fe/                    (FE validation of the cone pair: Kratos + OpenSees)"
-	@echo "FE validation of the vault (about 2 minutes): .venv/bin/ccu validate examples/vault.toml --out $(OUT)/vault-fe"
+	@echo "FE validation of the vault and its six load cases (about 5-10 minutes): .venv/bin/ccu validate examples/vault.toml --out $(OUT)/vault-fe"
 	@echo "Design-space sweep, 270 variants on a local Dask cluster (about 30 s): make explore"
 	@echo "Edit the vault live in the browser (design studio, Ctrl-C stops it): make studio"
 
