@@ -11,6 +11,7 @@ from compas_ccu.cli.common import missing_modules, say
 from compas_ccu.cli.parser import QUIET_PROGRESS, Command, option
 from compas_ccu.errors import MissingExtraError, OptionError
 from compas_ccu.explore import load_sweep, run_sweep
+from compas_ccu.explore.run import runner_label
 
 __all__ = ["COMMANDS"]
 
@@ -53,14 +54,13 @@ def explore(args) -> int:
         plots=plots,
         dashboard=args.dashboard,
     )
-    where = {"in-process": "in this process", "local": f"{result.workers} local Dask workers"}
-    runner = where.get(result.scheduler, f"{result.workers} workers of {result.scheduler}")
+    runner = runner_label(result.scheduler, result.workers)
     if result.reused:
         say(args, f"{result.reused} variants were already in {result.out} (not recomputed)")
     if result.computed:
         say(
             args,
-            f"computed {result.computed} variants in {result.seconds:.1f} s on {runner}: "
+            f"computed {result.computed} variants in {result.seconds:.1f} s {runner}: "
             f"{result.throughput:.2f} variants/s"
             + (f" (cluster start {result.startup:.1f} s)" if result.startup else ""),
         )

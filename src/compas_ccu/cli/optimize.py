@@ -13,6 +13,7 @@ from compas_ccu.cli.common import missing_modules, say
 from compas_ccu.cli.parser import QUIET_PROGRESS, Command, option
 from compas_ccu.errors import MissingExtraError, OptionError
 from compas_ccu.explore.optimize import run_study
+from compas_ccu.explore.run import runner_label
 from compas_ccu.explore.study import load_study
 
 __all__ = ["COMMANDS", "NO_FEASIBLE"]
@@ -68,8 +69,7 @@ def optimize(args) -> int:
         plots=plots,
         dashboard=args.dashboard,
     )
-    where = {"in-process": "in this process", "local": f"on {result.workers} local Dask workers"}
-    runner = where.get(result.scheduler, f"on {result.workers} workers of {result.scheduler}")
+    runner = runner_label(result.scheduler, result.workers)
     if result.earlier:
         say(args, f"{result.earlier} trials were already in {result.out} (continued)")
     if result.computed:

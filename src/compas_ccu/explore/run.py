@@ -33,6 +33,7 @@ from compas_ccu.explore.summary import summarise
 from compas_ccu.outputs import write_json
 
 __all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRORS", "WORKER_ENV"]
+__all__ += ["runner_label"]
 __all__ += ["connect", "dask_client", "check_runner", "read_manifest", "write_manifest"]
 __all__ += ["cluster_failure", "progress_bar"]
 
@@ -110,6 +111,20 @@ class SweepResult:
     @property
     def complete(self) -> bool:
         return len(self.rows) == self.total
+
+
+def runner_label(scheduler: str, workers: int) -> str:
+    """Where a run computed, for a sentence: "in this process", "on 2 local Dask workers",
+    "on 4 workers of tcp://...".
+
+    >>> runner_label("in-process", 1), runner_label("local", 2)
+    ('in this process', 'on 2 local Dask workers')
+    """
+    if scheduler == "in-process":
+        return "in this process"
+    if scheduler == "local":
+        return f"on {workers} local Dask workers"
+    return f"on {workers} workers of {scheduler}"
 
 
 def columns(sweep) -> tuple:
