@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 
 from compas_ccu.cli import main
+from compas_ccu.design import load_design
+from compas_ccu.design.inverse import write_design
 from compas_ccu.io import read_structure_json
 from conftest import EXAMPLES
 
@@ -112,6 +114,41 @@ def test_info_prints_key_figures(capsys):
         "flat stack",
     ):
         assert text in out, text
+
+
+def test_info_json_has_the_numbers_of_the_text(capsys):
+    assert main(["info", VAULT]) == 0
+    text = capsys.readouterr().out
+    assert main(["info", "--json", VAULT]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["format"] == "ccu.info" and data["units"] == {"length": "m", "angle": "deg"}
+    assert data["design_units"] == "m"
+    k, units = data["key_figures"], data["figure_units"]
+    assert units["crease_span"] == "m" and units["alpha_limit"] == "deg"
+    assert k["plates"] == 10 and k["creases"] == 9 and k["segments"] == 64
+    lines = {line[:18].strip(): line[18:] for line in text.splitlines()}
+    assert lines["span"] == f"{k['crease_span']:.4f} m (leading crease chord)"
+    assert lines["rise"] == f"{k['crease_rise']:.4f} m"
+    assert lines["deployment limit"].startswith(f"{k['alpha_limit']:.4f} deg")
+    assert lines["overlap limit"].startswith(f"{k['overlap_alpha']:.4f} deg")
+    assert lines["bounding box"] == f"{k['plan_x']:.3f} x {k['plan_y']:.3f} x {k['height']:.3f} m"
+    assert lines["flat stack"].startswith(f"{k['stack_x']:.3f} x {k['stack_y']:.3f} m")
+    assert k["alpha_limit"] == pytest.approx(88.9537576330131, abs=1e-9)
+    t = data["thickness"]
+    assert lines["thickness"].startswith(f"{t['thickness'] * 1e3:.4g} mm {t['material']}")
+    assert f"utilisation {t['bending']['max_utilisation']:.2f}" in lines["bending check"]
+    assert data["thickness_error"] is None
+
+
+def test_info_json_of_a_millimetre_design_is_in_metres(tmp_path, capsys):
+    path = tmp_path / "vault-mm.toml"
+    write_design(load_design(VAULT), path, units="mm")
+    assert "span = 2500.0" in path.read_text()
+    assert main(["info", "--json", str(path)]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["design_units"] == "mm"
+    assert data["key_figures"]["crease_span"] == pytest.approx(2.5, rel=1e-12)
+    assert data["thickness"]["thickness"] == pytest.approx(0.008, rel=1e-12)
 
 
 @pytest.mark.parametrize(

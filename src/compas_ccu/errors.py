@@ -22,11 +22,23 @@ __all__ = [
     "SelfIntersectionError",
     "SweepError",
     "rebuild_error",
+    "CCUWarning",
+    "UnitsWarning",
 ]
 
 
 class CCUError(ValueError):
     """Base class of all compas_ccu errors."""
+
+
+class CCUWarning(UserWarning):
+    """Base class of the warnings of compas_ccu (the ``ccu`` command prints them as
+    ``ccu: warning: ...``)."""
+
+
+class UnitsWarning(CCUWarning):
+    """A length of a design file is implausible for its ``[design] units`` (a likely mix-up of
+    metres and millimetres); the message names the key, the value and the units that fit."""
 
 
 class ProfileError(CCUError):

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import sys
 import traceback
+import warnings
 
 from compas_ccu.cli import (
     catalog,
@@ -32,7 +33,7 @@ from compas_ccu.cli import (
 from compas_ccu.cli.parser import OUT, check_options
 from compas_ccu.cli.parser import build_parser as _build_parser
 from compas_ccu.cli.text import thickness_lines
-from compas_ccu.errors import CCUError
+from compas_ccu.errors import CCUError, CCUWarning
 from compas_ccu.limits import apply, raised
 from compas_ccu.outputs import check_output_folder, staged_folder
 
@@ -92,11 +93,28 @@ def _run(args) -> int:
         return args.spec.run(args)
 
 
+_PYTHON_SHOWWARNING = warnings.showwarning
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Print a compas_ccu warning as one line ``ccu: warning: ...``; others as Python does."""
+    if issubclass(category, CCUWarning):
+        print(f"ccu: warning: {message}", file=sys.stderr if file is None else file)
+    else:  # pragma: no cover - a library's own warning
+        _PYTHON_SHOWWARNING(message, category, filename, lineno, file, line)
+
+
 def main(argv=None) -> int:
-    """Entry point of the ``ccu`` command: the exit status."""
+    """Entry point of the ``ccu`` command: the exit status.
+
+    compas_ccu warnings (:class:`compas_ccu.errors.CCUWarning`, e.g. a length implausible for
+    the design's units) are printed to stderr as ``ccu: warning: ...``.
+    """
     args = build_parser().parse_args(argv)
     try:
-        with raised(**apply(args.limit)):
+        with raised(**apply(args.limit)), warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            warnings.simplefilter("default", CCUWarning)
             check_options(args.spec, args)
             return _run(args)
     except CCUError as exc:

@@ -13,12 +13,13 @@ from compas_ccu.cli.text import info_lines, thickness_lines, validation_lines
 from compas_ccu.errors import GeometryError
 from compas_ccu.fea.record import last_validation
 from compas_ccu.io import write_compas_json, write_obj, write_path, write_structure_json
-from compas_ccu.key_figures import key_figures
+from compas_ccu.key_figures import FIGURES, key_figures
+from compas_ccu.outputs import json_text
 from compas_ccu.thickness import ThickModel
 from compas_ccu.viz.export import save_figure
 from compas_ccu.viz.planarity import plot_planarity
 
-__all__ = ["COMMANDS", "INFO_PATH_STATES", "INFO_THICKNESS_STATES"]
+__all__ = ["COMMANDS", "INFO_PATH_STATES", "INFO_THICKNESS_STATES", "info_data"]
 
 #: Path states of the planarity line of ``ccu info`` (above the flat stack).
 INFO_PATH_STATES = 24
@@ -72,16 +73,48 @@ def path(args) -> int:
 
 def info(args) -> int:
     model = load_model(args.design)
-    lines = info_lines(key_figures(model, path=INFO_PATH_STATES))
+    figures = key_figures(model, path=INFO_PATH_STATES)
     try:
-        summary = ThickModel(model).summary(path_states=INFO_THICKNESS_STATES)
+        summary, problem = ThickModel(model).summary(path_states=INFO_THICKNESS_STATES), None
     except GeometryError as exc:
-        lines.append(f"thickness         not modelled: {exc}")
+        summary, problem = None, str(exc)
+    record = last_validation(args.design)
+    if getattr(args, "json", False):
+        print(json_text(info_data(model, figures, summary, problem, record), indent=1))
+        return 0
+    lines = info_lines(figures)
+    if summary is None:
+        lines.append(f"thickness         not modelled: {problem}")
     else:
         lines += thickness_lines(summary)
-    lines += validation_lines(last_validation(args.design))
+    lines += validation_lines(record)
     print("\n".join(lines))
     return 0
+
+
+def info_data(model, figures, summary, problem, record) -> dict:
+    """What ``ccu info --json`` prints: the numbers of ``ccu info`` as plain data.
+
+    ``key_figures`` holds every key figure (:data:`compas_ccu.key_figures.FIGURES`, None where
+    it does not apply) and ``figure_units`` its unit; ``thickness`` is
+    :meth:`compas_ccu.thickness.ThickModel.summary` (or None, with ``thickness_error``);
+    ``validation`` the last FE validation record (or None). Lengths are metres, angles
+    degrees, whatever the design file's ``[design] units`` (``design_units``).
+    """
+    return {
+        "format": "ccu.info",
+        "version": 1,
+        "units": {"length": "m", "angle": "deg"},
+        "design": model.design.name,
+        "design_units": model.design.units,
+        "key_figures": figures.to_dict(),
+        "figure_units": {f.name: f.unit for f in FIGURES if f.unit},
+        "path_states": INFO_PATH_STATES,
+        "thickness_path_states": INFO_THICKNESS_STATES,
+        "thickness": summary,
+        "thickness_error": problem,
+        "validation": record,
+    }
 
 
 def planarity(args) -> int:
@@ -159,8 +192,13 @@ COMMANDS = (
         "info",
         "print the key figures of a design",
         "Print plates, creases by kind, design alpha, deployment "
-        "limit, span, rise and the flat stack footprint of DESIGN.",
-        (DESIGN,),
+        "limit, span, rise and the flat stack footprint of DESIGN. With --json, the same "
+        "figures as one JSON object on stdout (lengths in metres, angles in degrees; every "
+        "key figure with its unit, the thickness summary and the last FE validation).",
+        (
+            DESIGN,
+            option("--json", action="store_true", help="print the figures as JSON"),
+        ),
         info,
     ),
     Command(

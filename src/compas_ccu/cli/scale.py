@@ -57,7 +57,7 @@ def scale(args) -> int:
             say(args, f"span {row['span_target']:6.3f} m  failed: {row['error']}")
 
     rows = scale_study(
-        model.design.document,
+        model.design.metric_document(),
         base,
         to_span=args.to,
         steps=args.steps,

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
 from compas.data import Data
 
-from compas_ccu.design.schema import validate
+from compas_ccu.design.schema import SCHEMA, validate
 from compas_ccu.design.sections import DesignSections
-from compas_ccu.errors import DesignError
+from compas_ccu.design.units import convert_document, plausibility_warnings
+from compas_ccu.errors import DesignError, UnitsWarning
 from compas_ccu.materials import DesignFactors, Material, MaterialError, design_factors
 from compas_ccu.materials import material as library_material
 
@@ -38,9 +40,12 @@ class Design(Data):
     Attributes
     ----------
     document : dict
-        The document as given.
+        The document as given, in its ``[design] units`` (written back as it is).
     values : dict
-        ``{section: {key: value}}`` with defaults filled in.
+        ``{section: {key: value}}`` with defaults filled in, lengths in metres.
+    units : str
+        The file's length units (``[design] units``, default ``"m"``); everything the design
+        gives (``values``, ``sections``) is metres.
     sections : DesignSections
         The same, typed: ``design.sections.crease.span``; the sections are also attributes
         (``design.crease``, ``design.layout``, ...).
@@ -52,6 +57,21 @@ class Design(Data):
     ...             "layout": {"width": 0.3}})
     >>> d.crease.span, d.alpha, d.name
     (2.0, 30.0, 'design')
+
+    A design in millimetres is metres inside:
+
+    >>> d = Design({"design": {"units": "mm"},
+    ...             "crease": {"profile": "arc", "span": 2000, "rise": 500},
+    ...             "rulings": {"type": "orthogonal"}, "deployment": {"alpha": 30.0},
+    ...             "layout": {"width": 300}})
+    >>> d.units, d.crease.span, d.layout.width, d.metric_document()["layout"]
+    ('mm', 2.0, 0.3, {'width': 0.3})
+
+    Warns
+    -----
+    UnitsWarning
+        A length is implausible for the file's units (a 2500 m span: "did you mean
+        units = "mm"?"); the message names the key and the value.
     """
 
     def __init__(self, document: dict, *, name: str | None = None):
@@ -60,6 +80,29 @@ class Design(Data):
         self.document = document
         self.values = values
         self.sections = DesignSections.from_values(values)
+        for message in plausibility_warnings(values, self.units):
+            warnings.warn(message, UnitsWarning, stacklevel=2)
+
+    @property
+    def units(self) -> str:
+        """The file's length units (``[design] units``): ``"m"``, ``"mm"``, ``"cm"``,
+        ``"ft"`` or ``"in"``. The design's values are metres whatever the units."""
+        return self.values["design"]["units"]
+
+    def metric_document(self) -> dict:
+        """The document with every length in metres and no ``[design] units``: the form to
+        edit with values in metres (derived designs, scale studies)."""
+        return convert_document(self.document, SCHEMA, to="m")
+
+    def document_in(self, units: str) -> dict:
+        """The document with its lengths in ``units`` (``[design] units`` set accordingly).
+
+        Raises
+        ------
+        DesignError
+            ``units`` is not an allowed length unit.
+        """
+        return convert_document(self.document, SCHEMA, to=units)
 
     @property
     def __data__(self) -> dict:

@@ -17,11 +17,10 @@ design file (:mod:`compas_ccu.design.targets`).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from compas_ccu.design import Design
+from compas_ccu.design.writer import design_toml
 from compas_ccu.errors import DesignError
 from compas_ccu.tolerances import EXACT_RELATIVE
 
@@ -128,26 +127,31 @@ def design_from_crease(
     )
 
 
-def write_design(design, path, *, header: str | None = None) -> None:
-    """Write a design's document as a TOML file (``tomli_w``), ``[design]`` first.
+def write_design(design, path, *, header: str | None = None, units: str | None = None) -> None:
+    """Write a design's document as a TOML file, ``[design]`` first, point lists one point per
+    line (:func:`compas_ccu.design.writer.design_toml`).
 
-    ``header`` (default: the design's description) is written as comment lines on top.
+    Parameters
+    ----------
+    design : Design
+    path : path-like
+    header : str, optional
+        Comment lines on top (default: the design's description).
+    units : str, optional
+        Length units of the file (default: the design's own ``[design] units``, so a design
+        read in millimetres is written in millimetres).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from compas_ccu.design import load_design
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "vault-mm.toml"
+    >>> write_design(load_design("examples/vault.toml"), path, units="mm")
+    >>> again = load_design(path)
+    >>> again.units, again.crease.span, again.document["crease"]["span"]
+    ('mm', 2.5, 2500.0)
     """
-    import tomli_w
-
-    def clean(value):
-        if isinstance(value, dict):
-            return {k: clean(v) for k, v in value.items() if v is not None}
-        if isinstance(value, (list, tuple)):
-            return [clean(v) for v in value]
-        if isinstance(value, float) and not math.isfinite(value):
-            raise DesignError(f"cannot write a non-finite number {value!r}")
-        return value
-
-    doc = clean(design.document)
-    ordered = {k: doc[k] for k in ("design",) if k in doc}
-    ordered.update({k: v for k, v in doc.items() if k != "design"})
+    document = design.document if units is None else design.document_in(units)
     text = header if header is not None else design.sections.design.description
-    comment = "".join(f"# {line}\n" for line in text.splitlines()) + ("\n" if text else "")
     with open(path, "w", encoding="utf-8") as fh:
-        fh.write(comment + tomli_w.dumps(ordered))
+        fh.write(design_toml(document, header=text or None))

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Callable
 
 from compas_ccu.design.rules import RULES
+from compas_ccu.design.units import DEFAULT_UNITS, LENGTH_UNITS, is_length, to_metres, unit_factor
 from compas_ccu.errors import DesignError
 from compas_ccu.materials import (
     LOAD_DURATIONS,
@@ -90,6 +91,15 @@ SCHEMA: dict = {
             "puts it beside the class measured from the deployed structure.",
             default=None,
             choices=("monoclastic", "synclastic", "anticlastic"),
+        ),
+        "units": Key(
+            "str",
+            "Length units of this file: every key of unit m (and the positions x of the "
+            "crease loads) is read in these units and converted to metres; angles stay "
+            "degrees, forces, pressures, densities and stiffnesses SI. Outputs are metres. "
+            "A length implausible for the units (a 2500 m span) is warned about.",
+            default=DEFAULT_UNITS,
+            choices=tuple(LENGTH_UNITS),
         ),
     },
     "crease": {
@@ -773,11 +783,16 @@ def _short(value, limit: int = 60) -> str:
     return text if len(text) <= limit else f"{text[: limit - 3]}..."
 
 
-def _coerce(section: str, name: str, key: Key, value):
+def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS):
     where = f"{section}.{name}"
+    given = value
+    length = is_length(key.unit)
 
-    def fail(what):
-        raise DesignError(f"{what}, got {_short(value)}", key=where)
+    def fail(what, hint=""):
+        shown = _short(given)
+        if length and units != DEFAULT_UNITS:
+            shown = f"{shown} {units}"
+        raise DesignError(f"{what}, got {shown}{hint}", key=where)
 
     if key.kind == "float":
         if not _is_number(value):
@@ -840,12 +855,36 @@ def _coerce(section: str, name: str, key: Key, value):
         values = [value] if isinstance(value, float) else [g for _, g in value]
         if not all(0.0 < g < 180.0 for g in values):
             fail("ruling angles must be in (0, 180) degrees")
+    if length:
+        value = to_metres(key.kind, key.unit, value, units)
     if key.check is not None:
         values = value if isinstance(value, list) and key.kind == "float_or_list" else [value]
         for v in values:
             if not key.check(v):
-                fail(f"must be {key.check_doc}")
+                if not length:
+                    fail(f"must be {key.check_doc}")
+                metres = "" if units == DEFAULT_UNITS else " m"
+                fail(f"must be {key.check_doc}{metres}", _units_hint(key, v, units))
     return value
+
+
+def _units_hint(key: Key, metres: float, units: str) -> str:
+    """``(= 0.2 m): did you mean units = "mm"?`` for a length that fails its check in
+    ``units`` but would pass in other units."""
+    given = metres / unit_factor(units)
+    note = "" if units == DEFAULT_UNITS else f" (= {metres:.6g} m)"
+    fits = [u for u, f in LENGTH_UNITS.items() if u != units and key.check(given * f)]
+    if fits:
+        note += f': did you mean units = "{fits[0]}"?'
+    return note
+
+
+def _units(document: dict) -> str:
+    """The ``[design] units`` of a document, checked first: every length depends on it."""
+    table = document.get("design")
+    if not isinstance(table, dict) or "units" not in table:
+        return DEFAULT_UNITS
+    return _coerce("design", "units", SCHEMA["design"]["units"], table["units"])
 
 
 def validate(document: dict) -> dict:
@@ -861,6 +900,8 @@ def validate(document: dict) -> dict:
     dict
         ``{section: {key: value}}`` with every key of :data:`SCHEMA` present (None if unset),
         and ``{"materials": {name: {key: value}}}`` for the ``[materials.NAME]`` tables.
+        Lengths are metres: a document with ``[design] units`` other than ``"m"`` is
+        converted (:mod:`compas_ccu.design.units`); ``design.units`` keeps the file's units.
 
     Raises
     ------
@@ -871,6 +912,7 @@ def validate(document: dict) -> dict:
     if not isinstance(document, dict):
         raise DesignError(f"a design must be a table, got {type(document).__name__}")
     out: dict = {}
+    units = _units(document)
     for section in document:
         if section not in SCHEMA and section not in NAMED_SECTIONS:
             raise DesignError(
@@ -896,7 +938,7 @@ def validate(document: dict) -> dict:
         for name in allowed:
             key = keys[name]
             if name in given:
-                values[name] = _coerce(section, name, key, given[name])
+                values[name] = _coerce(section, name, key, given[name], units)
             elif key.required:
                 raise DesignError("missing required key", key=f"{section}.{name}")
             else:
@@ -919,6 +961,19 @@ def schema_markdown() -> str:
         "`python -m compas_ccu.design.schema > docs/design-files.md`).",
         "Lengths are metres, angles degrees. An unknown section or key, a wrong type or an",
         "impossible value is an error that names the key, the value and what is allowed.",
+        "",
+        "**Units.** `[design] units` (`m` default, `mm`, `cm`, `ft`, `in`) sets the units of",
+        "every length of the file: the keys whose unit below is `m`, and the positions x of",
+        "the crease loads (unit `m, load`). They are converted to metres when the file is read;",
+        "inside compas_ccu and in every output (structure.json, reports, `ccu info`) lengths are",
+        "metres. Angles stay degrees; forces, pressures, densities and stiffnesses stay SI",
+        "(N, Pa, kg/m³), whatever the units. The allowed ranges below are in metres. A length",
+        "that is implausible for a curved-crease structure (a crease span outside 0.05 ... 200 m,",
+        "a plate thinner than 0.2 mm, ...) is a warning that names the key, the value and the",
+        'units that fit (`crease.span = 2500 m is implausible ...: did you mean units = "mm"`).',
+        "Writing a design back (`compas_ccu.design.inverse.write_design`) keeps its units.",
+        "`ccu new --preset vault|dome|funnel|cone|quadrants NAME.toml` writes a commented",
+        "template to start from.",
         "",
     ]
     for section, keys in [*SCHEMA.items(), *NAMED_SECTIONS.items()]:

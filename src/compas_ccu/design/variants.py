@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import copy
-
 from compas_ccu.design.document import Design
 
 __all__ = ["quadrant_design"]
@@ -34,7 +32,7 @@ def quadrant_design(design, *, width: float | None = None):
     >>> q.layout.quadrants, len(CCUModel(q).plate_ids)
     (True, 4)
     """
-    doc = copy.deepcopy(design.document)
+    doc = design.metric_document()
     if width is None:
         width = design.layout.width
     if width is None:

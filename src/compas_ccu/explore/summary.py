@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.design.document import Design
+from compas_ccu.design.writer import design_toml
 from compas_ccu.explore.evaluate import STAGES
 from compas_ccu.explore.pareto import feasible, rank_best
 from compas_ccu.explore.plots import plot_design_space, plot_pareto
@@ -34,14 +35,12 @@ def write_best(sweep, picks: list, out, *, origin=None) -> list:
         ``origin(rank, variant)``: the first line of the file's header (default: ``variant ...
         of sweep ... (rank ...)``).
     """
-    import tomli_w
-
     files = []
     for rank, variant in picks:
         folder = Path(out) / "best" / f"{rank}-{variant.id}"
         folder.mkdir(parents=True, exist_ok=True)
         document = sweep.document_for(variant)
-        text = tomli_w.dumps(document)
+        text = design_toml(document)
         first = (
             origin(rank, variant)
             if origin is not None

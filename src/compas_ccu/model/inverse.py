@@ -10,8 +10,6 @@ A design from a 3D target polyline is :func:`compas_ccu.design.inverse.design_fr
 
 from __future__ import annotations
 
-import copy
-
 import numpy as np
 
 from compas_ccu.design import Design
@@ -46,7 +44,7 @@ def flat_design(design, *, name: str | None = None):
     model = CCUModel(design)
     flat = model.flat()[0]  # the leading plate's cut pattern, plane coordinates
     n = model.segments
-    doc = copy.deepcopy(design.document)
+    doc = design.metric_document()
     doc.setdefault("design", {})["name"] = name or f"{design.name}-pattern"
     doc["crease"] = {
         "profile": "polyline",
