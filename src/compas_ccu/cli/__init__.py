@@ -1,8 +1,8 @@
-"""Command line interface: ``ccu deploy | path | info | planarity | catalog | validate | fabricate |
-explore | optimize | scale | figures | animate | view | sheet | report | studio``.
+"""Command line interface: ``ccu new | deploy | path | info | planarity | catalog | validate |
+fabricate | explore | optimize | scale | figures | animate | view | sheet | report | studio``.
 
 Every command takes a design TOML file (see ``docs/design-files.md``), a sweep or a study file.
-The commands are declared as data, one module per group (:mod:`.model_commands`,
+The commands are declared as data, one module per group (:mod:`.new`, :mod:`.model_commands`,
 :mod:`.pictures`, :mod:`.catalog`, :mod:`.fea`, :mod:`.fabrication`, :mod:`.explore`,
 :mod:`.optimize`; the parser is built by :mod:`.parser`); each parses its options, calls the
 library and formats the result (:mod:`.text`).
@@ -25,6 +25,7 @@ from compas_ccu.cli import (
     fabrication,
     fea,
     model_commands,
+    new,
     optimize,
     pictures,
     scale,
@@ -43,6 +44,7 @@ __all__ = ["main", "build_parser", "COMMANDS", "thickness_lines"]
 _ALL = {
     c.name: c
     for module in (
+        new,
         model_commands,
         pictures,
         catalog,
@@ -55,7 +57,7 @@ _ALL = {
     )
     for c in module.COMMANDS
 }
-_ORDER = ("deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
+_ORDER = ("new", "deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
 _ORDER += ("catalog", "validate", "explore", "optimize", "scale", "fabricate", "report", "studio")
 COMMANDS = tuple(_ALL[name] for name in _ORDER)
 

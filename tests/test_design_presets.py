@@ -1,0 +1,101 @@
+"""ccu new --preset: commented templates that load, deploy and pass ccu info."""
+
+from __future__ import annotations
+
+import json
+import re
+import warnings
+from pathlib import Path
+
+import pytest
+
+from compas_ccu.cli import main
+from compas_ccu.design import load_design
+from compas_ccu.design.presets import PRESET_DIR, PRESETS, preset_text, write_preset
+from compas_ccu.errors import OptionError, UnitsWarning
+from compas_ccu.model import CCUModel
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_every_preset_has_its_file_and_ships_as_package_data():
+    assert sorted(p.stem for p in PRESET_DIR.glob("*.toml")) == sorted(PRESETS)
+    assert '"data/presets/*.toml"' in (ROOT / "pyproject.toml").read_text()
+
+
+@pytest.mark.parametrize("preset", list(PRESETS))
+def test_a_preset_loads_deploys_and_its_info_runs(preset, tmp_path, capsys):
+    path = tmp_path / f"my-{preset}.toml"
+    assert main(["new", "--preset", preset, str(path)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"wrote {path} (preset {preset}: ")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitsWarning)
+        design = load_design(path)
+    assert design.name == f"my-{preset}" and design.units == "m"
+    structure = CCUModel(design).deploy()
+    assert structure.alpha == design.alpha
+    assert structure.max_invariant_error < 1e-12
+    assert main(["info", "--json", str(path)]) == 0
+    data = json.loads(capsys.readouterr().out)
+    k = data["key_figures"]
+    assert k["name"] == f"my-{preset}" and k["plates"] == len(structure.plate_ids)
+    thickness = data["thickness"]
+    if thickness is not None:  # the quadrants' CCF creases have no thickness model
+        assert not thickness["collisions"]["first"], "plates interpenetrate"
+        assert thickness["bending"]["max_utilisation"] < 1.0
+    assert main(["info", str(path)]) == 0
+    assert f"design            my-{preset}" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("preset", list(PRESETS))
+def test_every_key_of_a_preset_is_explained(preset):
+    text = preset_text(preset)
+    assert "docs/design-files.md" in text
+    lines = text.splitlines()
+    for i, line in enumerate(lines):
+        if re.match(r"^[a-z_]+ = ", line):
+            assert "#" in line or lines[i - 1].startswith("#"), line
+    assert 'units = "m"' in text
+
+
+def test_an_existing_file_is_not_overwritten_without_force(tmp_path, capsys):
+    path = tmp_path / "hall.toml"
+    path.write_text("# mine\n")
+    assert main(["new", "--preset", "dome", str(path)]) == 2
+    assert capsys.readouterr().err == (
+        f"ccu: error: {str(path)!r} exists: not overwritten (--force overwrites it)\n"
+    )
+    assert path.read_text() == "# mine\n"
+    assert main(["new", "--preset", "dome", "--force", "--quiet", str(path)]) == 0
+    assert capsys.readouterr().out == ""
+    assert load_design(path).layout.type == "radial"
+
+
+def test_the_name_is_the_file_name_and_the_comments_stay_aligned(tmp_path):
+    design = write_preset("funnel", tmp_path / 'a "quoted" name.toml')
+    assert design.name == 'a "quoted" name'
+    line = next(
+        x for x in (tmp_path / 'a "quoted" name.toml').read_text().splitlines() if "name =" in x
+    )
+    assert line == 'name = "a \\"quoted\\" name"    # used in file names and reports'
+    assert line.index("#") == 30  # the column of the template's comments
+    short = preset_text("vault", name="v")
+    assert 'name = "v"                    # used in file names and reports' in short
+
+
+@pytest.mark.parametrize(
+    "preset, path, message",
+    [
+        (
+            "igloo",
+            "x.toml",
+            r"--preset must be one of vault, dome, funnel, cone, quadrants, got 'igloo'",
+        ),
+        ("vault", "x.txt", r"the new design file must end in \.toml, got '.*x\.txt'"),
+    ],
+)
+def test_bad_presets_and_paths_are_named(preset, path, message, tmp_path):
+    with pytest.raises(OptionError, match=message):
+        write_preset(preset, tmp_path / path)
+    assert not (tmp_path / path).exists()
