@@ -178,9 +178,13 @@ def _radial(layout: dict, m: int, k0: int, local: np.ndarray) -> PlaneLayout:
     theta = np.r_[0.0, np.cumsum(angles)]
     theta -= theta[k0]
     if theta[-1] - theta[0] >= 2.0 * math.pi * (1.0 - EXACT_RELATIVE):
+        given = layout["angle"]
+        each = f"{given:g} deg" if isinstance(given, (int, float)) else "the given angles"
         raise DesignError(
-            f"the planes turn by {math.degrees(theta[-1] - theta[0]):.6g} deg in total; a "
-            "radial layout is an open ring of less than 360 deg",
+            f"the planes turn by {math.degrees(theta[-1] - theta[0]):.6g} deg in total ({m} "
+            f"plates x {each}); a radial layout is an open ring of less than 360 deg: a closed "
+            "ring cannot deploy, because the angle between neighbouring planes changes along "
+            "the deployment (docs/shape-control.md); use fewer plates or a smaller angle",
             key="layout.angle",
         )
     side = np.sign(local[:, 0] - axis)
