@@ -153,9 +153,13 @@ def test_a_tiny_design_warns_and_names_the_metres():
     doc["plates"] = {"thickness": 0.008}
     doc["layout"]["spacing"] = 120.0
     doc["crease"].update(span=2500, rise=1000)
-    with pytest.warns(UnitsWarning, match=r'plates\.thickness = 0\.008 mm \(8e-06 m\) is '
-                      r'implausible .*: did you mean units = "m" \(0\.008 m\)\?'):  # fmt: skip
+    doc["loads"]["concrete_thickness"] = 80.0
+    with pytest.warns(UnitsWarning) as caught:
         Design(doc)
+    assert [str(w.message) for w in caught] == [
+        "plates.thickness = 0.008 mm (8e-06 m) is implausible for a curved-crease structure "
+        '(plausible: 0.0002 ... 0.1 m): did you mean units = "m" (0.008 m)?'
+    ]
 
 
 @pytest.mark.parametrize("name", ["vault", "cone", "quadrants"])
@@ -191,3 +195,14 @@ def _quiet(doc):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UnitsWarning)
         return Design(doc)
+
+
+def test_a_metre_concrete_thickness_in_a_millimetre_file_warns():
+    document = convert_document(read_toml(VAULT), SCHEMA, to="mm")
+    document["loads"]["concrete_thickness"] = 0.08  # written in metres by mistake
+    with pytest.warns(UnitsWarning) as caught:
+        Design(document)
+    assert [str(w.message) for w in caught] == [
+        "loads.concrete_thickness = 0.08 mm (8e-05 m) is implausible for a curved-crease "
+        'structure (plausible: 0.005 ... 2 m): did you mean units = "m" (0.08 m)?'
+    ]

@@ -162,8 +162,11 @@ PLAUSIBLE = {
     "crease": (0.05, 200.0, 3.0),  # span, radius or extent of the points
     "crease.rise": (0.005, 200.0, 1.0),
     "layout.width": (0.005, 200.0, 0.4),
+    "layout.ccf_width": (0.005, 200.0, 0.4),
     "layout.spacing": (0.002, 50.0, 0.15),
     "plates.thickness": (0.0002, 0.1, 0.008),
+    "plates.hinge_width": (0.001, 2.0, 0.05),
+    "loads.concrete_thickness": (0.005, 2.0, 0.08),
 }
 
 
