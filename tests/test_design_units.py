@@ -13,8 +13,9 @@ from compas_ccu.design.document import read_toml
 from compas_ccu.design.inverse import write_design
 from compas_ccu.design.schema import SCHEMA, _coerce, validate
 from compas_ccu.design.units import LENGTH_UNITS, convert_document, is_length
+from compas_ccu.design.variants import quadrant_design
 from compas_ccu.errors import DesignError, UnitsWarning
-from compas_ccu.model import CCUModel
+from compas_ccu.model import CCUModel, flat_design
 from conftest import EXAMPLES
 
 VAULT = EXAMPLES / "vault.toml"
@@ -206,3 +207,19 @@ def test_a_metre_concrete_thickness_in_a_millimetre_file_warns():
         "loads.concrete_thickness = 0.08 mm (8e-05 m) is implausible for a curved-crease "
         'structure (plausible: 0.005 ... 2 m): did you mean units = "m" (0.08 m)?'
     ]
+
+
+def test_derived_designs_keep_the_units():
+    cone = load_design(EXAMPLES / "cone.toml")
+    cone_mm = Design(convert_document(cone.document, SCHEMA, to="mm"))
+    pattern, pattern_mm = flat_design(cone), flat_design(cone_mm)
+    assert pattern_mm.units == "mm" and pattern.units == "m"
+    assert pattern_mm.document["crease"]["points"][0] == pytest.approx(
+        [1e3 * v for v in pattern.document["crease"]["points"][0]], rel=1e-14
+    )
+    a = CCUModel(pattern_mm).deploy().deployed
+    b = CCUModel(pattern).deploy().deployed
+    assert np.abs(a - b).max() < 1e-12
+    quadrants = quadrant_design(cone_mm)
+    assert quadrants.units == "mm" and quadrants.document["layout"]["width"] == 400.0
+    assert quadrants.layout.width == pytest.approx(0.4, rel=1e-15)

@@ -83,6 +83,21 @@ class Design(Data):
         for message in plausibility_warnings(values, self.units):
             warnings.warn(message, UnitsWarning, stacklevel=2)
 
+    @classmethod
+    def from_metric(cls, document: dict, *, units: str = "m", name: str | None = None) -> Design:
+        """A design from a document in metres, kept in ``units`` (its lengths converted and
+        ``[design] units`` set): a design derived from another one in the other's units.
+
+        Examples
+        --------
+        >>> d = Design.from_metric({"crease": {"profile": "arc", "span": 2.0, "rise": 0.5},
+        ...     "rulings": {"type": "orthogonal"}, "deployment": {"alpha": 30.0},
+        ...     "layout": {"width": 0.3}}, units="cm")
+        >>> d.document["crease"]["span"], d.document["design"], d.crease.span
+        (200.0, {'units': 'cm'}, 2.0)
+        """
+        return cls(convert_document(document, SCHEMA, to=units, source="m"), name=name)
+
     @property
     def units(self) -> str:
         """The file's length units (``[design] units``): ``"m"``, ``"mm"``, ``"cm"``,

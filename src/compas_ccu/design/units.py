@@ -143,7 +143,7 @@ def convert_document(document: dict, schema: dict, *, to: str, source: str | Non
         new = {}
         for name, value in table.items():
             key = keys.get(name)
-            if key is not None and not name.startswith("_") and is_length(key.unit):
+            if f != 1.0 and key is not None and not name.startswith("_") and is_length(key.unit):
                 value = _tidy(_scale(key.kind, key.unit, value, f))
             new[name] = value
         out[section] = new

@@ -33,7 +33,7 @@ def flat_design(design, *, name: str | None = None):
     compas_ccu.design.Design
         ``crease.state = "flat"``, the pattern's crease as a polyline kept vertex by vertex,
         ``rulings.type = "explicit"`` with the pattern's ruling ends, the same reference vertex,
-        design angle and plane placement.
+        design angle and plane placement, in the units of ``design``.
     """
     if design.layout.type != "single" or design.layout.quadrants:
         raise DesignError(
@@ -55,7 +55,7 @@ def flat_design(design, *, name: str | None = None):
     }
     doc["rulings"] = {"type": "explicit", "points": flat[n + 1 :, :2].tolist()}
     doc["layout"] = {"type": "single"}
-    return Design(doc)
+    return Design.from_metric(doc, units=design.units)
 
 
 def round_trip(design) -> dict:
