@@ -144,6 +144,10 @@ def test_info_json_of_a_millimetre_design_is_in_metres(tmp_path, capsys):
     path = tmp_path / "vault-mm.toml"
     write_design(load_design(VAULT), path, units="mm")
     assert "span = 2500.0" in path.read_text()
+    assert main(["info", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "units             the file's lengths are mm; below: m\n" in text
+    assert "span              2.5000 m (leading crease chord)" in text
     assert main(["info", "--json", str(path)]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["design_units"] == "mm"

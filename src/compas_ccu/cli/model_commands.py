@@ -83,6 +83,8 @@ def info(args) -> int:
         print(json_text(info_data(model, figures, summary, problem, record), indent=1))
         return 0
     lines = info_lines(figures)
+    if model.design.units != "m":
+        lines.insert(1, f"units             the file's lengths are {model.design.units}; below: m")
     if summary is None:
         lines.append(f"thickness         not modelled: {problem}")
     else:
