@@ -1,7 +1,8 @@
 """Command line interface: ``ccu new | deploy | path | info | planarity | catalog | validate |
 fabricate | explore | optimize | scale | figures | animate | view | sheet | report | studio``.
 
-Every command takes a design TOML file (see ``docs/design-files.md``), a sweep or a study file.
+Every command takes a design TOML file (see ``docs/design-files.md``; ``ccu new`` writes one), a
+sweep or a study file.
 The commands are declared as data, one module per group (:mod:`.new`, :mod:`.model_commands`,
 :mod:`.pictures`, :mod:`.catalog`, :mod:`.fea`, :mod:`.fabrication`, :mod:`.explore`,
 :mod:`.optimize`; the parser is built by :mod:`.parser`); each parses its options, calls the
