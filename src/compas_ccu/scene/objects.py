@@ -1,0 +1,148 @@
+"""Scene objects of CCU structures: one context-independent object, thin per-context ones.
+
+:class:`CCUSceneObject` turns a :class:`~compas_ccu.structure.Structure`, a
+:class:`~compas_ccu.model.CCUModel`, a :class:`~compas_ccu.design.Design` or a
+:class:`~compas_ccu.thickness.ThickModel` into child scene objects: one mesh per plate, one
+polyline per crease, one line per ruling (and one closed mesh per thick plate), each with its
+colour (:mod:`compas_ccu.scene.draw`). The children are COMPAS meshes, polylines and lines, so
+every context draws them with its own mesh / polyline / line objects: the per-context classes
+here only name their context. None of them imports a host application (Rhino, Grasshopper,
+compas_viewer, compas_notebook); the plugins in :mod:`compas_ccu.scene` register each one only
+where its host can be imported.
+"""
+
+from __future__ import annotations
+
+from compas.scene import SceneObject
+
+from compas_ccu.scene.draw import draw_items
+
+__all__ = [
+    "CCUSceneObject",
+    "RhinoCCUObject",
+    "GrasshopperCCUObject",
+    "ViewerCCUObject",
+    "NotebookCCUObject",
+    "CONTEXT_OBJECTS",
+]
+
+
+class CCUSceneObject(SceneObject):
+    """A CCU structure in a COMPAS scene: ``Scene().add(structure)`` creates one.
+
+    Parameters
+    ----------
+    item : Structure, CCUModel, Design or ThickModel
+    state : {"deployed", "flat"}
+        The deployed plates or the cut patterns.
+    alpha : float, optional
+        Reference reflection angle of a model / design / thick model, degrees (default: the
+        design angle).
+    show_plates, show_creases, show_rulings : bool
+        Which children to create.
+    thickness : True or float, optional
+        Also the thick plates as closed solids (see :func:`compas_ccu.scene.draw.draw_items`).
+    plate_colors : {"kind", "tone"}
+    **kwargs
+        Passed on to :class:`compas.scene.SceneObject` (name, context, ...).
+
+    Attributes
+    ----------
+    draw_items : list of compas_ccu.scene.draw.DrawItem
+        What the children show (geometry, colour, role), for tests and for hosts that want the
+        data rather than the objects.
+
+    Examples
+    --------
+    >>> from compas.scene import Scene
+    >>> from compas_ccu.model import load_model
+    >>> scene = Scene()
+    >>> obj = scene.add(load_model("examples/cone.toml").deploy(), show_rulings=False)
+    >>> type(obj).__name__, [type(c).__name__ for c in obj.children]
+    ('CCUSceneObject', ['MeshObject', 'MeshObject', 'GeometryObject'])
+    """
+
+    def __init__(
+        self,
+        item=None,
+        *,
+        state: str = "deployed",
+        alpha: float | None = None,
+        show_plates: bool = True,
+        show_creases: bool = True,
+        show_rulings: bool = True,
+        thickness=None,
+        plate_colors: str = "kind",
+        **kwargs,
+    ):
+        super().__init__(item=item, **kwargs)
+        self.state = state
+        self.draw_items = draw_items(
+            item,
+            state=state,
+            alpha=alpha,
+            plates=show_plates,
+            creases=show_creases,
+            rulings=show_rulings,
+            thickness=thickness,
+            plate_colors=plate_colors,
+        )
+        for piece in self.draw_items:
+            self.add(piece.geometry, name=piece.name, color=piece.color)
+
+    def children_by_role(self, role: str) -> list:
+        """The child scene objects of one role: ``plate``, ``crease``, ``ruling``, ``solid``."""
+        return [c for c, p in zip(self.children, self.draw_items) if p.role == role]
+
+    def draw(self) -> list:
+        """Nothing of its own: the scene draws the children (plates, creases, rulings)."""
+        return []
+
+    def clear(self) -> None:
+        """Nothing of its own to clear: the children clear theirs."""
+        self._guids = []
+
+
+class RhinoCCUObject(CCUSceneObject):
+    """:class:`CCUSceneObject` in Rhino (the children are compas_rhino objects)."""
+
+
+class GrasshopperCCUObject(CCUSceneObject):
+    """:class:`CCUSceneObject` in Grasshopper (``scene.draw()`` returns the children's
+    Rhino geometry)."""
+
+
+class ViewerCCUObject(CCUSceneObject):
+    """:class:`CCUSceneObject` in the COMPAS Viewer (compas_viewer).
+
+    The viewer builds GL buffers for its own scene objects; this one has none of its own,
+    so buffer and selection hooks do nothing and the children carry the geometry.
+    """
+
+    is_selected = False
+    is_locked = True
+    is_visible = True
+    bounding_box = None
+
+    def init(self, *args, **kwargs) -> None:
+        return None
+
+    def update(self, *args, **kwargs) -> None:
+        return None
+
+    def draw(self, *args, **kwargs) -> list:
+        return []
+
+
+class NotebookCCUObject(CCUSceneObject):
+    """:class:`CCUSceneObject` in Jupyter notebooks (compas_notebook)."""
+
+
+#: ``{context name: scene object class}`` registered by the plugins of :mod:`compas_ccu.scene`.
+CONTEXT_OBJECTS = {
+    None: CCUSceneObject,
+    "Rhino": RhinoCCUObject,
+    "Grasshopper": GrasshopperCCUObject,
+    "Viewer": ViewerCCUObject,
+    "Notebook": NotebookCCUObject,
+}

@@ -1,0 +1,159 @@
+"""CCU structures in COMPAS scenes: plugin registration, children, colours, per-context draw."""
+
+from __future__ import annotations
+
+import compas
+import pytest
+from compas.datastructures import Mesh
+from compas.geometry import Line, Polyline
+from compas.scene import Scene, SceneObject
+from compas.scene.context import ITEM_SCENEOBJECT, register, register_scene_objects
+
+import compas_ccu
+import compas_ccu.scene as ccu_scene
+from compas_ccu.design import Design
+from compas_ccu.errors import OptionError
+from compas_ccu.model import CCUModel
+from compas_ccu.scene import (
+    CCUSceneObject,
+    GrasshopperCCUObject,
+    NotebookCCUObject,
+    RhinoCCUObject,
+    ViewerCCUObject,
+)
+from compas_ccu.structure import Structure
+from compas_ccu.thickness import ThickModel
+from compas_ccu.viz.colors import KIND_COLORS, RULING_COLOR
+
+DRAWABLE = (Structure, CCUModel, Design, ThickModel)
+
+
+def test_plugin_discovery_finds_this_copy_of_the_package():
+    assert "compas_ccu.scene" in compas_ccu.__all_plugins__
+    assert ccu_scene.__file__.startswith(compas_ccu.__path__[0])
+    register_scene_objects()
+    for data_type in DRAWABLE:
+        assert ITEM_SCENEOBJECT[None][data_type] is CCUSceneObject
+    # no host here: the Rhino / Grasshopper / Viewer / Notebook plugins did not register
+    for context in ("Rhino", "Grasshopper", "Viewer", "Notebook"):
+        assert Structure not in ITEM_SCENEOBJECT.get(context, {})
+
+
+def test_each_context_plugin_registers_its_own_class(monkeypatch):
+    monkeypatch.setattr(compas.scene.context, "ITEM_SCENEOBJECT", ITEM_SCENEOBJECT.copy())
+    table = compas.scene.context.ITEM_SCENEOBJECT
+    for context in ("Rhino", "Grasshopper", "Viewer", "Notebook"):
+        table[context] = {}  # the per-context dicts must not leak into the shared table
+    ccu_scene.register_scene_objects_ccu_rhino()
+    ccu_scene.register_scene_objects_ccu_grasshopper()
+    ccu_scene.register_scene_objects_ccu_viewer()
+    ccu_scene.register_scene_objects_ccu_notebook()
+    expected = {
+        "Rhino": RhinoCCUObject,
+        "Grasshopper": GrasshopperCCUObject,
+        "Viewer": ViewerCCUObject,
+        "Notebook": NotebookCCUObject,
+    }
+    for context, cls in expected.items():
+        assert {table[context][t] for t in DRAWABLE} == {cls}
+        assert issubclass(cls, CCUSceneObject)
+
+
+def test_scene_add_structure_makes_plates_creases_rulings_with_kind_colours(vault_model):
+    structure = vault_model.deploy(30.0)
+    scene = Scene()
+    obj = scene.add(structure)
+    assert type(obj) is CCUSceneObject
+    n = structure.faces.shape[1]
+    plates, creases, rulings = (obj.children_by_role(r) for r in ("plate", "crease", "ruling"))
+    assert (len(plates), len(creases), len(rulings)) == (10, 9, 10 * (n + 1))
+    assert len(scene.objects) == 1 + 10 + 9 + 650
+    assert all(isinstance(c.item, Mesh) and c.item.number_of_faces() == n for c in plates)
+    assert all(isinstance(c.item, Polyline) and len(c.item.points) == n + 1 for c in creases)
+    assert all(isinstance(c.item, Line) for c in rulings)
+    by_kind = {}
+    for child, record in zip(creases, structure.creases):
+        by_kind.setdefault(record["kind"], set()).add(child.color.hex)
+    assert by_kind == {"synclastic": {KIND_COLORS["synclastic"]},
+                       "anticlastic": {KIND_COLORS["anticlastic"]}}  # fmt: skip
+    assert {c.color.hex for c in rulings} == {RULING_COLOR}
+    # end plates have one synclastic crease; inner plates one of each kind: "mixed"
+    kinds = [p.attributes["kind"] for p in obj.draw_items if p.role == "plate"]
+    assert kinds == ["synclastic"] + ["mixed"] * 8 + ["synclastic"]
+    assert plates[0].color.hex == "#9ab8ec"  # the synclastic blue, 55 % towards white
+    assert plates[0].name == "plate_0" and creases[0].name == "crease_0"
+
+
+def test_scene_add_model_design_and_thick_model(cone_model):
+    scene = Scene()
+    from_model = scene.add(cone_model, show_rulings=False)
+    from_design = scene.add(cone_model.design, show_rulings=False, alpha=20.0)
+    thick = scene.add(ThickModel(cone_model, thickness=0.004), show_rulings=False)
+    assert [len(o.children) for o in (from_model, from_design)] == [3, 3]
+    assert len(thick.children_by_role("solid")) == 2
+    solid = thick.children_by_role("solid")[0].item
+    assert solid.number_of_faces() == 8 * cone_model.segments + 4  # closed triangle mesh
+    assert solid.is_closed()
+    deployed = from_design.children[0].item.vertices_attributes("xyz")
+    assert deployed == cone_model.deploy(20.0).deployed[0].tolist()
+
+
+def test_cut_patterns_lie_on_the_xy_plane(cone_model):
+    obj = Scene().add(cone_model.deploy(), state="flat")
+    zs = {z for c in obj.children for z in _zs(c.item)}
+    assert zs == {0.0}
+
+
+def _zs(item) -> list:
+    if isinstance(item, Mesh):
+        return [xyz[2] for xyz in item.vertices_attributes("xyz")]
+    if isinstance(item, Line):
+        return [item.start[2], item.end[2]]
+    return [p[2] for p in item.points]
+
+
+@pytest.mark.parametrize(
+    ("item", "options", "message"),
+    [
+        ("structure", {"thickness": 0.01}, "thick solids need the model"),
+        ("structure", {"alpha": 10.0}, "a Structure is one state .alpha = 30 deg.; got alpha=10.0"),
+        ("model", {"state": "folded"}, "state must be one of 'deployed', 'flat', got 'folded'"),
+        ("model", {"state": "flat", "thickness": True}, "deployed state only, got 'flat'"),
+        ("model", {"plate_colors": "rainbow"}, "plate_colors must be one of .*'rainbow'"),
+    ],
+)
+def test_impossible_options_are_refused(cone_model, item, options, message):
+    data = cone_model.deploy(30.0) if item == "structure" else cone_model
+    with pytest.raises(OptionError, match=message):
+        Scene().add(data, **options)
+
+
+def test_an_object_that_is_not_ccu_data_is_refused():
+    with pytest.raises(OptionError, match="cannot draw a Mesh; expected one of Structure"):
+        ccu_scene.draw_items(Mesh.from_polyhedron(4))
+
+
+class _Recorder(SceneObject):
+    """A host double: records what it would draw (the role of a Rhino / GH object)."""
+
+    def draw(self):
+        self._guids = [(type(self.item).__name__, self.name, self.color.hex)]
+        return self._guids
+
+
+def test_grasshopper_scene_draws_every_child_through_the_context_objects(monkeypatch, cone_model):
+    monkeypatch.setattr(compas.scene.context, "ITEM_SCENEOBJECT", ITEM_SCENEOBJECT.copy())
+    table = compas.scene.context.ITEM_SCENEOBJECT
+    table["Grasshopper"] = {}
+    for geometry_type in (Mesh, Polyline, Line):
+        register(geometry_type, _Recorder, context="Grasshopper")
+    ccu_scene.register_scene_objects_ccu_grasshopper()
+    scene = Scene(context="Grasshopper")
+    obj = scene.add(cone_model.deploy(), show_rulings=False)
+    assert type(obj) is GrasshopperCCUObject
+    drawn = scene.draw()
+    assert drawn == [
+        ("Mesh", "plate_0", "#9ab8ec"),
+        ("Mesh", "plate_1", "#9ab8ec"),
+        ("Polyline", "crease_0", KIND_COLORS["synclastic"]),
+    ]
