@@ -120,6 +120,7 @@ def _zs(item) -> list:
         ("model", {"state": "folded"}, "state must be one of 'deployed', 'flat', got 'folded'"),
         ("model", {"state": "flat", "thickness": True}, "deployed state only, got 'flat'"),
         ("model", {"plate_colors": "rainbow"}, "plate_colors must be one of .*'rainbow'"),
+        ("model", {"scale": 0}, "scale must be a number > 0 .drawing units per metre., got 0"),
     ],
 )
 def test_impossible_options_are_refused(cone_model, item, options, message):

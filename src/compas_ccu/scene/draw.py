@@ -16,7 +16,7 @@ import numpy as np
 from compas.colors import Color
 from compas.data import Data
 from compas.datastructures import Mesh
-from compas.geometry import Line, Polyline
+from compas.geometry import Line, Polyline, Scale
 
 from compas_ccu.design import Design
 from compas_ccu.errors import OptionError
@@ -171,6 +171,7 @@ def draw_items(
     rulings: bool = True,
     thickness=None,
     plate_colors: str = "kind",
+    scale: float = 1.0,
 ) -> list:
     """The drawable pieces of a structure, a model, a design or a thick model.
 
@@ -192,6 +193,8 @@ def draw_items(
         ``"kind"``: a light tint of the kind colour of the plate's creases (``mixed`` when its
         two creases differ in kind); ``"tone"``: the two alternating plywood tones of the
         figures.
+    scale : float
+        Drawing units per metre (1000 for a Rhino document in millimetres).
 
     Returns
     -------
@@ -223,6 +226,8 @@ def draw_items(
             f"plate_colors must be one of {', '.join(map(repr, PLATE_COLORS))}, got "
             f"{plate_colors!r}"
         )
+    if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not scale > 0.0:
+        raise OptionError(f"scale must be a number > 0 (drawing units per metre), got {scale!r}")
     structure = item_structure(item, alpha=alpha)
     scene = scene_from_structure(structure, state=state)
     kinds = plate_kinds(structure)
@@ -256,4 +261,8 @@ def draw_items(
             kind = kinds[pid]
             hex_color = PLATE_TONES[0] if kind is None else KIND_COLORS[kind]
             out.append(DrawItem("solid", mesh.name, mesh, tint(hex_color), {"plate": pid}))
+    if scale != 1.0:
+        factor = Scale.from_factors([float(scale)] * 3)
+        for piece in out:
+            piece.geometry.transform(factor)
     return out

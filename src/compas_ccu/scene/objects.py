@@ -43,6 +43,8 @@ class CCUSceneObject(SceneObject):
     thickness : True or float, optional
         Also the thick plates as closed solids (see :func:`compas_ccu.scene.draw.draw_items`).
     plate_colors : {"kind", "tone"}
+    scale : float
+        Drawing units per metre (1000 for a Rhino document in millimetres).
     **kwargs
         Passed on to :class:`compas.scene.SceneObject` (name, context, ...).
 
@@ -73,6 +75,7 @@ class CCUSceneObject(SceneObject):
         show_rulings: bool = True,
         thickness=None,
         plate_colors: str = "kind",
+        scale: float = 1.0,
         **kwargs,
     ):
         super().__init__(item=item, **kwargs)
@@ -86,6 +89,7 @@ class CCUSceneObject(SceneObject):
             rulings=show_rulings,
             thickness=thickness,
             plate_colors=plate_colors,
+            scale=scale,
         )
         for piece in self.draw_items:
             self.add(piece.geometry, name=piece.name, color=piece.color)

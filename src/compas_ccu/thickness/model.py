@@ -136,6 +136,9 @@ def collision_text(summary: dict, *, degree: str = " deg") -> str:
 class ThickModel(Data):
     """The thick plates of a :class:`compas_ccu.model.CCUModel` (paper §5.3).
 
+    A :class:`compas.data.Data`: ``compas.json_dumps`` writes the model, the thickness, the
+    grain, the material's values and the design factors, and reads them back.
+
     Parameters
     ----------
     model : compas_ccu.model.CCUModel
