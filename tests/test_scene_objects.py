@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import importlib.util
+
 import compas
 import pytest
 from compas.datastructures import Mesh
@@ -34,9 +36,12 @@ def test_plugin_discovery_finds_this_copy_of_the_package():
     register_scene_objects()
     for data_type in DRAWABLE:
         assert ITEM_SCENEOBJECT[None][data_type] is CCUSceneObject
-    # no host here: the Rhino / Grasshopper / Viewer / Notebook plugins did not register
-    for context in ("Rhino", "Grasshopper", "Viewer", "Notebook"):
-        assert Structure not in ITEM_SCENEOBJECT.get(context, {})
+    # a host plugin registers only where its host imports (here: none, or the notebook extra)
+    hosts = {"Rhino": "Rhino", "Grasshopper": "Grasshopper", "Viewer": "compas_viewer",
+             "Notebook": "compas_notebook"}  # fmt: skip
+    for context, module in hosts.items():
+        present = importlib.util.find_spec(module) is not None
+        assert (Structure in ITEM_SCENEOBJECT.get(context, {})) is present, context
 
 
 def test_each_context_plugin_registers_its_own_class(monkeypatch):
@@ -82,6 +87,28 @@ def test_scene_add_structure_makes_plates_creases_rulings_with_kind_colours(vaul
     assert kinds == ["synclastic"] + ["mixed"] * 8 + ["synclastic"]
     assert plates[0].color.hex == "#9ab8ec"  # the synclastic blue, 55 % towards white
     assert plates[0].name == "plate_0" and creases[0].name == "crease_0"
+    # contexts that draw faces in facecolor and curves in contrastcolor get the same colours
+    assert plates[0].facecolor.default.hex == "#9ab8ec"
+    assert creases[0].contrastcolor.hex == creases[0].color.hex
+
+
+def test_compas_notebook_draws_the_children_in_their_colours(vault_model):
+    """Runs where the notebook extra is installed (pip install "compas_ccu[notebook]")."""
+    viewer_module = pytest.importorskip("compas_notebook.viewer")
+    viewer = viewer_module.Viewer()
+    obj = viewer.scene.add(vault_model, alpha=20.0)
+    assert type(obj) is NotebookCCUObject
+    viewer.scene.draw()
+    three = [g for child in obj.children for g in child.guids]
+    counts = {}
+    for g in three:
+        counts[type(g).__name__] = counts.get(type(g).__name__, 0) + 1
+    assert counts == {"LineSegments": 10, "Mesh": 10, "Line": 9 + 650}
+    crease = obj.children_by_role("crease")[0]
+    assert crease.guids[0].material.color == crease.color.hex
+    plate = next(g for g in obj.children[0].guids if type(g).__name__ == "Mesh")
+    rgb = plate.geometry.attributes["color"].array[0]
+    assert [round(float(c), 4) for c in rgb] == [round(c, 4) for c in obj.children[0].color.rgb]
 
 
 def test_scene_add_model_design_and_thick_model(cone_model):

@@ -13,6 +13,7 @@ where its host can be imported.
 
 from __future__ import annotations
 
+from compas.datastructures import Mesh
 from compas.scene import SceneObject
 
 from compas_ccu.scene.draw import draw_items
@@ -92,7 +93,13 @@ class CCUSceneObject(SceneObject):
             scale=scale,
         )
         for piece in self.draw_items:
-            self.add(piece.geometry, name=piece.name, color=piece.color)
+            if isinstance(piece.geometry, Mesh):
+                # facecolor too: some contexts (compas_notebook) default it to grey
+                self.add(piece.geometry, name=piece.name, color=piece.color, facecolor=piece.color)
+            else:
+                child = self.add(piece.geometry, name=piece.name, color=piece.color)
+                # curves drawn in their contrast colour (compas_notebook) keep the kind colour
+                child.contrastcolor = piece.color
 
     def children_by_role(self, role: str) -> list:
         """The child scene objects of one role: ``plate``, ``crease``, ``ruling``, ``solid``."""
