@@ -21,7 +21,7 @@ from compas_ccu.scene import (
     GrasshopperCCUObject,
     NotebookCCUObject,
     RhinoCCUObject,
-    ViewerCCUObject,
+    viewer_object_class,
 )
 from compas_ccu.structure import Structure
 from compas_ccu.thickness import ThickModel
@@ -51,14 +51,18 @@ def test_each_context_plugin_registers_its_own_class(monkeypatch):
         table[context] = {}  # the per-context dicts must not leak into the shared table
     ccu_scene.register_scene_objects_ccu_rhino()
     ccu_scene.register_scene_objects_ccu_grasshopper()
-    ccu_scene.register_scene_objects_ccu_viewer()
     ccu_scene.register_scene_objects_ccu_notebook()
     expected = {
         "Rhino": RhinoCCUObject,
         "Grasshopper": GrasshopperCCUObject,
-        "Viewer": ViewerCCUObject,
         "Notebook": NotebookCCUObject,
     }
+    if importlib.util.find_spec("compas_viewer") is None:
+        with pytest.raises(ImportError, match="compas_viewer"):
+            ccu_scene.register_scene_objects_ccu_viewer()
+    else:
+        ccu_scene.register_scene_objects_ccu_viewer()
+        expected["Viewer"] = viewer_object_class()
     for context, cls in expected.items():
         assert {table[context][t] for t in DRAWABLE} == {cls}
         assert issubclass(cls, CCUSceneObject)
@@ -185,3 +189,29 @@ def test_grasshopper_scene_draws_every_child_through_the_context_objects(monkeyp
         ("Mesh", "plate_1", "#9ab8ec"),
         ("Polyline", "crease_0", KIND_COLORS["synclastic"]),
     ]
+
+
+def test_compas_viewer_builds_buffers_of_the_children(monkeypatch, cone_model):
+    """Runs where the viewer extra is installed; no window: Qt's offscreen platform, and the
+    renderer's buffer manager fed by hand (it needs no GL context)."""
+    monkeypatch.setenv("QT_QPA_PLATFORM", "offscreen")
+    viewer_module = pytest.importorskip("compas_viewer")
+    viewer_scene = pytest.importorskip("compas_viewer.scene")
+    viewer = viewer_module.Viewer()
+    obj = viewer.scene.add(cone_model, alpha=20.0)
+    assert type(obj) is viewer_object_class() and isinstance(obj, CCUSceneObject)
+    assert isinstance(obj, viewer_scene.ViewerSceneObject)
+    ours = [obj, *obj.children]
+    for o in ours:
+        o.init()
+    assert (obj._points_data, obj._lines_data, obj._frontfaces_data) == (None, None, None)
+    manager = viewer.renderer.buffer_manager
+    for o in ours:
+        manager.add_object(o)
+    n = cone_model.segments
+    crease = obj.children_by_role("crease")[0]
+    positions, colors, _ = crease._lines_data
+    assert len(positions) == 2 * n and {c.hex for c in colors} == {"#1f63d6"}
+    plate = obj.children_by_role("plate")[0]
+    assert {c.hex for c in plate._frontfaces_data[1]} == {"#9ab8ec"}
+    assert len(manager.objects) == 1 + 2 + 1 + 2 * (n + 1)

@@ -27,14 +27,14 @@ from compas_ccu.scene.objects import (
     GrasshopperCCUObject,
     NotebookCCUObject,
     RhinoCCUObject,
-    ViewerCCUObject,
+    viewer_object_class,
 )
 
 __all__ = [
     "CCUSceneObject",
     "RhinoCCUObject",
     "GrasshopperCCUObject",
-    "ViewerCCUObject",
+    "viewer_object_class",
     "NotebookCCUObject",
     "CONTEXT_OBJECTS",
     "DrawItem",
@@ -43,10 +43,11 @@ __all__ = [
 ]
 
 
-def register_context(context) -> None:
-    """Register the CCU scene object of ``context`` for every drawable CCU type."""
+def register_context(context, cls=None) -> None:
+    """Register ``cls`` (default: the CCU scene object of ``context``) for every drawable type."""
+    cls = CONTEXT_OBJECTS[context] if cls is None else cls
     for data_type in DRAWABLE_TYPES:
-        register(data_type, CONTEXT_OBJECTS[context], context=context)
+        register(data_type, cls, context=context)
 
 
 @plugin(category="factories", pluggable_name="register_scene_objects")
@@ -66,7 +67,7 @@ def register_scene_objects_ccu_grasshopper() -> None:
 
 @plugin(category="factories", pluggable_name="register_scene_objects", requires=["compas_viewer"])
 def register_scene_objects_ccu_viewer() -> None:
-    register_context("Viewer")
+    register_context("Viewer", viewer_object_class())
 
 
 @plugin(category="factories", pluggable_name="register_scene_objects", requires=["compas_notebook"])

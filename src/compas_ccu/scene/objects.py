@@ -8,7 +8,8 @@ colour (:mod:`compas_ccu.scene.draw`). The children are COMPAS meshes, polylines
 every context draws them with its own mesh / polyline / line objects: the per-context classes
 here only name their context. None of them imports a host application (Rhino, Grasshopper,
 compas_viewer, compas_notebook); the plugins in :mod:`compas_ccu.scene` register each one only
-where its host can be imported.
+where its host can be imported. The COMPAS Viewer's class also derives from compas_viewer's own
+base class, so it is built on first use (:func:`viewer_object_class`).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ __all__ = [
     "CCUSceneObject",
     "RhinoCCUObject",
     "GrasshopperCCUObject",
-    "ViewerCCUObject",
+    "viewer_object_class",
     "NotebookCCUObject",
     "CONTEXT_OBJECTS",
 ]
@@ -123,37 +124,44 @@ class GrasshopperCCUObject(CCUSceneObject):
     Rhino geometry)."""
 
 
-class ViewerCCUObject(CCUSceneObject):
-    """:class:`CCUSceneObject` in the COMPAS Viewer (compas_viewer).
-
-    The viewer builds GL buffers for its own scene objects; this one has none of its own,
-    so buffer and selection hooks do nothing and the children carry the geometry.
-    """
-
-    is_selected = False
-    is_locked = True
-    is_visible = True
-    bounding_box = None
-
-    def init(self, *args, **kwargs) -> None:
-        return None
-
-    def update(self, *args, **kwargs) -> None:
-        return None
-
-    def draw(self, *args, **kwargs) -> list:
-        return []
-
-
 class NotebookCCUObject(CCUSceneObject):
     """:class:`CCUSceneObject` in Jupyter notebooks (compas_notebook)."""
 
 
-#: ``{context name: scene object class}`` registered by the plugins of :mod:`compas_ccu.scene`.
+#: ``{context name: scene object class}`` registered by the plugins of :mod:`compas_ccu.scene`
+#: (the Viewer's class: :func:`viewer_object_class`).
 CONTEXT_OBJECTS = {
     None: CCUSceneObject,
     "Rhino": RhinoCCUObject,
     "Grasshopper": GrasshopperCCUObject,
-    "Viewer": ViewerCCUObject,
     "Notebook": NotebookCCUObject,
 }
+
+
+_VIEWER_CLASS: list = []
+
+
+def viewer_object_class() -> type:
+    """:class:`CCUSceneObject` in the COMPAS Viewer: ``ViewerCCUObject``.
+
+    Built on first use, since it derives from compas_viewer's ``ViewerSceneObject`` (an
+    optional dependency: ``pip install "compas_ccu[viewer]"``): the viewer's renderer needs its
+    display settings on every scene object. It has no geometry of its own (no GL buffers); its
+    children are the viewer's mesh / polyline / line objects.
+
+    Raises
+    ------
+    ImportError
+        compas_viewer is not installed.
+    """
+    if not _VIEWER_CLASS:
+        from compas_viewer.scene import ViewerSceneObject
+
+        _VIEWER_CLASS.append(
+            type(
+                "ViewerCCUObject",
+                (CCUSceneObject, ViewerSceneObject),
+                {"__module__": __name__, "__doc__": viewer_object_class.__doc__},
+            )
+        )
+    return _VIEWER_CLASS[0]
