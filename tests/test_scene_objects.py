@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import importlib.util
+import subprocess
+import sys
 
 import compas
 import pytest
@@ -215,3 +217,18 @@ def test_compas_viewer_builds_buffers_of_the_children(monkeypatch, cone_model):
     plate = obj.children_by_role("plate")[0]
     assert {c.hex for c in plate._frontfaces_data[1]} == {"#9ab8ec"}
     assert len(manager.objects) == 1 + 2 + 1 + 2 * (n + 1)
+
+
+def test_import_stays_cheap_and_discovery_loads_no_plotting_or_writers():
+    code = (
+        "import sys; import compas_ccu; "
+        "print(sorted({m.split('.')[0] for m in sys.modules} & {'compas', 'numpy', 'scipy'})); "
+        "from compas.scene.context import register_scene_objects; register_scene_objects(); "
+        "print('compas_ccu.scene' in sys.modules, sorted({m.split('.')[0] for m in sys.modules} "
+        "& {'matplotlib', 'plotly', 'ezdxf', 'rhino3dm', 'trimesh', 'Rhino', 'viser'}))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout.split("\n")
+    assert out[0] == "[]"
+    assert out[1] == "True []"
