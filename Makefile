@@ -96,7 +96,7 @@ TESTS39 = tests/test_model_*.py tests/test_design_*.py tests/test_kinematics_*.p
 	tests/test_curves_*.py tests/test_strips_*.py tests/test_thickness_*.py \
 	tests/test_fabrication_*.py tests/test_examples_baselines.py tests/test_shape_control.py \
 	tests/test_limits.py tests/test_outputs.py tests/test_robustness.py tests/test_cli.py \
-	tests/test_key_figures.py
+	tests/test_key_figures.py tests/test_compas_data.py tests/test_scene_*.py tests/test_ghpython_*.py
 
 $(VENV39)/bin/ccu: pyproject.toml
 	@if [ -z "$(PY39)" ]; then \

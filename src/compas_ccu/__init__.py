@@ -21,4 +21,4 @@ __version__ = "0.1.0"
 __all__ = ["__version__"]
 
 # COMPAS plugin discovery imports every ``compas*`` package: keep this module free of side effects.
-__all_plugins__: list = []
+__all_plugins__ = ["compas_ccu.scene"]

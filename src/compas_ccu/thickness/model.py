@@ -9,15 +9,16 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
+from compas.data import Data
 
 from compas_ccu.errors import GeometryError, SelfIntersectionError
 from compas_ccu.geometry import unit
 from compas_ccu.kinematics.mechanism import MechanismStates
 from compas_ccu.kinematics.plates import stack_rows
-from compas_ccu.materials import DesignFactors, MaterialError
+from compas_ccu.materials import DesignFactors, Material, MaterialError
 from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.thickness.actuation import Actuation, actuation_force, bending_energy
 from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thick, solid_faces
@@ -132,8 +133,11 @@ def collision_text(summary: dict, *, degree: str = " deg") -> str:
     return f"none; min clearance {summary['min_clearance'] * 1e3:.3g} mm{where}"
 
 
-class ThickModel:
+class ThickModel(Data):
     """The thick plates of a :class:`compas_ccu.model.CCUModel` (paper §5.3).
+
+    A :class:`compas.data.Data`: ``compas.json_dumps`` writes the model, the thickness, the
+    grain, the material's values and the design factors, and reads them back.
 
     Parameters
     ----------
@@ -168,6 +172,7 @@ class ThickModel:
     """
 
     def __init__(self, model, *, thickness=None, material=None, grain=None, design_code=None):
+        super().__init__(name=model.name)
         plates = model.design.plates
         thickness = plates.thickness if thickness is None else thickness
         grain = plates.grain if grain is None else grain
@@ -215,6 +220,27 @@ class ThickModel:
         position[order] = np.arange(p)
         self.stack_position = index.to_output(position).tolist()  # by plate id
         self._pairs_neighbours = {tuple(sorted((c.plate_a, c.plate_b))) for c in mech.creases}
+
+    # -- COMPAS data ---------------------------------------------------------------------------
+    @property
+    def __data__(self) -> dict:
+        return {
+            "model": self.model,
+            "thickness": self.thickness,
+            "material": self.material.to_dict(),
+            "grain": self.grain,
+            "design_code": asdict(self.factors),
+        }
+
+    @classmethod
+    def __from_data__(cls, data: dict) -> ThickModel:
+        return cls(
+            data["model"],
+            thickness=data["thickness"],
+            material=Material(**data["material"]),
+            grain=data["grain"],
+            design_code=DesignFactors(**data["design_code"]),
+        )
 
     # -- placement ----------------------------------------------------------------------------
     def place(self, alphas) -> ThickStates:
