@@ -7,6 +7,7 @@ from pathlib import Path
 
 from compas.data import Data
 
+from compas_ccu.design.curve_files import read_curve_files
 from compas_ccu.design.schema import validate
 from compas_ccu.design.sections import DesignSections
 from compas_ccu.errors import DesignError
@@ -34,6 +35,9 @@ class Design(Data):
         Parsed TOML, validated on construction (:func:`compas_ccu.design.schema.validate`).
     name : str, optional
         Fallback name when the document has no ``design.name``.
+    base : str or Path, optional
+        Folder that relative curve-file paths (``crease.points = "crease.dxf"``) are read from;
+        default: the current folder (:func:`load_design` gives the design file's).
 
     Attributes
     ----------
@@ -54,20 +58,21 @@ class Design(Data):
     (2.0, 30.0, 'design')
     """
 
-    def __init__(self, document: dict, *, name: str | None = None):
-        values = validate(document)
+    def __init__(self, document: dict, *, name: str | None = None, base=None):
+        values = read_curve_files(validate(document), base)
         super().__init__(name=values["design"]["name"] or name or "design")
         self.document = document
+        self.base = None if base is None else str(Path(base).resolve())
         self.values = values
         self.sections = DesignSections.from_values(values)
 
     @property
     def __data__(self) -> dict:
-        return {"document": self.document, "name": self.name}
+        return {"document": self.document, "name": self.name, "base": self.base}
 
     @classmethod
     def __from_data__(cls, data: dict) -> Design:
-        return cls(data["document"], name=data.get("name"))
+        return cls(data["document"], name=data.get("name"), base=data.get("base"))
 
     # the sections, typed
     @property
@@ -205,7 +210,7 @@ def load_design(path) -> Design:
     path = Path(path)
     document = read_toml(path)
     try:
-        return Design(document, name=path.stem)
+        return Design(document, name=path.stem, base=path.parent)
     except DesignError as exc:
         error = DesignError(f"{path}: {exc}")
         error.key = exc.key  # the message names the key already; keep it for callers

@@ -1,0 +1,95 @@
+"""Curve files in a design: read the ``crease.points`` and ``[target]`` curves a design names.
+
+The schema (:mod:`compas_ccu.design.schema`) accepts a curve file where a key takes points:
+``points = "crease.dxf"`` or ``points = { file = "crease.dxf", layer = "CREASE", units = "mm" }``.
+:func:`read_curve_files` reads them (:func:`compas_ccu.curves.readers.read_curve`) and puts the
+points in their place, so the rest of compas_ccu sees ordinary point lists.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from compas_ccu.curves.readers import plane_coordinates, read_curve
+from compas_ccu.design.schema import CURVE_FILE_PLACES
+from compas_ccu.errors import DesignError, MissingExtraError, ProfileError
+
+__all__ = ["read_curve_files"]
+
+_PLACES = tuple(tuple(place.split(".")) for place in CURVE_FILE_PLACES)
+
+
+def _is_file(value) -> bool:
+    return isinstance(value, dict) and "file" in value
+
+
+def read_curve_files(values: dict, base=None) -> dict:
+    """Replace every curve-file reference of validated design ``values`` by the points read.
+
+    Parameters
+    ----------
+    values : dict
+        :func:`compas_ccu.design.schema.validate` output; changed in place and returned.
+    base : str or Path, optional
+        Folder that relative paths are read from (the design file's); default: the current one.
+
+    Returns
+    -------
+    dict
+        ``values``, with ``crease.points`` the curve's 2D coordinates in its plane (m) and every
+        ``[target]`` curve its x, y.
+
+    Raises
+    ------
+    DesignError
+        A missing or unreadable file, no or several candidate curves, a non-planar crease curve
+        or a target curve off z = const; the key is the one that names the file, the message
+        names the file and the entity.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from compas_ccu.design.schema import validate
+    >>> folder = tempfile.mkdtemp()
+    >>> _ = open(os.path.join(folder, "c.csv"), "w").write("-1 0\\n0 0.5\\n1 0\\n")
+    >>> values = validate({"crease": {"profile": "polyline", "points": "c.csv"},
+    ...                    "rulings": {"type": "orthogonal"}, "deployment": {"alpha": 30.0},
+    ...                    "layout": {"width": 0.3}})
+    >>> read_curve_files(values, folder)["crease"]["points"]
+    [[-1.0, 0.0], [0.0, 0.5], [1.0, 0.0]]
+    """
+    base = Path(base) if base is not None else Path.cwd()
+    for section, key in _PLACES:
+        spec = values.get(section, {}).get(key)
+        if not _is_file(spec):
+            continue
+        where = f"{section}.{key}"
+        path = Path(spec["file"])
+        if not path.is_absolute():
+            path = base / path
+        if not path.is_file():
+            raise DesignError(f"curve file {str(path)!r} does not exist", key=where)
+        try:
+            curve = read_curve(
+                path,
+                layer=spec["layer"],
+                name=spec["name"],
+                index=spec["index"],
+                units=spec["units"],
+                scale=spec["scale"],
+            )
+            if section == "crease":
+                points, _, _ = plane_coordinates(curve.points, source=curve.source)
+            else:
+                z = curve.points[:, 2]
+                size = float(abs(curve.points).max()) or 1.0
+                if float(z.max() - z.min()) > 1e-9 * size:
+                    raise ProfileError(
+                        f"{curve.source}: a target curve is drawn in a plane z = const (its "
+                        f"x, y are d and the value); z varies by {float(z.max() - z.min()):.6g} m"
+                    )
+                points = curve.points[:, :2]
+        except (ProfileError, MissingExtraError) as exc:
+            raise DesignError(str(exc), key=where) from None
+        values[section][key] = points.tolist()
+    return values

@@ -1,0 +1,104 @@
+"""Crease profiles and target curves read from curve files named in a design file."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from compas_ccu.design import Design, load_design
+from compas_ccu.errors import DesignError
+from compas_ccu.model import CCUModel
+
+ezdxf = pytest.importorskip("ezdxf")
+
+R, ALPHA = 2.0, 40.0
+CONE = """
+[crease]
+profile = "polyline"
+points = {points}
+segments = 48
+state = "flat"
+
+[rulings]
+type = "orthogonal"
+
+[deployment]
+alpha = 40.0
+
+[layout]
+width = 0.4
+"""
+
+
+def arc_file(folder, name="crease.dxf"):
+    doc = ezdxf.new("R2010")
+    doc.units = ezdxf.units.MM
+    doc.modelspace().add_arc((0, 0), R * 1000.0, 45, 135, dxfattribs={"layer": "CREASE"})
+    doc.modelspace().add_line((0, 0), (100, 0), dxfattribs={"layer": "OTHER"})
+    doc.saveas(folder / name)
+    return folder / name
+
+
+def circumradius_error(points, radius):
+    """Largest distance of the points from the circle through the first, middle and last."""
+    a, b, c = points[0], points[len(points) // 2], points[-1]
+    normal = np.cross(b - a, c - a)
+    normal /= np.linalg.norm(normal)
+    # centre: solve in the plane of a, b, c
+    m = np.array([b - a, c - a, normal])
+    rhs = np.array([(b - a) @ (b + a) / 2.0, (c - a) @ (c + a) / 2.0, normal @ a])
+    centre = np.linalg.solve(m, rhs)
+    return float(np.abs(np.linalg.norm(points - centre, axis=1) - radius).max())
+
+
+def test_cone_from_a_dxf_arc_relative_to_the_design_file(tmp_path, monkeypatch):
+    """The crease file is read from the design file's folder, not the current one; the flat
+    crease is a 48-gon within 1e-8 of the arc, so the deployed crease is the cone's circle
+    r3D = R cos(alpha) to that tolerance."""
+    folder = tmp_path / "design"
+    folder.mkdir()
+    arc_file(folder)
+    path = folder / "cone.toml"
+    path.write_text(CONE.format(points='{ file = "crease.dxf", layer = "CREASE" }'))
+    monkeypatch.chdir(tmp_path)
+    design = load_design(path)
+    crease = np.asarray(design.crease.points)
+    structure = CCUModel(design).deploy(ALPHA)
+    deployed = np.asarray(structure.deployed)[0, :49]
+    assert circumradius_error(deployed, R * math.cos(math.radians(ALPHA))) < 1e-7
+    assert circumradius_error(np.c_[crease, np.zeros(len(crease))], R) < 1e-14
+
+
+def test_missing_file_and_several_curves_name_the_key_and_the_path(tmp_path):
+    path = tmp_path / "cone.toml"
+    path.write_text(CONE.format(points='"nowhere.dxf"'))
+    with pytest.raises(DesignError, match=r"crease.points: curve file '.*nowhere.dxf' does not"):
+        load_design(path)
+    arc_file(tmp_path)
+    path.write_text(CONE.format(points='"crease.dxf"'))
+    with pytest.raises(DesignError, match=r"crease.points: .*2 candidate curves.*layer CREASE"):
+        load_design(path)
+    path.write_text(CONE.format(points='{ file = "crease.dxf", colour = 1 }'))
+    with pytest.raises(DesignError, match=r"crease.points.colour: unknown key.*file, layer"):
+        load_design(path)
+    path.write_text(CONE.format(points='{ file = "crease.dxf", units = "yd" }'))
+    with pytest.raises(DesignError, match=r"crease.points.units: must be one of m, cm"):
+        load_design(path)
+
+
+def test_target_curve_from_a_csv(tmp_path):
+    (tmp_path / "apex.csv").write_text("d, y\n0, 1\n1, 1.1\n2, 1.3\n")
+    values = {
+        "crease": {"profile": "arc", "span": 4.0, "rise": 1.0},
+        "rulings": {"type": "orthogonal"},
+        "deployment": {"alpha": 30.0},
+        "layout": {"type": "parallel", "plates": 4, "spacing": 0.3},
+        "target": {"apex": "apex.csv"},
+    }
+    design = Design(values, base=tmp_path)
+    assert design.target.apex == [[0.0, 1.0], [1.0, 1.1], [2.0, 1.3]]
+    assert design.document["target"]["apex"] == "apex.csv"  # the document keeps the reference
+    again = Design.__from_data__(design.__data__)
+    assert again.target.apex == design.target.apex
