@@ -46,6 +46,8 @@ import numpy as np
 from compas_ccu.errors import MissingExtraError, ProfileError
 
 __all__ = [
+    "dxf_sampler",
+    "dxf_line_chains",
     "UNITS",
     "CURVE_SUFFIXES",
     "CurveRead",
@@ -381,33 +383,58 @@ def _dxf(path: Path):
     candidates = []
     lines = []
     for e in doc.modelspace():
-        kind = e.dxftype()
-        label = f"{kind} #{e.dxf.handle} on layer {e.dxf.layer}"
-        if kind == "SPLINE":
-            tool = e.construction_tool()
-
-            def sample(tol, tool=tool):
-                if tol is None:
-                    return np.array([tuple(v) for v in tool.control_points], dtype=float)
-                return np.array([tuple(v) for v in tool.flattening(tol, segments=16)])
-
-        elif kind == "ARC":
-            sample = _dxf_arc_sampler(e)
-        elif kind == "LWPOLYLINE" or (kind == "POLYLINE" and e.is_2d_polyline):
-            sample = _dxf_polyline_sampler(e)
-        elif kind == "POLYLINE" and e.is_3d_polyline:
-            pts = np.array([tuple(v.dxf.location) for v in e.vertices], dtype=float)
-            if e.is_closed:
-                pts = np.r_[pts, pts[:1]]
-            sample = lambda tol, pts=pts: pts  # noqa: E731
-        elif kind == "LINE":
+        if e.dxftype() == "LINE":
             lines.append(e)
             continue
-        else:
-            continue
-        candidates.append(_Candidate(label, e.dxf.layer, e.dxf.handle, sample))
-    candidates += _line_chains(lines)
+        sample = dxf_sampler(e)
+        if sample is not None:
+            label = f"{e.dxftype()} #{e.dxf.handle} on layer {e.dxf.layer}"
+            candidates.append(_Candidate(label, e.dxf.layer, e.dxf.handle, sample))
+    for layer, handles, pts in dxf_line_chains(lines):
+        label = (
+            f"LINE #{handles[0]} on layer {layer}"
+            if len(handles) == 1
+            else f"chain of {len(handles)} LINEs #{handles[0]}... on layer {layer}"
+        )
+        candidates.append(_Candidate(label, layer, handles[0], lambda tol, pts=pts: pts))
     return candidates, file_units, None
+
+
+def dxf_sampler(e):
+    """A function ``tolerance -> (n, 3) points`` (file units) for a DXF curve entity, or None.
+
+    SPLINE: ezdxf's B-spline construction tool; ARC and the arcs of bulged LWPOLYLINE and 2D
+    POLYLINE segments: exact points of the circle; 3D POLYLINE: its vertices. ``tolerance``
+    None gives a rough sample (for the curve's size). Any other entity: None.
+
+    Examples
+    --------
+    >>> import ezdxf
+    >>> arc = ezdxf.new().modelspace().add_arc((0, 0), 2.0, 0, 90)
+    >>> points = dxf_sampler(arc)(1e-6)
+    >>> bool(abs(np.linalg.norm(points, axis=1) - 2.0).max() < 1e-15), len(points) > 100
+    (True, True)
+    """
+    kind = e.dxftype()
+    if kind == "SPLINE":
+        tool = e.construction_tool()
+
+        def sample(tol):
+            if tol is None:
+                return np.array([tuple(v) for v in tool.control_points], dtype=float)
+            return np.array([tuple(v) for v in tool.flattening(tol, segments=16)])
+
+        return sample
+    if kind == "ARC":
+        return _dxf_arc_sampler(e)
+    if kind == "LWPOLYLINE" or (kind == "POLYLINE" and e.is_2d_polyline):
+        return _dxf_polyline_sampler(e)
+    if kind == "POLYLINE" and e.is_3d_polyline:
+        pts = np.array([tuple(v.dxf.location) for v in e.vertices], dtype=float)
+        if e.is_closed:
+            pts = np.r_[pts, pts[:1]]
+        return lambda tol: pts
+    return None
 
 
 def _dxf_arc_sampler(e):
@@ -452,8 +479,13 @@ def _dxf_polyline_sampler(e):
     return sample
 
 
-def _line_chains(lines) -> list:
-    """LINE entities of one layer joined end to end into open chains (in file order)."""
+def dxf_line_chains(lines) -> list:
+    """LINE entities of one layer joined end to end into open chains (in file order).
+
+    Returns
+    -------
+    list of (layer, handles, (k, 3) float points)
+    """
     out = []
     by_layer: dict = {}
     for e in lines:
@@ -490,13 +522,7 @@ def _line_chains(lines) -> list:
                             break
                     if grown:
                         break
-            pts = np.array(chain)
-            label = (
-                f"LINE #{handles[0]} on layer {layer}"
-                if len(handles) == 1
-                else f"chain of {len(handles)} LINEs #{handles[0]}... on layer {layer}"
-            )
-            out.append(_Candidate(label, layer, handles[0], lambda tol, pts=pts: pts))
+            out.append((layer, handles, np.array(chain)))
     return out
 
 
