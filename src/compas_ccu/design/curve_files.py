@@ -8,13 +8,14 @@ points in their place, so the rest of compas_ccu sees ordinary point lists.
 
 from __future__ import annotations
 
+import copy
 from pathlib import Path
 
 from compas_ccu.curves.readers import plane_coordinates, read_curve
 from compas_ccu.design.schema import CURVE_FILE_PLACES
 from compas_ccu.errors import DesignError, MissingExtraError, ProfileError
 
-__all__ = ["read_curve_files"]
+__all__ = ["read_curve_files", "absolute_curve_files"]
 
 _PLACES = tuple(tuple(place.split(".")) for place in CURVE_FILE_PLACES)
 
@@ -93,3 +94,26 @@ def read_curve_files(values: dict, base=None) -> dict:
             raise DesignError(str(exc), key=where) from None
         values[section][key] = points.tolist()
     return values
+
+
+def absolute_curve_files(document: dict, base) -> dict:
+    """A copy of a design document whose curve-file paths are absolute (resolved against
+    ``base``), for documents that leave the design file's folder (sweep variants on workers).
+
+    Examples
+    --------
+    >>> doc = {"crease": {"profile": "polyline", "points": {"file": "c.dxf", "layer": "A"}}}
+    >>> absolute_curve_files(doc, "/data")["crease"]["points"]
+    {'file': '/data/c.dxf', 'layer': 'A'}
+    """
+    out = copy.deepcopy(document)
+    for section, key in _PLACES:
+        table = out.get(section)
+        value = table.get(key) if isinstance(table, dict) else None
+        if isinstance(value, str):
+            value = table[key] = {"file": value}
+        if isinstance(value, dict) and isinstance(value.get("file"), str):
+            path = Path(value["file"])
+            if not path.is_absolute():
+                value["file"] = str(Path(base).resolve() / path)
+    return out
