@@ -102,3 +102,21 @@ def test_target_curve_from_a_csv(tmp_path):
     assert design.document["target"]["apex"] == "apex.csv"  # the document keeps the reference
     again = Design.__from_data__(design.__data__)
     assert again.target.apex == design.target.apex
+
+
+def test_target_curve_off_a_plane_z_const_and_non_planar_crease_are_refused(tmp_path):
+    (tmp_path / "apex.csv").write_text("0 1 0\n1 1.1 0.2\n2 1.3 0\n")
+    values = {
+        "crease": {"profile": "arc", "span": 4.0, "rise": 1.0},
+        "rulings": {"type": "orthogonal"},
+        "deployment": {"alpha": 30.0},
+        "layout": {"type": "parallel", "plates": 4, "spacing": 0.3},
+        "target": {"apex": {"file": "apex.csv"}},
+    }
+    with pytest.raises(DesignError, match=r"target.apex: .*apex.csv: 3 points: a target curve "):
+        Design(values, base=tmp_path)
+    (tmp_path / "crease.csv").write_text("0 0 0\n1 1 0\n2 1 0.5\n3 0 0\n")
+    path = tmp_path / "c.toml"
+    path.write_text(CONE.format(points='"crease.csv"'))
+    with pytest.raises(DesignError, match=r"crease.points: .*crease.csv: 4 points: the curve is"):
+        load_design(path)

@@ -186,3 +186,38 @@ def test_cli_import_writes_a_design_that_loads(tmp_path, capsys):
     assert len(design.crease.points) == N + 1 and design.alpha == ALPHA
     assert main(["import", str(folder), "--out", str(out), "--alpha", "40"]) == 2
     assert "exists; give --force" in capsys.readouterr().err
+
+
+def test_open_outline_ruling_off_the_crease_and_crease_off_the_outline(tmp_path):
+    folder = tmp_path / "drawn"
+    folder.mkdir()
+    doc = ezdxf.new("R2010")
+    doc.units = ezdxf.units.MM
+    msp = doc.modelspace()
+    sector(msp, layers={"CUT": None, "CREASE": "CREASE", "RULING_SCORE": "RULING_SCORE"})
+    msp.add_lwpolyline([(0, 0), (100, 0), (100, 100)], dxfattribs={"layer": "CUT"})
+    doc.saveas(folder / "plate_a.dxf")
+    with pytest.raises(DesignError, match=r"plate_a.dxf CUT #\w+: the outline is not closed"):
+        read_plate_drawing(folder / "plate_a.dxf")
+
+    doc = ezdxf.new("R2010")
+    doc.units = ezdxf.units.MM
+    sector(doc.modelspace())
+    stray = doc.modelspace().add_line((0, 0), (10, 10), dxfattribs={"layer": "RULING_SCORE"})
+    doc.saveas(folder / "plate_a.dxf")
+    doc.saveas(folder / "plate_b.dxf")
+    with pytest.raises(
+        DesignError,
+        match=rf"plate_a.dxf RULING_SCORE #{stray.dxf.handle}: the ruling does not start on the "
+        r"crease #\w+ \(its ends are 1.\d+ m from it\)",
+    ):
+        import_design(folder, alpha=ALPHA)
+
+    doc = ezdxf.new("R2010")
+    doc.units = ezdxf.units.MM
+    sector(doc.modelspace(), crease_entity=None)
+    doc.modelspace().add_arc((0, 0), 2000.0, 44.0, 136.0, dxfattribs={"layer": "CREASE"})
+    doc.saveas(folder / "plate_a.dxf")
+    doc.saveas(folder / "plate_b.dxf")
+    with pytest.raises(DesignError, match=r"plate_a.dxf CREASE #\w+: its end point .* is not a "):
+        import_design(folder, alpha=ALPHA)
