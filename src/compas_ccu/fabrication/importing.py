@@ -19,7 +19,9 @@ two plates into a ``state = "flat"`` design with ``explicit`` rulings, the desig
 :func:`compas_ccu.model.flat_design` writes. That is what a design file can say about a cut
 pattern: one crease, its leading plate and the leading plate's mirror partner. So the partner
 must be the leading plate's mirror image (same crease, same rulings), and a multi-crease
-structure is imported one crease pair at a time (docs/import.md says why).
+structure is imported into a design file one crease pair at a time (docs/import.md says why);
+:func:`import_structure` joins every plate of the folder into one mechanism that deploys the
+whole structure.
 
 Inconsistent drawings are refused before anything is written, the error naming the plate file
 and the entity (DXF handle): a missing layer, a ruling that does not start on the crease or
@@ -38,9 +40,12 @@ import numpy as np
 
 from compas_ccu.curves.readers import dxf_line_chains, dxf_sampler
 from compas_ccu.design import Design
+from compas_ccu.design.build import build
 from compas_ccu.errors import DesignError, MissingExtraError
 from compas_ccu.geometry import rigid_align
+from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.model import CCUModel
+from compas_ccu.strips.intrinsics import strip_intrinsics
 
 __all__ = [
     "PlateDrawing",
@@ -53,6 +58,9 @@ __all__ = [
     "import_design",
     "design_toml",
     "round_trip_error",
+    "ImportedStructure",
+    "import_structure",
+    "structure_round_trip_error",
 ]
 
 REQUIRED_LAYERS = ("CUT", "CREASE", "RULING_SCORE")
@@ -477,8 +485,8 @@ def _check_partner(pair: CreasePair, a_pattern, b_pattern):
             float(np.abs(la - lb).max()) / max(float(la.max()), 1e-300),
         )
         if best is None or err < best[0]:
-            best = (err, la, lb, ea, eb, nm)
-    err, la, lb, ea, eb, nm = best
+            best = (err, la, lb, ea, eb, nm, flip)
+    err, la, lb, ea, eb, nm, flip = best
     if err > PARTNER_TOLERANCE:
         j = int(np.argmax(np.abs(la - lb)))
         if abs(la[j] - lb[j]) > PARTNER_TOLERANCE * la.max():
@@ -494,7 +502,51 @@ def _check_partner(pair: CreasePair, a_pattern, b_pattern):
             f"the partner's in {pair.a.label} {ea[j]:.9g} m: the rulings do not meet the two "
             "creases at the same points"
         )
-    return err
+    return err, flip
+
+
+def _select(folder: Path, *, crease, units):
+    """Read a folder; the crease pair chosen (its stack-upper plate first) and every pattern."""
+    folder = Path(folder)
+    manifest = {}
+    for place in (folder / "fabrication.json", folder.parent / "fabrication.json"):
+        if place.is_file():
+            manifest = json.loads(place.read_text(encoding="utf-8"))
+            break
+    plates = read_plate_folder(folder, units=units)
+    pairs = pair_creases(plates)
+    patterns = {}
+    for pair in pairs:
+        patterns[pair.key] = (
+            crease_pattern(pair.a, pair.crease_a),
+            crease_pattern(pair.b, pair.crease_b),
+        )
+    listing = "; ".join(f"{p.key}: {p.a.label} - {p.b.label}" for p in pairs)
+    if crease is None and len(pairs) != 1:
+        raise DesignError(
+            f"{folder}: {len(pairs)} creases ({listing}); a design file holds one crease pair: "
+            "choose one (--crease ID or the leading plate's file name; docs/import.md)"
+        )
+    if crease is None:
+        pair = pairs[0]
+    else:
+        chosen = [
+            p
+            for p in pairs
+            if str(crease) in (str(p.crease_a.crease_id), p.a.label, p.b.label, p.key)
+        ]
+        if not chosen:
+            raise DesignError(f"{folder}: no crease {crease!r}; the creases: {listing}")
+        pair = chosen[0]
+    # the plate higher in the flat-folded stack leads: the drawings show the plates from the
+    # stack's top, so it rises towards the viewer as the leading plate does (+z); without
+    # fabrication.json, the first file leads and the structure may come out mirrored
+    stack = manifest.get("stack_order")
+    if stack and pair.a.plate_id in stack and pair.b.plate_id in stack:
+        if stack.index(pair.a.plate_id) < stack.index(pair.b.plate_id):
+            pair = CreasePair(pair.key, pair.b, pair.crease_b, pair.a, pair.crease_a)
+            patterns[pair.key] = patterns[pair.key][::-1]
+    return manifest, plates, pairs, pair, patterns
 
 
 def import_design(
@@ -550,46 +602,9 @@ def import_design(
     ('flat', 'explicit', 48)
     """
     folder = Path(folder)
-    manifest = {}
-    for place in (folder / "fabrication.json", folder.parent / "fabrication.json"):
-        if place.is_file():
-            manifest = json.loads(place.read_text(encoding="utf-8"))
-            break
-    plates = read_plate_folder(folder, units=units)
-    pairs = pair_creases(plates)
-    patterns = {}
-    for pair in pairs:
-        patterns[pair.key] = (
-            crease_pattern(pair.a, pair.crease_a),
-            crease_pattern(pair.b, pair.crease_b),
-        )
-    listing = "; ".join(f"{p.key}: {p.a.label} - {p.b.label}" for p in pairs)
-    if crease is None and len(pairs) != 1:
-        raise DesignError(
-            f"{folder}: {len(pairs)} creases ({listing}); a design file holds one crease pair: "
-            "choose one (--crease ID or the leading plate's file name; docs/import.md)"
-        )
-    if crease is None:
-        pair = pairs[0]
-    else:
-        chosen = [
-            p
-            for p in pairs
-            if str(crease) in (str(p.crease_a.crease_id), p.a.label, p.b.label, p.key)
-        ]
-        if not chosen:
-            raise DesignError(f"{folder}: no crease {crease!r}; the creases: {listing}")
-        pair = chosen[0]
-    # the plate higher in the flat-folded stack leads: the drawings show the plates from the
-    # stack's top, so it rises towards the viewer as the leading plate does (+z); without
-    # fabrication.json, the first file leads and the structure may come out mirrored
-    stack = manifest.get("stack_order")
-    if stack and pair.a.plate_id in stack and pair.b.plate_id in stack:
-        if stack.index(pair.a.plate_id) < stack.index(pair.b.plate_id):
-            pair = CreasePair(pair.key, pair.b, pair.crease_b, pair.a, pair.crease_a)
-            patterns[pair.key] = patterns[pair.key][::-1]
+    manifest, plates, pairs, pair, patterns = _select(folder, crease=crease, units=units)
     a_pattern, b_pattern = patterns[pair.key]
-    partner_error = _check_partner(pair, a_pattern, b_pattern)
+    partner_error, _ = _check_partner(pair, a_pattern, b_pattern)
     if alpha is None:
         alpha = manifest.get("alpha")
     if alpha is None:
@@ -718,3 +733,191 @@ def design_toml(document: dict, *, header: str = "") -> str:
         lines.append(f"[{section}]")
         lines += [f"{key} = {_toml_value(value)}" for key, value in values.items()]
     return "\n".join(lines) + "\n"
+
+
+@dataclass
+class ImportedStructure:
+    """Every plate of a folder of plate files, joined into one mechanism.
+
+    Attributes
+    ----------
+    mechanism : Mechanism
+        The leading crease pair's mechanism (:func:`import_design`, built) with every other
+        plate attached where the drawings join it: it deploys the whole structure.
+    plate_ids : list
+        The plate id (XDATA; else the file name) of every mechanism plate.
+    design : Design
+        The leading crease pair's design (alpha, reference vertex, plate section).
+    report : dict
+        :func:`import_design`'s report, with ``attached`` (plate files joined to the pair).
+    """
+
+    mechanism: Mechanism
+    plate_ids: list
+    design: Design
+    report: dict
+
+
+def _row_order(plate, crease, near, reference, where: str):
+    """``near`` (the plate's crease vertices) in the order of ``reference`` (the same crease's
+    vertices on the other plate): reversed or not, by the segment lengths; refused if they
+    differ."""
+    if len(near) != len(reference):
+        raise DesignError(
+            f"{plate.label} CREASE #{crease.handle}: {len(near) - 2} interior rulings, "
+            f"{len(reference) - 2} on its partner {where}: the two plates of a crease have "
+            "their rulings at the same crease points"
+        )
+    ref = np.linalg.norm(np.diff(reference, axis=0), axis=1)
+    errors = []
+    for flip in (False, True):
+        mine = np.linalg.norm(np.diff(near[::-1] if flip else near, axis=0), axis=1)
+        errors.append(float(np.abs(mine - ref).max()))
+    flip = errors[1] < errors[0]
+    if min(errors) > PARTNER_TOLERANCE * float(ref.sum()):
+        j = int(np.argmax(np.abs(ref - np.linalg.norm(np.diff(near, axis=0), axis=1))))
+        raise DesignError(
+            f"{plate.label} CREASE #{crease.handle}: its segments differ from its partner's "
+            f"{where} by {min(errors):.3g} m (segment {j}): the rulings do not meet the two "
+            "creases at the same points"
+        )
+    return flip
+
+
+def import_structure(folder, *, crease=None, alpha=None, reference=0.5, units=None):
+    """The whole structure of a folder of plate files as one mechanism.
+
+    The leading crease pair is imported as by :func:`import_design` (its design fixes the
+    leading strip, the design angle and the reference vertex); every other plate is attached
+    to the plate it shares a crease with, as the mechanism attaches plates (the mirror image of
+    the parent's rulings across the crease's plane, with the plate's own ruling lengths). A
+    design file cannot hold this (docs/import.md); the mechanism deploys it.
+
+    Parameters
+    ----------
+    folder, crease, alpha, reference, units
+        As :func:`import_design`; ``crease`` names the leading crease.
+
+    Returns
+    -------
+    ImportedStructure
+
+    Raises
+    ------
+    DesignError
+        As :func:`import_design` (except that the partner need not be the leading plate's
+        mirror image), and a plate with more than two creases.
+    """
+    folder = Path(folder)
+    manifest, plates, pairs, pair, patterns = _select(folder, crease=crease, units=units)
+    a_pattern, b_pattern = patterns[pair.key]
+    if alpha is None:
+        alpha = manifest.get("alpha")
+    if alpha is None:
+        raise DesignError(
+            f"{folder}: no fabrication.json with the design angle: give the design reflection "
+            "angle (alpha)"
+        )
+    near_a, far_a, _ = a_pattern
+    document = {
+        "design": {"name": manifest.get("design") or folder.name},
+        "crease": {
+            "profile": "polyline",
+            "points": near_a.tolist(),
+            "segments": len(near_a) - 1,
+            "reference": float(reference),
+            "state": "flat",
+        },
+        "rulings": {"type": "explicit", "points": far_a.tolist()},
+        "deployment": {"alpha": float(alpha)},
+        "layout": {"type": "single"},
+    }
+    design = Design(document)
+    geometry = build(design)
+    leading = geometry.mechanism.leading
+    # the partner with its own ruling lengths, in the order of the leading crease
+    near_b, far_b, _ = b_pattern
+    if _row_order(pair.b, pair.crease_b, near_b, near_a, f"in {pair.a.label}"):
+        near_b, far_b = near_b[::-1], far_b[::-1]
+    links = [
+        geometry.mechanism.plates[0],
+        PlateLink(strip_intrinsics(near_b, far_b), 0, "near", "ccu", 0),
+    ]
+    creases = [CreaseLink(0, "near", 1, "ccu", True, (0.0, 0.0, 1.0))]
+    members = [(pair.a, pair.crease_a, far_a), (pair.b, pair.crease_b, far_b)]
+    done = {id(pair.a), id(pair.b)}
+    by_plate: dict = {}
+    for p in pairs:
+        by_plate.setdefault(id(p.a), []).append((p.crease_a, p.b, p.crease_b))
+        by_plate.setdefault(id(p.b), []).append((p.crease_b, p.a, p.crease_a))
+    k = 0
+    while k < len(members):
+        plate, near_crease, far_row = members[k]
+        others = [item for item in by_plate.get(id(plate), []) if item[0] is not near_crease]
+        if len(others) > 1:
+            raise DesignError(
+                f"{plate.label}: {len(others) + 1} creases; a CCU plate joins two creases "
+                "(its near and far boundary)"
+            )
+        for own, child, child_crease in others:
+            if id(child) in done:
+                continue  # a loop closes here: the mechanism places every plate once
+            d, _ = _distance_to_polyline(far_row, own.points)
+            if d.max() > SNAP * plate.size:
+                raise DesignError(
+                    f"{plate.label} CREASE #{own.handle}: the rulings of the plate do not end on "
+                    f"it ({d.max():.3g} m off)"
+                )
+            near_c, far_c, _ = crease_pattern(child, child_crease)
+            if _row_order(child, child_crease, near_c, far_row, f"in {plate.label}"):
+                near_c, far_c = near_c[::-1], far_c[::-1]
+            creases.append(CreaseLink(k, "far", len(links), "ccu", False, (0.0, 0.0, 1.0)))
+            links.append(
+                PlateLink(strip_intrinsics(near_c, far_c), k, "far", "ccu", len(creases) - 1)
+            )
+            members.append((child, child_crease, far_c))
+            done.add(id(child))
+        k += 1
+    mechanism = Mechanism(leading, links, creases)
+    ids = [m[0].plate_id if m[0].plate_id is not None else m[0].label for m in members]
+    report = {
+        "crease": pair.key,
+        "leading": pair.a.label,
+        "partner": pair.b.label,
+        "attached": [m[0].label for m in members],
+        "plates": [p.label for p in plates],
+    }
+    return ImportedStructure(mechanism, ids, design, report)
+
+
+def structure_round_trip_error(model, folder, *, crease=None) -> dict:
+    """Fabricate -> import -> deploy for the whole structure (:func:`import_structure`).
+
+    Both mechanisms are deployed to the model's design angle; every vertex of every plate is
+    compared with the model's (plates matched by id) after a best rigid alignment.
+
+    Returns
+    -------
+    dict
+        ``max`` (m), ``max_relative`` (to the structure's bounding-box diagonal), ``plates``.
+    """
+    imported = import_structure(folder, crease=crease)
+    alpha = math.radians(model.alpha_design)
+    new = imported.mechanism.deploy(alpha)
+    old = model.mechanism.deploy(alpha)
+    old_ids = list(model.geometry.plate_ids)
+    a, b = [], []
+    for i, pid in enumerate(imported.plate_ids):
+        j = old_ids.index(pid)
+        a += [new.near[0, i], new.far[0, i]]
+        b += [old.near[0, j], old.far[0, j]]
+    a, b = np.concatenate(a), np.concatenate(b)
+    moved = rigid_align(a, b)
+    distance = float(np.linalg.norm(moved - b, axis=1).max())
+    size = float(np.linalg.norm(np.ptp(b, axis=0)))
+    return {
+        "max": distance,
+        "max_relative": distance / size,
+        "plates": len(imported.plate_ids),
+        "report": imported.report,
+    }
