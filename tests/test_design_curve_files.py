@@ -120,3 +120,33 @@ def test_target_curve_off_a_plane_z_const_and_non_planar_crease_are_refused(tmp_
     path.write_text(CONE.format(points='"crease.csv"'))
     with pytest.raises(DesignError, match=r"crease.points: .*crease.csv: 4 points: the curve is"):
         load_design(path)
+
+
+def test_a_crease_drawn_in_a_tilted_plane_stands_where_it_was_drawn(tmp_path):
+    """A 3D arc (R = 2 m, 90 deg) in the plane through (1, 2, 3) spanned by (0, 1, 0) and
+    (0.6, 0, 0.8), as a CSV of 3D points; no [plane] in the design: the plane comes from the
+    file and the deployed crease (state = "deployed": the profile is the 3D crease) lies on the
+    drawn arc."""
+    t = np.linspace(math.radians(45.0), math.radians(135.0), 2001)
+    u, v = np.array([0.0, 1.0, 0.0]), np.array([0.6, 0.0, 0.8])
+    origin = np.array([1.0, 2.0, 3.0])
+    arc = origin + np.outer(R * np.cos(t), u) + np.outer(R * np.sin(t), v)
+    np.savetxt(tmp_path / "arc.csv", arc, delimiter=",", fmt="%.17g")
+    document = {
+        "crease": {"profile": "polyline", "points": "arc.csv", "segments": 32},
+        "rulings": {"type": "orthogonal"},
+        "deployment": {"alpha": 30.0},
+        "layout": {"width": 0.3},
+    }
+    design = Design(document, base=tmp_path)
+    assert design.plane.yaxis == pytest.approx(v.tolist(), abs=1e-12)
+    crease = np.asarray(CCUModel(design).deploy().deployed)[0, :33]
+    # on the circle of radius R about the arc's centre, in the drawn plane
+    normal = np.cross(u, v)
+    assert np.abs((crease - origin) @ normal).max() < 1e-12
+    radius = np.linalg.norm(
+        (crease - origin) - np.outer((crease - origin) @ normal, normal), axis=1
+    )
+    assert np.abs(radius - R).max() < 1.6e-7  # sagitta of the file polyline: 1.5e-7
+    with_plane = Design({**document, "plane": {"yaxis": [0.0, 0.0, 1.0]}}, base=tmp_path)
+    assert with_plane.plane.yaxis == [0.0, 0.0, 1.0]  # a given plane wins

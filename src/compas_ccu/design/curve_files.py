@@ -24,7 +24,7 @@ def _is_file(value) -> bool:
     return isinstance(value, dict) and "file" in value
 
 
-def read_curve_files(values: dict, base=None) -> dict:
+def read_curve_files(values: dict, base=None, *, plane_given: bool = True) -> dict:
     """Replace every curve-file reference of validated design ``values`` by the points read.
 
     Parameters
@@ -33,6 +33,11 @@ def read_curve_files(values: dict, base=None) -> dict:
         :func:`compas_ccu.design.schema.validate` output; changed in place and returned.
     base : str or Path, optional
         Folder that relative paths are read from (the design file's); default: the current one.
+    plane_given : bool
+        Whether the design gives its ``[plane]``. If not, and the crease curve does not lie in
+        a plane z = const, the plane is taken from the file: ``values["plane"]`` becomes the
+        curve's plane (origin at its chord's midpoint, x along the chord, y towards its bulge),
+        so the structure stands where the curve was drawn.
 
     Returns
     -------
@@ -80,7 +85,10 @@ def read_curve_files(values: dict, base=None) -> dict:
                 scale=spec["scale"],
             )
             if section == "crease":
-                points, _, _ = plane_coordinates(curve.points, source=curve.source)
+                points, frame, _ = plane_coordinates(curve.points, source=curve.source)
+                in_xy = frame["xaxis"] == [1.0, 0.0, 0.0] and frame["yaxis"] == [0.0, 1.0, 0.0]
+                if not plane_given and not in_xy:
+                    values["plane"] = frame
             else:
                 z = curve.points[:, 2]
                 size = float(abs(curve.points).max()) or 1.0

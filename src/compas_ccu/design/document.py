@@ -59,7 +59,7 @@ class Design(Data):
     """
 
     def __init__(self, document: dict, *, name: str | None = None, base=None):
-        values = read_curve_files(validate(document), base)
+        values = read_curve_files(validate(document), base, plane_given="plane" in document)
         super().__init__(name=values["design"]["name"] or name or "design")
         self.document = document
         self.base = None if base is None else str(Path(base).resolve())
