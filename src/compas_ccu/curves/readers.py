@@ -609,8 +609,13 @@ def _pad(evaluate):
 
 # -- Rhino 3dm --------------------------------------------------------------------------------
 
-_RHINO_UNITS = {"Meters": "m", "Millimeters": "mm", "Centimeters": "cm", "Inches": "in"}
-_RHINO_UNITS["Feet"] = "ft"
+_RHINO_UNITS = {
+    "Meters": "m",
+    "Millimeters": "mm",
+    "Centimeters": "cm",
+    "Inches": "in",
+    "Feet": "ft",
+}
 
 
 def _rhino(path: Path):
