@@ -59,7 +59,8 @@ _ALL = {
     for c in module.COMMANDS
 }
 _ORDER = ("new", "deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
-_ORDER += ("catalog", "validate", "explore", "optimize", "scale", "fabricate", "report", "studio")
+_ORDER += ("catalog", "validate", "explore", "optimize", "scale", "fabricate")
+_ORDER += ("import", "report", "studio")
 COMMANDS = tuple(_ALL[name] for name in _ORDER)
 
 BUG = (

@@ -7,7 +7,11 @@ from pathlib import Path
 from compas_ccu.cli.common import FAB, load_model, need_extra, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
 from compas_ccu.cli.text import thickness_lines
+from compas_ccu.design import load_design
+from compas_ccu.errors import OptionError
 from compas_ccu.fabrication.fabricate import fabricate as write_fabrication
+from compas_ccu.fabrication.importing import design_toml, import_design
+from compas_ccu.model import CCUModel
 
 __all__ = ["COMMANDS"]
 
@@ -36,6 +40,47 @@ def fabricate(args) -> int:
     return 0
 
 
+def import_plates(args) -> int:
+    need_extra("import", "fab", ("ezdxf",))
+    target = Path(args.toml)
+    if target.suffix.lower() != ".toml":
+        raise OptionError(f"--out must name a design file ending in .toml, got {str(target)!r}")
+    if target.exists() and not args.force:
+        raise OptionError(f"{str(target)!r} exists; give --force to overwrite it")
+    document, report = import_design(
+        args.folder,
+        crease=args.crease,
+        alpha=args.alpha,
+        reference=args.reference,
+        name=args.name,
+        units=args.units,
+    )
+    header = (
+        f"Imported by `ccu import` from the plate files in {args.folder}:\n"
+        f"{report['crease']}, leading plate {report['leading']}, partner {report['partner']} "
+        f"(its mirror image to {report['partner_error']:.2g}), {report['segments']} segments."
+    )
+    text = design_toml(document, header=header)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    partial = target.with_name(target.name + ".part")
+    partial.write_text(text, encoding="utf-8")
+    try:
+        design = load_design(partial)
+        structure = CCUModel(design).deploy()  # the design must deploy before it is kept
+    except Exception:
+        partial.unlink()
+        raise
+    partial.replace(target)
+    say(args, f"{len(report['plates'])} plate files, creases: {', '.join(report['pairs'])}")
+    say(
+        args,
+        f"{report['crease']}: {report['leading']} (leading) and {report['partner']}, "
+        f"{report['segments']} segments; deployed to alpha = {structure.alpha:g} deg",
+    )
+    say(args, f"wrote {target}")
+    return 0
+
+
 COMMANDS = (
     Command(
         "fabricate",
@@ -59,5 +104,43 @@ COMMANDS = (
             QUIET,
         ),
         fabricate,
+    ),
+    Command(
+        "import",
+        "rebuild a design from plate DXFs (the reverse of fabricate)",
+        "Read a folder of plate cut files (layers CUT, CREASE, RULING_SCORE; as ccu fabricate "
+        "writes them or drawn by hand to the same convention, docs/import.md) and write the "
+        "design of one crease pair: the leading plate's crease polyline and ruling ends, "
+        'crease.state = "flat", rulings.type = "explicit". Inconsistent drawings (missing '
+        "layers, crossing rulings, partner creases of different length) are refused, naming "
+        "the plate file and the entity. The design is deployed once before it is written.",
+        (
+            option("folder", help="folder of plate DXFs (ccu fabricate's output folder)"),
+            option("--out", dest="toml", required=True, help="design TOML file to write"),
+            option("--crease", default=None, help="crease id (or a plate file) to import"),
+            option(
+                "--alpha",
+                type=float,
+                default=None,
+                help="design reflection angle, degrees (default: fabrication.json's)",
+            ),
+            option(
+                "--reference",
+                type=float,
+                default=0.5,
+                help="arc-length fraction of the reference vertex (default 0.5)",
+            ),
+            option("--name", default=None, help="design name"),
+            option(
+                "--units",
+                default=None,
+                choices=("mm", "cm", "m", "in", "ft"),
+                help="units of the DXF files (default: $INSUNITS, unitless: mm)",
+            ),
+            option("--force", action="store_true", help="overwrite the design file"),
+            QUIET,
+        ),
+        import_plates,
+        staged=False,
     ),
 )

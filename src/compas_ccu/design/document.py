@@ -8,6 +8,7 @@ from pathlib import Path
 
 from compas.data import Data
 
+from compas_ccu.design.curve_files import read_curve_files
 from compas_ccu.design.schema import SCHEMA, validate
 from compas_ccu.design.sections import DesignSections
 from compas_ccu.design.units import convert_document, plausibility_warnings
@@ -36,6 +37,9 @@ class Design(Data):
         Parsed TOML, validated on construction (:func:`compas_ccu.design.schema.validate`).
     name : str, optional
         Fallback name when the document has no ``design.name``.
+    base : str or Path, optional
+        Folder that relative curve-file paths (``crease.points = "crease.dxf"``) are read from;
+        default: the current folder (:func:`load_design` gives the design file's).
 
     Attributes
     ----------
@@ -74,19 +78,23 @@ class Design(Data):
         units = "mm"?"); the message names the key and the value.
     """
 
-    def __init__(self, document: dict, *, name: str | None = None):
-        values = validate(document)
+    def __init__(self, document: dict, *, name: str | None = None, base=None):
+        values = read_curve_files(validate(document), base, plane_given="plane" in document)
         super().__init__(name=values["design"]["name"] or name or "design")
         self.document = document
+        self.base = None if base is None else str(Path(base).resolve())
         self.values = values
         self.sections = DesignSections.from_values(values)
         for message in plausibility_warnings(values, self.units):
             warnings.warn(message, UnitsWarning, stacklevel=2)
 
     @classmethod
-    def from_metric(cls, document: dict, *, units: str = "m", name: str | None = None) -> Design:
+    def from_metric(
+        cls, document: dict, *, units: str = "m", name: str | None = None, base=None
+    ) -> Design:
         """A design from a document in metres, kept in ``units`` (its lengths converted and
-        ``[design] units`` set): a design derived from another one in the other's units.
+        ``[design] units`` set): a design derived from another one in the other's units
+        (``base``: the folder its curve files are read from).
 
         Examples
         --------
@@ -96,7 +104,7 @@ class Design(Data):
         >>> d.document["crease"]["span"], d.document["design"], d.crease.span
         (200.0, {'units': 'cm'}, 2.0)
         """
-        return cls(convert_document(document, SCHEMA, to=units, source="m"), name=name)
+        return cls(convert_document(document, SCHEMA, to=units, source="m"), name=name, base=base)
 
     @property
     def units(self) -> str:
@@ -121,11 +129,11 @@ class Design(Data):
 
     @property
     def __data__(self) -> dict:
-        return {"document": self.document, "name": self.name}
+        return {"document": self.document, "name": self.name, "base": self.base}
 
     @classmethod
     def __from_data__(cls, data: dict) -> Design:
-        return cls(data["document"], name=data.get("name"))
+        return cls(data["document"], name=data.get("name"), base=data.get("base"))
 
     # the sections, typed
     @property
@@ -263,7 +271,7 @@ def load_design(path) -> Design:
     path = Path(path)
     document = read_toml(path)
     try:
-        return Design(document, name=path.stem)
+        return Design(document, name=path.stem, base=path.parent)
     except DesignError as exc:
         error = DesignError(f"{path}: {exc}")
         error.key = exc.key  # the message names the key already; keep it for callers

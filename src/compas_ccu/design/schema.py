@@ -156,7 +156,13 @@ SCHEMA: dict = {
             when="arc",
         ),
         "points": Key(
-            "points2", "Control points [[x, y], ...] (at least 3).", when="spline, polyline"
+            "points2",
+            'Control points [[x, y], ...] (at least 3), or a curve file: "crease.dxf" or '
+            '{ file = "crease.dxf", layer = "CREASE", name = ..., index = ..., units = "mm", '
+            "scale = 1.0 } (CSV / TXT, DXF, SVG, 3dm; a relative path is read from the design "
+            "file's folder; docs/import.md). The curve becomes the polyline or spline through "
+            "its dense samples, in its plane's 2D coordinates (a curve in z = const keeps x, y).",
+            when="spline, polyline",
         ),
         "segments": Key(
             "int",
@@ -346,7 +352,9 @@ SCHEMA: dict = {
         "apex": Key(
             "polyline2",
             "[[d, y], ...]: height y of the reference (apex) vertex of the solved creases as a "
-            "function of d (d increasing).",
+            "function of d (d increasing). Any [target] curve may also be a curve file, as "
+            "crease.points: its x, y are read as d and the value (the curve must lie in "
+            "z = const).",
         ),
         "support": Key(
             "polyline2",
@@ -783,6 +791,48 @@ def _short(value, limit: int = 60) -> str:
     return text if len(text) <= limit else f"{text[: limit - 3]}..."
 
 
+#: The keys of a curve-file table (``points = { file = ..., layer = ... }``), and their types.
+CURVE_FILE_KEYS = {
+    "file": str,
+    "layer": str,
+    "name": str,
+    "index": int,
+    "units": str,
+    "scale": float,
+}
+CURVE_FILE_UNITS = ("m", "cm", "mm", "in", "ft", "px")
+#: The keys that take a curve file instead of a list of points.
+CURVE_FILE_PLACES = ("crease.points", "target.apex", "target.support", "target.support_end")
+
+
+def _curve_file(where: str, value) -> dict:
+    """A curve-file reference (a path, or a table with ``file``), checked and completed."""
+    table = {"file": value} if isinstance(value, str) else dict(value)
+    for k, v in table.items():
+        if k not in CURVE_FILE_KEYS:
+            raise DesignError(
+                f"unknown key in a curve file table; allowed: {', '.join(CURVE_FILE_KEYS)}",
+                key=f"{where}.{k}",
+            )
+        want = CURVE_FILE_KEYS[k]
+        if want is float and _is_number(v):
+            v = table[k] = float(v)
+        if not isinstance(v, want) or isinstance(v, bool):
+            raise DesignError(f"must be a {want.__name__}, got {_short(v)}", key=f"{where}.{k}")
+    if not table.get("file"):
+        raise DesignError("a curve file table needs file = PATH", key=f"{where}.file")
+    if table.get("units") is not None and table["units"] not in CURVE_FILE_UNITS:
+        raise DesignError(
+            f"must be one of {', '.join(CURVE_FILE_UNITS)}, got {table['units']!r}",
+            key=f"{where}.units",
+        )
+    if table.get("index") is not None and table["index"] < 0:
+        raise DesignError(f"must be >= 0, got {table['index']}", key=f"{where}.index")
+    if "scale" in table and not 0.0 < table["scale"] <= MAX_LENGTH:
+        raise DesignError(f"must be > 0, got {table['scale']}", key=f"{where}.scale")
+    return {k: table.get(k, 1.0 if k == "scale" else None) for k in CURVE_FILE_KEYS}
+
+
 def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS):
     where = f"{section}.{name}"
     given = value
@@ -814,6 +864,8 @@ def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS
         if not (isinstance(value, list) and len(value) == dim and all(map(_is_number, value))):
             fail(f"must be a list of {dim} numbers")
         value = [float(v) for v in value]
+    elif where in CURVE_FILE_PLACES and isinstance(value, (str, dict)):
+        value = _curve_file(where, value)
     elif key.kind in ("points2", "polyline2"):
         ok = isinstance(value, list) and all(
             isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in value
@@ -855,7 +907,7 @@ def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS
         values = [value] if isinstance(value, float) else [g for _, g in value]
         if not all(0.0 < g < 180.0 for g in values):
             fail("ruling angles must be in (0, 180) degrees")
-    if length:
+    if length and not isinstance(value, dict):  # a curve file has its own units
         value = to_metres(key.kind, key.unit, value, units)
     if key.check is not None:
         values = value if isinstance(value, list) and key.kind == "float_or_list" else [value]

@@ -41,4 +41,6 @@ def quadrant_design(design, *, width: float | None = None):
         width = 0.2 * span if span else 0.3
     doc["layout"] = {"type": "single", "width": float(width), "quadrants": True}
     doc.setdefault("design", {})["name"] = f"{design.name} (four quadrants)"
-    return Design.from_metric(doc, units=design.units, name=design.name)
+    return Design.from_metric(
+        doc, units=design.units, name=design.name, base=getattr(design, "base", None)
+    )

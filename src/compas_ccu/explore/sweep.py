@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu import __version__, limits
+from compas_ccu.design.curve_files import absolute_curve_files
 from compas_ccu.design.document import load_design, read_toml
 from compas_ccu.design.schema import SCHEMA
 from compas_ccu.errors import DesignError, SweepError
@@ -480,7 +481,8 @@ def load_base(head: dict, base_dir, section: str) -> tuple:
         base = load_design(path)
     except DesignError as exc:
         raise SweepError(f"base design: {exc}", key=f"{section}.base") from exc
-    return path, base.document
+    # curve files named by the base design are read from its folder wherever a variant runs
+    return path, absolute_curve_files(base.document, path.parent)
 
 
 def apply_settings(base_document: dict, variant: Variant, base_path) -> dict:

@@ -335,7 +335,9 @@ class StudioSession:
     def _apply(self, document: dict) -> None:
         self._document = document
         try:
-            model = CCUModel(Design(document, name=Path(self.name).stem))
+            model = CCUModel(
+                Design(document, name=Path(self.name).stem, base=self.files.design_folder)
+            )
         except Exception as exc:  # the studio shows every failure and keeps the last model
             self.problem = _problem(exc)
             return
