@@ -17,7 +17,7 @@ CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab,explore,studio]"
+	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab,explore,studio,notebook]"
 	@touch $(BIN)/ccu
 
 setup: $(BIN)/ccu blas
@@ -81,8 +81,8 @@ optimize: setup
 	@echo "Open $(OUT)/vault-sheets/plots/convergence.png; the best designs are in $(OUT)/vault-sheets/best/"
 
 lint: setup
-	$(BIN)/ruff check src tests benchmarks tools
-	$(BIN)/ruff format --check src tests benchmarks tools
+	$(BIN)/ruff check src tests benchmarks tools scripts
+	$(BIN)/ruff format --check src tests benchmarks tools scripts
 	$(BIN)/lint-imports --no-cache
 
 test: setup browser lint validators test-py39
@@ -128,7 +128,7 @@ fuzz: setup
 
 # the quick loop while editing: ruff and every test not marked slow, on 2 processes
 test-fast: setup
-	$(BIN)/ruff check src tests benchmarks tools
+	$(BIN)/ruff check src tests benchmarks tools scripts
 	$(BIN)/python -m pytest -q -m "not slow" -n 2
 
 bench: setup
