@@ -50,6 +50,7 @@ def validate(args) -> int:
         thickness=args.thickness,
         orthotropic=args.orthotropic,
         hinge_stiffness=args.hinge_stiffness,
+        hinge_eccentricity=args.hinge_eccentricity,
         control=args.control,
         checks=not args.no_checks,
         area_load=args.area_load,
@@ -158,6 +159,12 @@ COMMANDS = (
                 type=float,
                 default=None,
                 help="rotational hinge spring, Nm/rad/m (default: the design's [hinges])",
+            ),
+            option(
+                "--hinge-eccentricity",
+                choices=("none", "axis-shift"),
+                default=None,
+                help="hinges on the mid-surfaces or on the faces (default: the design's [hinges])",
             ),
             option(
                 "--control",

@@ -572,6 +572,14 @@ SCHEMA: dict = {
         "_doc": "The textile hinges in the FE model (`ccu validate`): the plates' crease "
         "nodes tied in translation (rigid), or joined by springs, and free to turn, or "
         "turning against a rotational spring.",
+        "eccentricity": Key(
+            "str",
+            "'none': the hinges join the plates' mid-surfaces; 'axis-shift': as built, on the "
+            "plates' faces t/2 from the mid-surfaces (paper Fig. 8c), the plates at their thick "
+            "placement (docs/structural.md).",
+            default="none",
+            choices=("none", "axis-shift"),
+        ),
         "rotational_stiffness": Key(
             "float",
             "Rotational spring of the hinge, N m/rad per m of crease (0: free hinge).",

@@ -11,13 +11,18 @@ With ``checks`` (the formwork and service use) every load case of the settings
 ``supports`` say (:mod:`compas_ccu.fea.supports`), in two or three steps: its characteristic
 loads (serviceability), its design loads (ultimate, where the engine also computes the linear
 buckling factor: Kratos) and, unless it is the last case, unloading back to the deployed state.
-With ``self_weight`` the self-weight acts during the deployment too.
+With ``self_weight`` the self-weight acts during the deployment too. With
+``hinge_eccentricity = "axis-shift"`` the plates hinge on their faces
+(:mod:`compas_ccu.fea.eccentric`).
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
+from compas_ccu.fea.eccentric import FaceHinges
 from compas_ccu.fea.history import DeploymentHistory
 from compas_ccu.fea.loads import GRAVITY, nodal_loads
 from compas_ccu.fea.mesh import ShellMesh
@@ -25,6 +30,7 @@ from compas_ccu.fea.problem import FEProblem, LoadPattern
 from compas_ccu.fea.settings import FESettings
 from compas_ccu.fea.solving import solve_steps, strip_nodes, tie_set
 from compas_ccu.fea.supports import support_model
+from compas_ccu.thickness import ThickModel
 
 __all__ = ["deploy_by_displacement", "deployment_problem", "nodal_area_loads"]
 
@@ -55,12 +61,22 @@ def deployment_problem(model, mesh: ShellMesh, settings: FESettings, *, alpha: f
         Per load case: ``case`` (:class:`~compas_ccu.fea.loads.LoadCase`) and the 0-based
         steps ``sls`` and ``uls`` of its characteristic and design loads.
     supports : SupportModel or None
+    mesh : ShellMesh
+        The mesh as solved: with axis-shift hinges its nodes lie on the surface through the
+        hinge lines (:mod:`compas_ccu.fea.eccentric`).
     """
     s = settings
     alphas = np.linspace(0.0, alpha, s.steps + 1)[1:]
     structures = model.path(alphas, check=False)
-    kinematic = mesh.kinematic(np.array([st.deployed for st in structures]))
     spans = np.array([st.metrics["span"] for st in structures])
+    offsets = None
+    if s.hinge_eccentricity == "axis-shift":
+        faces = FaceHinges.build(mesh, ThickModel(model, thickness=s.thickness))
+        offsets = faces.offsets
+        mesh = replace(mesh, nodes=faces.positions(mesh, [0.0])[0])  # the thick flat stack
+        kinematic = faces.positions(mesh, alphas)
+    else:
+        kinematic = mesh.kinematic(np.array([st.deployed for st in structures]))
     feet = mesh.supports
     cases = s.cases() if s.checks else []
     up, span_axis = model.axes[1], model.axes[0]
@@ -84,9 +100,8 @@ def deployment_problem(model, mesh: ShellMesh, settings: FESettings, *, alpha: f
         fixed = np.setdiff1d(feet, mesh.ties[both, 1])
     if s.control == "edges":
         fixed = np.union1d(fixed, mesh.free_edges)
-    n_mesh = len(mesh.nodes)
     ground = np.zeros(0, dtype=int) if sup is None else feet[sup.ground]
-    ground_nodes = n_mesh + np.arange(len(ground))
+    ground_nodes = len(mesh.nodes) + np.arange(len(ground))
     nodes = np.vstack([mesh.nodes, mesh.nodes[ground]])
     path_nodes = np.r_[fixed, ground_nodes]  # a ground node follows its foot
     prescribed = kinematic[:, np.r_[fixed, ground]] - nodes[path_nodes]
@@ -144,6 +159,7 @@ def deployment_problem(model, mesh: ShellMesh, settings: FESettings, *, alpha: f
         steps=steps,
         orthotropic=s.orthotropic,
         directions=mesh.directions,
+        offsets=offsets,
         ties=ties,
         tie_lengths=lengths,
         hinge_stiffness=s.hinge_stiffness,
@@ -156,7 +172,7 @@ def deployment_problem(model, mesh: ShellMesh, settings: FESettings, *, alpha: f
         patterns=patterns,
         name=model.design.name,
     )
-    return problem, alphas, kinematic, spans, load_steps, sup
+    return problem, alphas, kinematic, spans, load_steps, sup, mesh
 
 
 def deploy_by_displacement(
@@ -169,7 +185,7 @@ def deploy_by_displacement(
     ConvergenceError
         A step did not converge even after cutting it.
     """
-    problem, alphas, kinematic, spans, load_steps, sup = deployment_problem(
+    problem, alphas, kinematic, spans, load_steps, sup, mesh = deployment_problem(
         model, mesh, settings, alpha=alpha
     )
     buckling = [step["uls"] + 1 for step in load_steps]

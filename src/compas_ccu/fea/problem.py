@@ -119,6 +119,11 @@ class FEProblem:
         Use E1, E2, G12 (directions below); otherwise the material's isotropic equivalent.
     directions : (E, 3) float
         Material direction 1 of every element in the reference configuration (unit, in plane).
+    offsets : (E,) float or None
+        Eccentricity of every element's material: its mid-surface lies at ``-offset`` along
+        the element normal ``(x2 - x0) × (x3 - x1)`` from the element's nodes (the nodes on a
+        plate face: axis-shift hinges, :mod:`compas_ccu.fea.eccentric`). None: the nodes are
+        on the mid-surface. Element forces are reported about the mid-surface either way.
     ties : (T, 2) int
         Hinges: ``(master, slave)`` node pairs whose translations are equal (rotations free).
     tie_lengths : (T,) float
@@ -153,6 +158,7 @@ class FEProblem:
     steps: int
     orthotropic: bool = False
     directions: np.ndarray | None = None
+    offsets: np.ndarray | None = None
     ties: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=int))
     tie_lengths: np.ndarray | None = None
     hinge_stiffness: float = 0.0
@@ -198,6 +204,15 @@ class FEProblem:
         if self.directions is None:
             self.directions = np.tile([1.0, 0.0, 0.0], (len(self.elements), 1))
         self.directions = np.asarray(self.directions, dtype=float)
+        if self.offsets is not None:
+            self.offsets = np.asarray(self.offsets, dtype=float).reshape(-1)
+            if self.offsets.shape != (len(self.elements),) or np.any(
+                ~(np.abs(self.offsets) <= self.thickness)
+            ):
+                raise FEError(
+                    f"offsets must be ({len(self.elements)},) finite values within the "
+                    f"thickness {self.thickness!r} m, got shape {self.offsets.shape}"
+                )
         if self.tie_lengths is None:
             self.tie_lengths = np.zeros(len(self.ties))
         self.tie_lengths = np.asarray(self.tie_lengths, dtype=float)

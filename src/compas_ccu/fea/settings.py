@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from compas_ccu.fea.eccentric import ECCENTRICITIES
 from compas_ccu.fea.loads import CASE_NAMES, GRAVITY, load_cases
 from compas_ccu.fea.problem import FEError
 from compas_ccu.fea.supports import SUPPORT_TYPES
@@ -57,6 +58,9 @@ class FESettings:
     hinge_translational_stiffness : float or None
         Displacement mode: in-plane / out-of-plane hinge springs, N/m per m, instead of rigid
         ties.
+    hinge_eccentricity : {"none", "axis-shift"}
+        Displacement mode: hinges on the mid-surfaces, or on the plates' faces with the plates
+        at their thick placement (:mod:`compas_ccu.fea.eccentric`).
     control : {"supports", "edges"}
         Displacement mode: which nodes follow the kinematic path.
     self_weight : bool
@@ -97,6 +101,7 @@ class FESettings:
     orthotropic: bool = False
     hinge_stiffness: float = 0.0
     hinge_translational_stiffness: float | None = None
+    hinge_eccentricity: str = "none"
     control: str = "supports"
     self_weight: bool = False
     checks: bool = True
@@ -114,6 +119,21 @@ class FESettings:
     def __post_init__(self):
         if self.mode not in MODES:
             raise FEError(f"mode must be one of {MODES}, got {self.mode!r}")
+        if self.hinge_eccentricity not in ECCENTRICITIES:
+            raise FEError(
+                f"hinge_eccentricity must be one of {ECCENTRICITIES}, got "
+                f"{self.hinge_eccentricity!r}"
+            )
+        if self.hinge_eccentricity != "none" and self.engine != "kratos":
+            raise FEError(
+                f"hinge_eccentricity {self.hinge_eccentricity!r} needs engine 'kratos' (eccentric "
+                f"shell sections); engine {self.engine!r} models hinges on the mid-surfaces only"
+            )
+        if self.hinge_eccentricity != "none" and self.mode != "displacement":
+            raise FEError(
+                "axis-shift hinges are modelled in the displacement mode only, not in "
+                f"mode {self.mode!r}"
+            )
         if self.control not in CONTROLS:
             raise FEError(f"control must be one of {CONTROLS}, got {self.control!r}")
         if not (isinstance(self.steps, int) and self.steps >= 1):

@@ -252,6 +252,7 @@ def validate(model, **options) -> Validation:
         "deflection_limit": (1.0 / design.loads.deflection_limit, "[loads] deflection_limit"),
         "hinge_stiffness": (design.hinges.rotational_stiffness, "[hinges]"),
         "hinge_translational_stiffness": (design.hinges.translational_stiffness, "[hinges]"),
+        "hinge_eccentricity": (design.hinges.eccentricity, "[hinges] eccentricity"),
     }
     sources = {}
     for key, (value, section) in from_design.items():

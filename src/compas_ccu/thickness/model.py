@@ -276,6 +276,50 @@ class ThickModel(Data):
         flat[:, index.far_rows] = far - shift_far[..., None] * ruling
         return flat
 
+    def hinge_points(self, alphas) -> tuple:
+        """Mid-surfaces and the hinge lines of the axis-shift hinges at reference angles
+        ``alphas`` (degrees), world frame, plates in output order.
+
+        Returns
+        -------
+        mid : (k, p, 2n + 2, 3) float
+            The mid-surfaces (exact isometries of the cut patterns).
+        hinge : (k, p, 2n + 2, 3) float
+            For every vertex on a crease row, the hinge point on the plate's facing face:
+            ``mid + σ t/2 ν`` moved along its ruling by the design state's correction (the
+            fabricated crease edge); the mid-surface vertex itself on a free boundary. At the
+            design state the two plates of a crease have the same hinge points (to the
+            ``hinge_gap`` of :meth:`metrics`).
+
+        Examples
+        --------
+        >>> from compas_ccu.model import load_model
+        >>> thick = ThickModel(load_model("examples/cone.toml"))
+        >>> mid, hinge = thick.hinge_points([40.0])
+        >>> index = thick.model.plates
+        >>> rows_a, rows_b = index.crease_rows(0)
+        >>> where = np.argsort(index.to_output(np.arange(index.count)))  # output positions
+        >>> a, b = where[list(index.crease_plates[0])]
+        >>> gap = np.abs(hinge[0, a, rows_a] - hinge[0, b, rows_b]).max()
+        >>> offset = np.linalg.norm(hinge[0, a, rows_a] - mid[0, a, rows_a], axis=1)
+        >>> bool(gap < 1e-12), np.round([offset.min(), offset.max()], 6).tolist()
+        (True, [0.004, 0.004])
+        """
+        st = self.place(alphas)
+        index = self.model.plates
+        half = 0.5 * self.thickness
+        mid = stack_rows(st.near, st.far)
+        nu = stack_rows(st.offsets, st.offsets)
+        inward = stack_rows(unit(st.far - st.near), unit(st.near - st.far))
+        hinge = mid.copy()
+        for ci, (a, b) in enumerate(index.crease_plates):
+            for plate, rows, side in zip((a, b), index.crease_rows(ci), self.sides[ci]):
+                shift = self.shifts[plate, rows][None, :, None]
+                hinge[:, plate, rows] += side * half * nu[:, plate, rows]
+                hinge[:, plate, rows] += shift * inward[:, plate, rows]
+        world = [self._world(index.to_output(x, axis=1)) for x in (mid, hinge)]
+        return world[0], world[1]
+
     def _world(self, local: np.ndarray) -> np.ndarray:
         return self.model.to_world(local)
 

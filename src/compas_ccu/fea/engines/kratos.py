@@ -26,6 +26,8 @@ from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 __all__ = ["available", "solve"]
 
 ELEMENT = "LegacyThickShellCorotationalElement3D4N"
+#: The first property id of the element sections with an offset (after hinges and springs).
+OFFSET_PROPERTIES = 1_000_000
 _KM = None
 
 
@@ -149,8 +151,22 @@ class _Model:
         props.SetValue(KM.YOUNG_MODULUS, m.E1)
         props.SetValue(KM.POISSON_RATIO, m.nu12)
         props.SetValue(KM.CONSTITUTIVE_LAW, SMA.LinearElasticPlaneStress2DLaw())
+        chosen = [props] * len(p.elements)
+        if p.offsets is not None:  # one property per offset value: the section's SHELL_OFFSET
+            values, which = np.unique(np.round(p.offsets, 12), return_inverse=True)
+            table = []
+            for k, value in enumerate(values.tolist()):
+                q = mp.GetProperties()[OFFSET_PROPERTIES + k]
+                q.SetValue(KM.THICKNESS, p.thickness)
+                q.SetValue(KM.DENSITY, m.density)
+                q.SetValue(KM.YOUNG_MODULUS, m.E1)
+                q.SetValue(KM.POISSON_RATIO, m.nu12)
+                q.SetValue(KM.CONSTITUTIVE_LAW, SMA.LinearElasticPlaneStress2DLaw())
+                q.SetValue(SMA.SHELL_OFFSET, value)
+                table.append(q)
+            chosen = [table[k] for k in which.tolist()]
         for e, quad in enumerate(p.elements):
-            mp.CreateNewElement(ELEMENT, e + 1, [int(i) + 1 for i in quad], props)
+            mp.CreateNewElement(ELEMENT, e + 1, [int(i) + 1 for i in quad], chosen[e])
 
     def _hinges(self):
         KM, SMA, mp, p = self.KM, self.SMA, self.mp, self.problem
@@ -271,6 +287,11 @@ class _Model:
                 [np.array(x) for x in el.CalculateOnIntegrationPoints(SMA.SHELL_MOMENT, info)], 0
             )
             forces[e] = (n[0, 0], n[1, 1], n[0, 1], m[0, 0], m[1, 1], m[0, 1])
+        if p.offsets is not None:
+            # Kratos reports the moments about the nodes' surface (M = ∫ σ z dz, z along the
+            # element normal from the nodes); the material's mid-surface lies at z = -offset:
+            # M_mid = M_nodes + offset N (tested on an eccentric cantilever)
+            forces[:, 3:] += p.offsets[:, None] * forces[:, :3]
         reactions, ties = self.nodal_forces()
         reactions[np.isnan(p.prescribed_at(self.time))] = 0.0
         return disp, rot, forces, reactions, ties

@@ -185,6 +185,13 @@ class _Model:
 
     def _build(self):
         ops, p = self.ops, self.problem
+        if p.offsets is not None and np.any(p.offsets != 0.0):
+            raise FEError(
+                "eccentric shells (axis-shift hinges, offsets up to "
+                f"{float(np.abs(p.offsets).max()):.4g} m) need engine 'kratos' (its shell "
+                "sections take an offset); the opensees engine models hinges on the "
+                "mid-surfaces only"
+            )
         ops.model("basic", "-ndm", 3, "-ndf", 6)
         for i, xyz in enumerate(p.nodes.tolist()):
             ops.node(i + 1, *xyz)
