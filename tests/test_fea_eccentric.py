@@ -148,3 +148,17 @@ def test_the_cone_deploys_with_axis_shift_hinges():
     r_face = np.linalg.norm(face["hinges"][0]["resultant_N"])
     assert r_face == pytest.approx(r_mid, rel=0.25) and r_face != pytest.approx(r_mid, rel=0.01)
     assert face["settings"]["hinge_eccentricity"] == "axis-shift"
+
+
+def test_the_console_says_where_the_hinges_are():
+    from compas_ccu.cli.fea import _hinge_line
+
+    face = {"hinge_eccentricity": "axis-shift", "hinge_stiffness": 0.0}
+    assert _hinge_line(face) == (
+        "hinges: on the plates' faces (axis-shift, eccentric shells), tied, free to turn"
+    )
+    springs = {"hinge_translational_stiffness": 1e9, "hinge_stiffness": 50.0}
+    assert _hinge_line(springs) == (
+        "hinges: on the mid-surfaces, translational springs 1e+09 N/m/m, rotational springs "
+        "50 Nm/rad/m"
+    )

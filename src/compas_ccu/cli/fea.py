@@ -84,6 +84,20 @@ def validate(args) -> int:
     return 0
 
 
+def _hinge_line(settings: dict) -> str:
+    """Where the hinges are and what joins them (the FE settings used)."""
+    on = (
+        "on the plates' faces (axis-shift, eccentric shells)"
+        if settings.get("hinge_eccentricity", "none") == "axis-shift"
+        else "on the mid-surfaces"
+    )
+    k = settings.get("hinge_translational_stiffness")
+    ties = "tied" if k is None else f"translational springs {k:.4g} N/m/m"
+    r = settings.get("hinge_stiffness", 0.0) or 0.0
+    turn = "free to turn" if r == 0.0 else f"rotational springs {r:.4g} Nm/rad/m"
+    return f"hinges: {on}, {ties}, {turn}"
+
+
 def _summary_lines(summary: dict) -> list:
     d, st, sol = summary["deviation"], summary["stresses"], summary["solver"]
     p = summary["plates"]
@@ -100,6 +114,7 @@ def _summary_lines(summary: dict) -> list:
         f"stresses: bending {st['max_bending_MPa']:.2f} MPa, membrane "
         f"{st['max_membrane_MPa']:.2f} MPa, moment {st['max_moment_Nm_per_m']:.1f} Nm/m",
     ]
+    lines.insert(1, _hinge_line(summary["settings"]))
     c = summary["checks"]
     if c:
         lines.extend(load_case_lines(c))
