@@ -256,3 +256,18 @@ def test_design_code_defaults_and_values():
     assert d.design_factors().strength_factor == 1.0  # gfrp needs no factors here
     d = Design(_with(design_code={"gamma_M": 1.3, "k_mod": 0.4}, plates={"material": "gfrp"}))
     assert d.design_factors().strength_factor == 0.4 / 1.3
+
+
+def test_an_integer_for_a_float_key_is_shown_as_the_float_it_becomes():
+    """The studio passes a typed "-1" as an int: the message reads like the CLI's."""
+    from compas_ccu.design import Design
+    from compas_ccu.errors import DesignError
+
+    doc = {
+        "crease": {"profile": "arc", "span": 2.0, "rise": -1},
+        "rulings": {"type": "orthogonal"},
+        "deployment": {"alpha": 30.0},
+        "layout": {"width": 0.3},
+    }
+    with pytest.raises(DesignError, match=r"^crease\.rise: must be > 0 and <= 1e6, got -1\.0$"):
+        Design(doc)

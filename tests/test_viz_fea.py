@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
@@ -120,16 +118,17 @@ def test_bad_shapes_raise_naming_the_shape():
         plot_fe_curves([0, 1, 2], deviation_max=[0, 1, 2], deviation_mean=[0, 1])
 
 
-def test_large_mesh_is_fast(tmp_path):
+def test_a_large_mesh_is_drawn_as_one_collection(tmp_path):
+    """10,000 quads become one polygon collection, not an artist per element (what keeps the
+    plot fast: a timing here would only measure how busy the machine is)."""
     positions, elements, centres = strip(nu=200, nv=50)  # 10,000 quads
     values = 1e7 * np.sin(3 * centres[:, 0]) * np.cos(4 * centres[:, 1])
-    start = time.perf_counter()
     fig = plot_fe_shape(positions, elements, values)
-    built = time.perf_counter() - start
+    ax = fig.axes[0]
+    sizes = [len(c.get_paths()) for c in ax.collections]
+    assert len(ax.collections) <= 3 and max(sizes) == len(elements), sizes
     fig.savefig(tmp_path / "large.png", dpi=DPI)
-    total = time.perf_counter() - start
-    assert built < 1.0, built
-    assert total < 5.0, total
+    assert (tmp_path / "large.png").stat().st_size > 10_000
 
 
 def test_curves_with_and_without_load_data(tmp_path):

@@ -843,7 +843,8 @@ def _curve_file(where: str, value) -> dict:
 
 def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS):
     where = f"{section}.{name}"
-    given = value
+    # the value as the message shows it: a number of a float key as a float (-1 -> -1.0)
+    given = float(value) if key.kind == "float" and _is_number(value) else value
     length = is_length(key.unit)
 
     def fail(what, hint=""):
