@@ -1125,6 +1125,12 @@ def _rows_as(member: _Member, other: _Member, undone) -> tuple:
     return best[1], best[2]
 
 
+def _chain(first: list, rest):
+    """The items of ``first``, then those of ``rest()`` (called only when they are needed)."""
+    yield from first
+    yield from rest()
+
+
 def _zero_thickness(folder, manifest, pairs, pair, patterns, *, alpha, reference, as_drawn):
     """The members of the structure led by ``pair``, their zero-thickness patterns and the
     undoing report (``None`` when the patterns are taken as drawn).
@@ -1139,16 +1145,19 @@ def _zero_thickness(folder, manifest, pairs, pair, patterns, *, alpha, reference
     name = manifest.get("design") or Path(folder).name
     if thickness is None:
         return members, links, [(m.near, m.far) for m in members], None
+
+    def others():
+        # the other creases from the shallowest tree (a mechanism grows from the middle of
+        # its layout)
+        roots = []
+        for other in pairs:
+            if other.key != pair.key:  # (``pair`` may be a reordered copy)
+                other = _stack_upper_leads(other, patterns, manifest)
+                roots.append((other, *_structure_tree(other, pairs, *patterns[other.key])))
+        return sorted(roots, key=lambda root: _depth(root[1]))
+
     first = None
-    for root in [pair] + [p for p in pairs if p is not pair]:
-        if root is pair:
-            tree, tree_links = members, links
-        else:
-            root = _stack_upper_leads(root, patterns, manifest)
-            try:
-                tree, tree_links = _structure_tree(root, pairs, *patterns[root.key])
-            except DesignError:  # pragma: no cover - the folder's tree was built above
-                continue
+    for root, tree, tree_links in _chain([(pair, members, links)], others):
         try:
             undone, info = _undo_correction(
                 folder, tree, tree_links, thickness, alpha=alpha, reference=reference,
