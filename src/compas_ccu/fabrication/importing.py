@@ -977,7 +977,7 @@ def _shift_update(mechanism: Mechanism, near_shift, far_shift, thickness: float,
     crease rows (planar) to the corrected rows read, measured on the current mechanism.
 
     ``ccu fabricate``'s corrected crease points ``M`` (the rows read: the current rows moved
-    back by the current shifts) lie on the rulings, and their facing-face points
+    along their rulings by the current shifts) lie on the rulings, and their facing-face points
     ``M + σ t/2 ν`` lie in the hinge plane P (:class:`~compas_ccu.thickness.axis_shift.
     HingePlanes`): P is the plane through them. The zero-thickness crease lies in the plane Q,
     P moved back by the mean offset ``mean(σ t/2 ν · n)``; it is where the rulings cross Q.
