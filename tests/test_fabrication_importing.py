@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -10,8 +11,10 @@ import pytest
 from compas_ccu.catalog import catalog_path
 from compas_ccu.cli import main
 from compas_ccu.design import Design, load_design
+from compas_ccu.design.document import parse_toml
 from compas_ccu.errors import DesignError
 from compas_ccu.model import CCUModel, load_model
+from compas_ccu.thickness import ThickModel
 from conftest import EXAMPLES
 
 ezdxf = pytest.importorskip("ezdxf")
@@ -19,13 +22,18 @@ pytest.importorskip("shapely")
 pytest.importorskip("rhino3dm")
 pytest.importorskip("trimesh")
 
+from compas_ccu.fabrication import importing  # noqa: E402
 from compas_ccu.fabrication.fabricate import fabricate  # noqa: E402
 from compas_ccu.fabrication.importing import (  # noqa: E402
+    UNDO_TOLERANCE,
     import_design,
     import_structure,
+    pair_creases,
     read_plate_drawing,
+    read_plate_folder,
     round_trip_error,
     structure_round_trip_error,
+    thickness_shifts,
 )
 
 R, WIDTH, SWEEP, N, ALPHA = 2.0, 0.4, 90.0, 48, 40.0
@@ -129,19 +137,149 @@ def test_round_trip_vault_every_crease_pair(tmp_path):
     assert whole["report"]["attached"][:2] == ["plate_5.dxf", "plate_4.dxf"]  # upper plate leads
 
 
+def leading_crease(model, folder):
+    """The crease id (XDATA) of the model's leading crease in a fabricated folder."""
+    lead = next(c for c in model.mechanism.creases if c.fixed)
+    ids = {model.plates.output_id(lead.plate_a), model.plates.output_id(lead.plate_b)}
+    pairs = pair_creases(read_plate_folder(folder))
+    return next(p.crease_a.crease_id for p in pairs if {p.a.plate_id, p.b.plate_id} == ids)
+
+
+@pytest.fixture(scope="module")
+def inclined3(tmp_path_factory):
+    """fig11a's inclined layout with 3 plates and 16 segments, fabricated with 8 mm plates:
+    its cut patterns carry the thickness correction (7.7e-5 m on crease 0)."""
+    document = parse_toml(catalog_path("fig11a-constant-apex").read_text(encoding="utf-8"))
+    document["crease"]["segments"] = 16
+    document["layout"].update(plates=3, spacing_start=[0.08, 0.08, 0.16])
+    model = CCUModel(Design(document))
+    folder = tmp_path_factory.mktemp("inclined3") / "fab"
+    manifest = fabricate(model, folder, hinge_width=0.03, allow_collisions=True)
+    assert manifest["thickness"] == 0.008 and max(manifest["correction_design"]) > 7e-5
+    return model, folder
+
+
+def test_thickness_shifts_are_the_thick_models(inclined3):
+    """The forward correction the import undoes is ThickModel's, vertex by vertex."""
+    model, _ = inclined3
+    thick = ThickModel(model)
+    near, far = thickness_shifts(model.mechanism, thick.thickness, model.alpha_design)
+    index = model.plates
+    assert np.abs(near - thick.shifts[:, index.near_rows]).max() < 1e-15
+    assert np.abs(far - thick.shifts[:, index.far_rows]).max() < 1e-15
+    assert np.abs(far).max() > 7e-5
+
+
+def test_round_trip_undoes_the_thickness_correction(inclined3):
+    """8 mm plates: the correction undone, the structure and the leading pair come back to
+    rounding (measured 2.5e-16); taken as drawn, they are off by the correction (2.6e-5)."""
+    model, folder = inclined3
+    crease = leading_crease(model, folder)
+    whole = structure_round_trip_error(model, folder, crease=crease)
+    assert whole["plates"] == 3 and whole["max_relative"] < 1e-9
+    undone = whole["report"]["thickness_correction"]
+    assert undone["thickness"] == 0.008 and undone["iterations"] <= 3
+    assert 7e-5 < undone["largest"] < 8e-5 and undone["change"] <= UNDO_TOLERANCE
+    pair = round_trip_error(model, folder, crease=crease)
+    assert pair["max_relative"] < 1e-9
+    assert pair["report"]["thickness_correction"]["iterations"] == undone["iterations"]
+    drawn = structure_round_trip_error(model, folder, crease=crease, as_drawn=True)
+    assert drawn["report"]["thickness_correction"] is None
+    assert drawn["max_relative"] > 1e-5
+
+
+def test_undoing_that_does_not_converge_is_refused(inclined3, monkeypatch):
+    model, folder = inclined3
+    crease = leading_crease(model, folder)
+    monkeypatch.setattr(importing, "UNDO_ITERATIONS", 1)
+    with pytest.raises(
+        DesignError,
+        match=rf"{re.escape(str(folder))}: undoing the thickness correction of the cut patterns "
+        r"\(0.008 m plates, fabrication.json\) did not converge in 1 iterations \(the shifts "
+        r"still change by [\d.e-]+ m > 1e-13 m\); import the patterns as drawn",
+    ):
+        import_structure(folder, crease=crease)
+    with pytest.raises(DesignError, match="did not converge in 1 iterations"):
+        import_design(folder, crease=crease)
+    structure = import_structure(folder, crease=crease, as_drawn=True)  # no undoing: no error
+    assert structure.report["thickness_correction"] is None
+
+
+def test_cli_import_undoes_or_takes_the_patterns_as_drawn(inclined3, tmp_path, capsys):
+    """``ccu import`` undoes the correction: the leading plate's ruling ends move out by the
+    correction of its far crease (7.45e-5 m), its crease (the leading one) does not move.
+    ``--as-drawn`` takes the drawn patterns, in which the partner (its far edge free, not
+    corrected) is no longer the leading plate's mirror image: refused, nothing written."""
+    model, folder = inclined3
+    crease = str(leading_crease(model, folder))
+    undone, drawn = tmp_path / "undone.toml", tmp_path / "drawn.toml"
+    assert main(["import", str(folder), "--crease", crease, "--out", str(undone)]) == 0
+    out = capsys.readouterr().out
+    assert "the thickness correction of 8 mm plates undone (up to 0.0745 mm, 2 iterations)" in out
+    assert "# the thickness correction of 8 mm plates undone" in undone.read_text(encoding="utf-8")
+    design = load_design(undone)
+    as_drawn = import_structure(folder, crease=crease, as_drawn=True).design
+    moved = np.linalg.norm(np.subtract(design.rulings.points, as_drawn.rulings.points), axis=1)
+    assert 7.4e-5 < moved.max() < 7.5e-5
+    assert np.abs(np.subtract(design.crease.points, as_drawn.crease.points)).max() < 1e-12
+    argv = ["import", str(folder), "--crease", crease, "--out", str(drawn), "--as-drawn"]
+    assert main(argv) == 2 and not drawn.exists()
+    assert re.search(
+        r"plate_\d.dxf RULING_SCORE #\w+ \(end ruling\): the ruling at crease vertex \d+ is "
+        r"0.157603132 m long, its partner in plate_\d.dxf 0.157528644 m",
+        capsys.readouterr().err,
+    )
+
+
+def test_bad_thickness_in_fabrication_json_is_refused(tmp_path):
+    folder = hand_drawn(tmp_path / "drawn")
+    (folder / "fabrication.json").write_text('{"alpha": 40.0, "thickness": -0.008}')
+    with pytest.raises(
+        DesignError,
+        match=r"drawn: fabrication.json's thickness must be a length > 0 m, got -0.008",
+    ):
+        import_design(folder)
+    document, report = import_design(folder, as_drawn=True)
+    assert report["thickness_correction"] is None and document["deployment"]["alpha"] == 40.0
+
+
 @pytest.mark.slow
-def test_round_trip_fig11a_whole_structure_is_the_thickness_correction(tmp_path):
-    """fig11a's inclined planes need the offset-crease correction, which the cut patterns carry
-    (linear in the thickness): with 1e-8 m plates the whole structure comes back to 3e-10
-    relative (measured), with 8 mm plates to 2.4e-4; its plates alternate in width, so no
-    single crease pair but the whole structure is imported."""
+def test_round_trip_fig11a_at_8_mm_undoes_the_thickness_correction(tmp_path):
+    """fig11a's inclined planes need the offset-crease correction (up to 3.0e-4 m), which the
+    cut patterns carry; undone, the whole structure comes back to 1.6e-15 relative (measured;
+    2.4e-4 as drawn). Its plates alternate in width, so of the crease pairs only the leading
+    one is a mirror pair a design file can hold (measured 1.4e-15)."""
     model = load_model(catalog_path("fig11a-constant-apex"))
-    fabricate(model, tmp_path / "thin", thickness=1e-8, hinge_width=0.03, allow_collisions=True)
-    assert structure_round_trip_error(model, tmp_path / "thin", crease=4)["max_relative"] < 1e-9
+    fabricate(model, tmp_path / "fab", hinge_width=0.03, allow_collisions=True)
+    whole = structure_round_trip_error(model, tmp_path / "fab", crease=4)
+    assert whole["plates"] == 10 and whole["max_relative"] < 1e-9
+    assert whole["report"]["thickness_correction"]["largest"] > 2.9e-4
+    assert round_trip_error(model, tmp_path / "fab", crease=4)["max_relative"] < 1e-9
     with pytest.raises(DesignError, match=r"RULING_SCORE #\w+ \(end ruling\): the ruling at"):
-        import_design(tmp_path / "thin", crease=0)
-    structure = import_structure(tmp_path / "thin", crease=4)
+        import_design(tmp_path / "fab", crease=0)
+    structure = import_structure(tmp_path / "fab", crease=4)
     assert len(structure.plate_ids) == 10 and structure.design.alpha == 30.0
+
+
+@pytest.mark.slow
+def test_round_trip_fig12b_at_8_mm_undoes_the_thickness_correction(tmp_path):
+    """fig12b's radial layout: the correction (up to 2.1e-4 m) undone, the whole dome and its
+    leading pair come back to rounding (measured 8.0e-15 and 2.1e-15; 1.9e-4 and 6.5e-5 as
+    drawn). Another pair of the leading crease's parity (the same reflection angle) too
+    (7.2e-15): its correction is undone on the leading crease's tree, found by trying."""
+    model = load_model(catalog_path("fig12b-dome"))
+    fabricate(model, tmp_path / "fab", hinge_width=0.03, allow_collisions=True)
+    crease = leading_crease(model, tmp_path / "fab")
+    whole = structure_round_trip_error(model, tmp_path / "fab", crease=crease)
+    assert whole["plates"] == 12 and whole["max_relative"] < 1e-9
+    assert round_trip_error(model, tmp_path / "fab", crease=crease)["max_relative"] < 1e-9
+    pairs = pair_creases(read_plate_folder(tmp_path / "fab"))
+    plates = {p.crease_a.crease_id: {p.a.plate_id, p.b.plate_id} for p in pairs}
+    near = {c for c, ids in plates.items() if ids & plates[crease]} - {crease}
+    second = {c for c, ids in plates.items() if any(ids & plates[n] for n in near)}
+    other = round_trip_error(model, tmp_path / "fab", crease=min(second - near - {crease}))
+    assert other["max_relative"] < 1e-9
+    assert other["report"]["thickness_correction"]["leading"] == f"crease {crease}"
 
 
 def test_missing_layer_is_refused_naming_the_file(tmp_path):

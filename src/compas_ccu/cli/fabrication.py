@@ -54,11 +54,20 @@ def import_plates(args) -> int:
         reference=args.reference,
         name=args.name,
         units=args.units,
+        as_drawn=args.as_drawn,
+    )
+    undone = report["thickness_correction"]
+    correction = (
+        "the patterns as drawn"
+        if undone is None
+        else f"the thickness correction of {undone['thickness'] * 1e3:g} mm plates undone "
+        f"(up to {undone['largest'] * 1e3:.3g} mm, {undone['iterations']} iterations)"
     )
     header = (
         f"Imported by `ccu import` from the plate files in {args.folder}:\n"
         f"{report['crease']}, leading plate {report['leading']}, partner {report['partner']} "
-        f"(its mirror image to {report['partner_error']:.2g}), {report['segments']} segments."
+        f"(its mirror image to {report['partner_error']:.2g}), {report['segments']} segments;\n"
+        f"{correction}."
     )
     text = design_toml(document, header=header)
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -77,6 +86,7 @@ def import_plates(args) -> int:
         f"{report['crease']}: {report['leading']} (leading) and {report['partner']}, "
         f"{report['segments']} segments; deployed to alpha = {structure.alpha:g} deg",
     )
+    say(args, correction)
     say(args, f"wrote {target}")
     return 0
 
@@ -113,7 +123,9 @@ COMMANDS = (
         "design of one crease pair: the leading plate's crease polyline and ruling ends, "
         'crease.state = "flat", rulings.type = "explicit". Inconsistent drawings (missing '
         "layers, crossing rulings, partner creases of different length) are refused, naming "
-        "the plate file and the entity. The design is deployed once before it is written.",
+        "the plate file and the entity. With fabrication.json's plate thickness, the thickness "
+        "correction of the cut patterns is undone (--as-drawn: not). The design is deployed "
+        "once before it is written.",
         (
             option("folder", help="folder of plate DXFs (ccu fabricate's output folder)"),
             option("--out", dest="toml", required=True, help="design TOML file to write"),
@@ -136,6 +148,12 @@ COMMANDS = (
                 default=None,
                 choices=("mm", "cm", "m", "in", "ft"),
                 help="units of the DXF files (default: $INSUNITS, unitless: mm)",
+            ),
+            option(
+                "--as-drawn",
+                action="store_true",
+                help="take the patterns as drawn: do not undo the thickness correction of "
+                "fabrication.json's plates",
             ),
             option("--force", action="store_true", help="overwrite the design file"),
             QUIET,

@@ -42,10 +42,13 @@ from compas_ccu.curves.readers import dxf_line_chains, dxf_sampler
 from compas_ccu.design import Design
 from compas_ccu.design.build import build
 from compas_ccu.errors import DesignError, MissingExtraError
-from compas_ccu.geometry import rigid_align
+from compas_ccu.geometry import fit_planes, rigid_align, unit
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
+from compas_ccu.kinematics.plates import hinge_and_rulings
 from compas_ccu.model import CCUModel
 from compas_ccu.strips.intrinsics import strip_intrinsics
+from compas_ccu.thickness.axis_shift import crease_sides, place_thick, vertex_offsets
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
     "PlateDrawing",
@@ -60,6 +63,7 @@ __all__ = [
     "round_trip_error",
     "ImportedStructure",
     "import_structure",
+    "thickness_shifts",
     "structure_round_trip_error",
 ]
 
@@ -538,15 +542,20 @@ def _select(folder: Path, *, crease, units):
         if not chosen:
             raise DesignError(f"{folder}: no crease {crease!r}; the creases: {listing}")
         pair = chosen[0]
-    # the plate higher in the flat-folded stack leads: the drawings show the plates from the
-    # stack's top, so it rises towards the viewer as the leading plate does (+z); without
-    # fabrication.json, the first file leads and the structure may come out mirrored
+    return manifest, plates, pairs, _stack_upper_leads(pair, patterns, manifest), patterns
+
+
+def _stack_upper_leads(pair: CreasePair, patterns: dict, manifest: dict) -> CreasePair:
+    """The pair with the plate higher in the flat-folded stack as plate ``a`` (``patterns``
+    reordered with it): the drawings show the plates from the stack's top, so it rises towards
+    the viewer as the leading plate does (+z); without fabrication.json, the first file leads
+    and the structure may come out mirrored."""
     stack = manifest.get("stack_order")
     if stack and pair.a.plate_id in stack and pair.b.plate_id in stack:
         if stack.index(pair.a.plate_id) < stack.index(pair.b.plate_id):
             pair = CreasePair(pair.key, pair.b, pair.crease_b, pair.a, pair.crease_a)
             patterns[pair.key] = patterns[pair.key][::-1]
-    return manifest, plates, pairs, pair, patterns
+    return pair
 
 
 def import_design(
@@ -557,8 +566,18 @@ def import_design(
     reference: float = 0.5,
     name: str | None = None,
     units: str | None = None,
+    as_drawn: bool = False,
 ):
     """A flat design (TOML document) from a folder of plate DXFs.
+
+    ``ccu fabricate``'s cut patterns carry the thickness correction of the axis-shift hinges
+    (paper §5.3; :meth:`compas_ccu.thickness.ThickModel.cut_patterns`): every crease vertex is
+    moved along its ruling into the plate so that the thick plates meet along planar hinges.
+    When the folder has a ``fabrication.json`` with the plate thickness, the correction is
+    undone: the design is the zero-thickness pattern whose corrected pattern is the one read
+    (the whole folder's structure is needed for it: every crease's correction depends on the
+    plates before it). Hand-drawn folders (no ``fabrication.json``) and ``as_drawn`` are
+    imported as drawn.
 
     Parameters
     ----------
@@ -576,6 +595,8 @@ def import_design(
         Design name (default: ``fabrication.json``'s design name, else the folder's name).
     units : str, optional
         Units of the DXF files, overriding ``$INSUNITS`` (unitless files: mm).
+    as_drawn : bool
+        Take the patterns as drawn: do not undo ``fabrication.json``'s thickness correction.
 
     Returns
     -------
@@ -583,12 +604,15 @@ def import_design(
         The design (``crease.state = "flat"``, ``polyline`` crease, ``explicit`` rulings).
     report : dict
         ``plates`` (files), ``crease``, ``segments``, ``partner_error`` (largest relative
-        difference between the partner and the leading plate's mirror image), ``pairs``.
+        difference between the partner and the leading plate's mirror image), ``pairs``,
+        ``thickness_correction`` (None if taken as drawn; else ``thickness``, ``iterations``,
+        ``largest`` shift undone and the last ``change``, m).
 
     Raises
     ------
     DesignError
-        Inconsistent drawings (file and entity named), several creases and no choice, no alpha.
+        Inconsistent drawings (file and entity named), several creases and no choice, no alpha,
+        a thickness correction that cannot be undone (no convergence: the folder named).
 
     Examples
     --------
@@ -604,14 +628,26 @@ def import_design(
     folder = Path(folder)
     manifest, plates, pairs, pair, patterns = _select(folder, crease=crease, units=units)
     a_pattern, b_pattern = patterns[pair.key]
-    partner_error, _ = _check_partner(pair, a_pattern, b_pattern)
     if alpha is None:
         alpha = manifest.get("alpha")
     if alpha is None:
+        _check_partner(pair, a_pattern, b_pattern)
         raise DesignError(
             f"{folder}: no fabrication.json with the design angle: give the design reflection "
             "angle (--alpha DEG)"
         )
+    info = None
+    if _thickness(folder, manifest, as_drawn) is not None:
+        members, _, undone, info = _zero_thickness(
+            folder, manifest, pairs, pair, patterns, alpha=alpha, reference=reference,
+            as_drawn=as_drawn,
+        )  # fmt: skip
+        near_b, far_b = undone[1]
+        if members[1].flipped:
+            near_b, far_b = near_b[::-1], far_b[::-1]
+        a_pattern = (*undone[0], a_pattern[2])
+        b_pattern = (near_b, far_b, b_pattern[2])
+    partner_error, _ = _check_partner(pair, a_pattern, b_pattern)
     near, far, _ = a_pattern
     n = len(near) - 1
     document = {
@@ -644,11 +680,12 @@ def import_design(
         "pairs": [p.key for p in pairs],
         "crease_id": pair.crease_a.crease_id,
         "plate_ids": [pair.a.plate_id, pair.b.plate_id],
+        "thickness_correction": info,
     }
     return document, report
 
 
-def round_trip_error(model, folder, *, crease=None) -> dict:
+def round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> dict:
     """Fabricate -> import -> deploy: the imported crease pair against the model's two plates.
 
     ``folder`` holds the plate files ``ccu fabricate`` wrote for ``model``. The imported design
@@ -663,7 +700,7 @@ def round_trip_error(model, folder, *, crease=None) -> dict:
         vertex distance, ``crease_id``, ``plate_ids`` (leading, partner), ``report`` (of
         :func:`import_design`).
     """
-    document, report = import_design(folder, crease=crease)
+    document, report = import_design(folder, crease=crease, as_drawn=as_drawn)
     alpha = model.alpha_design
     new = CCUModel(Design(document)).deploy(alpha)
     old = model.deploy(alpha)
@@ -784,7 +821,367 @@ def _row_order(plate, crease, near, reference, where: str):
     return flip
 
 
-def import_structure(folder, *, crease=None, alpha=None, reference=0.5, units=None):
+@dataclass
+class _Member:
+    """A plate of the imported structure in mechanism order, its pattern as read (m).
+
+    ``near`` is the plate's row on the crease with its parent (the leading crease for the
+    leading pair), in the parent's order; ``far`` the other ends of its rulings.
+    """
+
+    plate: PlateDrawing
+    crease: CreaseDrawing
+    near: np.ndarray
+    far: np.ndarray
+    parent: int | None = None
+    boundary: str = "near"
+    flipped: bool = False
+
+
+def _structure_tree(pair: CreasePair, pairs: list, a_pattern, b_pattern):
+    """The plates of a folder in mechanism order from the crease ``pair`` (its plate ``a``
+    leads), and the creases between them: (plate_a, boundary_a, plate_b) member indices."""
+    near_a, far_a, _ = a_pattern
+    near_b, far_b, _ = b_pattern
+    flip = _row_order(pair.b, pair.crease_b, near_b, near_a, f"in {pair.a.label}")
+    if flip:
+        near_b, far_b = near_b[::-1], far_b[::-1]
+    members = [
+        _Member(pair.a, pair.crease_a, near_a, far_a),
+        _Member(pair.b, pair.crease_b, near_b, far_b, 0, "near", flip),
+    ]
+    links = [(0, "near", 1)]
+    done = {id(pair.a), id(pair.b)}
+    by_plate: dict = {}
+    for p in pairs:
+        by_plate.setdefault(id(p.a), []).append((p.crease_a, p.b, p.crease_b))
+        by_plate.setdefault(id(p.b), []).append((p.crease_b, p.a, p.crease_a))
+    k = 0
+    while k < len(members):
+        member = members[k]
+        plate = member.plate
+        others = [item for item in by_plate.get(id(plate), []) if item[0] is not member.crease]
+        if len(others) > 1:
+            raise DesignError(
+                f"{plate.label}: {len(others) + 1} creases; a CCU plate joins two creases "
+                "(its near and far boundary)"
+            )
+        for own, child, child_crease in others:
+            if id(child) in done:
+                continue  # a loop closes here: the mechanism places every plate once
+            d, _ = _distance_to_polyline(member.far, own.points)
+            if d.max() > SNAP * plate.size:
+                raise DesignError(
+                    f"{plate.label} CREASE #{own.handle}: the rulings of the plate do not end on "
+                    f"it ({d.max():.3g} m off)"
+                )
+            near_c, far_c, _ = crease_pattern(child, child_crease)
+            flip = _row_order(child, child_crease, near_c, member.far, f"in {plate.label}")
+            if flip:
+                near_c, far_c = near_c[::-1], far_c[::-1]
+            links.append((k, "far", len(members)))
+            members.append(_Member(child, child_crease, near_c, far_c, k, "far", flip))
+            done.add(id(child))
+        k += 1
+    return members, links
+
+
+def _leading_document(near, far, *, alpha, reference, name) -> dict:
+    """The flat design of a leading plate: polyline crease, explicit rulings, single layout."""
+    return {
+        "design": {"name": name},
+        "crease": {
+            "profile": "polyline",
+            "points": np.asarray(near).tolist(),
+            "segments": len(near) - 1,
+            "reference": float(reference),
+            "state": "flat",
+        },
+        "rulings": {"type": "explicit", "points": np.asarray(far).tolist()},
+        "deployment": {"alpha": float(alpha)},
+        "layout": {"type": "single"},
+    }
+
+
+def _assemble(members, links, patterns, *, alpha, reference, name):
+    """The design of the leading plate and the mechanism of every member, from ``patterns``
+    ((near, far) per member, in the members' order)."""
+    design = Design(_leading_document(*patterns[0], alpha=alpha, reference=reference, name=name))
+    geometry = build(design)
+    plates = [geometry.mechanism.plates[0]]
+    for k, (member, (near, far)) in enumerate(zip(members[1:], patterns[1:]), start=1):
+        plates.append(
+            PlateLink(strip_intrinsics(near, far), member.parent, member.boundary, "ccu", k - 1)
+        )
+    creases = [
+        CreaseLink(a, boundary, b, "ccu", k == 0, (0.0, 0.0, 1.0))
+        for k, (a, boundary, b) in enumerate(links)
+    ]
+    return design, Mechanism(geometry.mechanism.leading, plates, creases)
+
+
+def thickness_shifts(mechanism: Mechanism, thickness: float, alpha: float):
+    """The thickness correction of cut patterns: how far every crease vertex of every plate
+    moves along its ruling into the plate (paper §5.3), as ``ccu fabricate`` applies it.
+
+    The axis-shift hinges of :class:`compas_ccu.thickness.ThickModel` at the design state: the
+    thick plates are placed at the reference angle ``alpha``, and every crease's correction
+    (:class:`compas_ccu.thickness.axis_shift.HingePlanes`) moves the crease rows of both its
+    plates.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        The zero-thickness mechanism.
+    thickness : float
+        Plate thickness, m.
+    alpha : float
+        Design reflection angle, degrees.
+
+    Returns
+    -------
+    near, far : (p, n + 1) float
+        Shifts of the near and the far row of every mechanism plate, m (0 on free boundaries).
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")  # rulings orthogonal to the crease
+    >>> near, far = thickness_shifts(model.mechanism, 0.008, model.alpha_design)
+    >>> near.shape, bool(np.abs(near).max() < 1e-15)  # planar offset creases: no correction
+    ((2, 49), True)
+    """
+    s0 = np.atleast_1d(mechanism.leading.s0_for_alpha(math.radians(alpha)))
+    sides = crease_sides(mechanism, mechanism.place(s0))
+    corrections = place_thick(mechanism, s0, thickness, sides).corrections[0]
+    p, m = len(mechanism.plates), mechanism.segments + 1
+    near, far = np.zeros((p, m)), np.zeros((p, m))
+    for ci, link in enumerate(mechanism.creases):
+        (near if link.boundary_a == "near" else far)[link.plate_a] = corrections[ci]
+        near[link.plate_b] = corrections[ci]
+    return near, far
+
+
+#: Undoing the thickness correction: the shifts are iterated until they change by less (m) ...
+UNDO_TOLERANCE = 1e-13
+#: ... within this many iterations.
+UNDO_ITERATIONS = 20
+#: A leading crease whose shifts still change by more than this (m) after the attachment
+#: tree's depth + 3 iterations is not the one the correction was computed from: the next is
+#: tried (the design angle is the reflection angle of the design's leading crease).
+PATIENCE_CHANGE = 1e-6
+
+
+def _shift_update(mechanism: Mechanism, near_shift, far_shift, thickness: float, alpha: float):
+    """One step of undoing the thickness correction: the shifts that take the zero-thickness
+    crease rows (planar) to the corrected rows read, measured on the current mechanism.
+
+    ``ccu fabricate``'s corrected crease points ``M`` (the rows read: the current rows moved
+    along their rulings by the current shifts) lie on the rulings, and their facing-face points
+    ``M + σ t/2 ν`` lie in the hinge plane P (:class:`~compas_ccu.thickness.axis_shift.
+    HingePlanes`): P is the plane through them. The zero-thickness crease lies in the plane Q,
+    P moved back by the mean offset ``mean(σ t/2 ν · n)``; it is where the rulings cross Q.
+    Only the placed ruling lines of the current patterns are used, not their crease rows: the
+    step fixes where a row lies along its rulings, which the forward correction
+    (:func:`thickness_shifts`) hardly sees (:func:`_undo_correction`).
+    """
+    s0 = np.atleast_1d(mechanism.leading.s0_for_alpha(math.radians(alpha)))
+    placed = mechanism.place(s0)
+    sides = crease_sides(mechanism, placed)
+    near, far = placed.near[0], placed.far[0]
+    half = 0.5 * float(thickness)
+    new_near, new_far = np.zeros_like(near_shift), np.zeros_like(far_shift)
+    for ci, link in enumerate(mechanism.creases):
+        a = link.plate_a
+        row, away = hinge_and_rulings(near[a], far[a], link.boundary_a)
+        shift = (near_shift if link.boundary_a == "near" else far_shift)[a]
+        offset = sides[ci, 0] * half * vertex_offsets(near[a], far[a])
+        hinge = row + shift[:, None] * away + offset
+        origin, normal, _ = fit_planes(hinge[None], np.asarray(link.design_normal))
+        origin, normal = origin[0], normal[0]
+        origin = origin - float((offset @ normal).mean()) * normal  # P back to Q
+        slope = away @ normal
+        with np.errstate(divide="ignore", invalid="ignore"):
+            along = -((row - origin) @ normal) / slope
+        new = np.where(np.abs(slope) > EXACT_RELATIVE, shift - along, 0.0)
+        (new_near if link.boundary_a == "near" else new_far)[a] = new
+        new_near[link.plate_b] = new
+    return new_near, new_far
+
+
+def _undo_correction(folder, members, links, thickness, *, alpha, reference, name, patience=None):
+    """The zero-thickness patterns whose thickness-corrected patterns are those read.
+
+    ``ccu fabricate`` moves every crease vertex along its ruling into the plate by the
+    correction ``F(P0)`` of the zero-thickness patterns ``P0`` (:func:`thickness_shifts`); the
+    rulings keep their lines, so ``P0 = P_read - s u`` with ``u`` the rulings' directions read
+    and ``s`` the solution of ``s = F(P_read - s u)``. Iterating ``F`` alone does not find it:
+    ``F`` hardly changes when a crease row slides along its rulings (the corrected crease is
+    where the rulings cross the hinge plane, wherever the row was), so that iteration stops
+    anywhere along such a slide (fig11a: 1.7e-5 m from the original). The planar step
+    :func:`_shift_update` fixes exactly those slides (a CCU crease is planar) but is nearly
+    blind to others (fig12b: it stops 1.2e-7 m off); each step alternates the two, which
+    converges to the common solution (one plate of the attachment tree per step).
+
+    Returns
+    -------
+    patterns : list of (near, far)
+    info : dict
+        ``thickness``, ``iterations``, ``largest`` (largest shift, m), ``change`` (the last
+        iteration's, m): the forward correction of the patterns returned differs from the
+        shifts undone by at most ``change``.
+
+    Raises
+    ------
+    DesignError
+        No convergence within :data:`UNDO_ITERATIONS` (folder, thickness and last change named).
+    """
+    read = [(m.near, m.far) for m in members]
+    ruling = [unit(far - near) for near, far in read]
+    p, m = len(members), len(members[0].near)
+    shifts = (np.zeros((p, m)), np.zeros((p, m)))
+
+    def undone(near_shift, far_shift):
+        return [
+            (near - sn[:, None] * u, far + sf[:, None] * u)
+            for (near, far), u, sn, sf in zip(read, ruling, near_shift, far_shift)
+        ]
+
+    def mechanism(near_shift, far_shift):
+        patterns = undone(near_shift, far_shift)
+        return _assemble(members, links, patterns, alpha=alpha, reference=reference, name=name)[1]
+
+    change = math.inf
+    for iteration in range(1, UNDO_ITERATIONS + 1):
+        planar = _shift_update(mechanism(*shifts), *shifts, thickness, alpha)
+        forward = thickness_shifts(mechanism(*planar), thickness, alpha)
+        change = float(
+            max(
+                np.abs(np.subtract(planar, shifts)).max(),
+                np.abs(np.subtract(forward, planar)).max(),
+            )
+        )
+        shifts = forward
+        if patience is not None and iteration >= patience and change > PATIENCE_CHANGE:
+            break  # this leading crease is not the one the correction was made with
+        if change <= UNDO_TOLERANCE:
+            info = {
+                "thickness": float(thickness),
+                "iterations": iteration,
+                "largest": float(np.abs(shifts).max()),
+                "change": change,
+            }
+            return undone(*shifts), info
+    raise DesignError(
+        f"{folder}: undoing the thickness correction of the cut patterns ({thickness:g} m "
+        f"plates, fabrication.json) did not converge in {iteration} iterations (the "
+        f"shifts still change by {change:.3g} m > {UNDO_TOLERANCE:g} m); import the patterns "
+        "as drawn (as_drawn=True, ccu import --as-drawn)"
+    )
+
+
+def _thickness(folder, manifest: dict, as_drawn: bool):
+    """The plate thickness whose correction the patterns carry: ``fabrication.json``'s, None
+    for hand-drawn folders (no ``fabrication.json``) and ``as_drawn``."""
+    if as_drawn:
+        return None
+    t = manifest.get("thickness")
+    if t is None:
+        return None
+    if isinstance(t, bool) or not isinstance(t, (int, float)) or not (math.isfinite(t) and t > 0):
+        raise DesignError(
+            f"{folder}: fabrication.json's thickness must be a length > 0 m, got {t!r} (as_drawn / "
+            "--as-drawn imports the patterns as drawn)"
+        )
+    return float(t)
+
+
+def _depth(members) -> int:
+    """Depth of the attachment tree (the leading plate: 0)."""
+    depth = [0] * len(members)
+    for k, member in enumerate(members[1:], start=1):
+        depth[k] = depth[member.parent] + 1
+    return max(depth)
+
+
+def _rows_as(member: _Member, other: _Member, undone) -> tuple:
+    """``undone`` (the zero-thickness rows of ``other``, the same plate in another attachment
+    tree) in the rows of ``member``: the same rows, swapped (the tree reaches the plate from
+    its other crease) and / or reversed, matched on the points read."""
+    best = None
+    for near_o, far_o, near_u, far_u in (
+        (other.near, other.far, *undone),
+        (other.far, other.near, undone[1], undone[0]),
+    ):
+        for step in (1, -1):
+            d = max(
+                np.abs(member.near - near_o[::step]).max(),
+                np.abs(member.far - far_o[::step]).max(),
+            )
+            if best is None or d < best[0]:
+                best = (d, near_u[::step], far_u[::step])
+    if best[0] > SNAP * member.plate.size:  # pragma: no cover - the same drawing read twice
+        raise DesignError(f"{member.plate.label}: its rows differ between two crease trees")
+    return best[1], best[2]
+
+
+def _chain(first: list, rest):
+    """The items of ``first``, then those of ``rest()`` (called only when they are needed)."""
+    yield from first
+    yield from rest()
+
+
+def _zero_thickness(folder, manifest, pairs, pair, patterns, *, alpha, reference, as_drawn):
+    """The members of the structure led by ``pair``, their zero-thickness patterns and the
+    undoing report (``None`` when the patterns are taken as drawn).
+
+    The correction is undone on the attachment tree of the design's leading crease, whose
+    reflection angle ``alpha`` is: ``pair``'s first, then every other crease's (the first that
+    converges; a folder records no leading crease). ``info["leading"]`` names it.
+    """
+    a_pattern, b_pattern = patterns[pair.key]
+    members, links = _structure_tree(pair, pairs, a_pattern, b_pattern)
+    thickness = _thickness(folder, manifest, as_drawn)
+    name = manifest.get("design") or Path(folder).name
+    if thickness is None:
+        return members, links, [(m.near, m.far) for m in members], None
+
+    def others():
+        # the other creases from the shallowest tree (a mechanism grows from the middle of
+        # its layout)
+        roots = []
+        for other in pairs:
+            if other.key != pair.key:  # (``pair`` may be a reordered copy)
+                other = _stack_upper_leads(other, patterns, manifest)
+                roots.append((other, *_structure_tree(other, pairs, *patterns[other.key])))
+        return sorted(roots, key=lambda root: _depth(root[1]))
+
+    first = None
+    for root, tree, tree_links in _chain([(pair, members, links)], others):
+        try:
+            undone, info = _undo_correction(
+                folder, tree, tree_links, thickness, alpha=alpha, reference=reference,
+                name=name, patience=_depth(tree) + 3,
+            )  # fmt: skip
+        except DesignError as exc:
+            first = first or exc
+            continue
+        info["leading"] = root.key
+        if tree is members:
+            return members, links, undone, info
+        where = {id(m.plate): k for k, m in enumerate(tree)}
+        mapped = [
+            _rows_as(m, tree[where[id(m.plate)]], undone[where[id(m.plate)]]) for m in members
+        ]
+        return members, links, mapped, info
+    raise DesignError(
+        f"{first} (tried every crease of the folder as the design's leading crease)"
+    ) from first
+
+
+def import_structure(
+    folder, *, crease=None, alpha=None, reference=0.5, units=None, as_drawn: bool = False
+):
     """The whole structure of a folder of plate files as one mechanism.
 
     The leading crease pair is imported as by :func:`import_design` (its design fixes the
@@ -793,9 +1190,12 @@ def import_structure(folder, *, crease=None, alpha=None, reference=0.5, units=No
     the parent's rulings across the crease's plane, with the plate's own ruling lengths). A
     design file cannot hold this (docs/import.md); the mechanism deploys it.
 
+    With ``fabrication.json``'s thickness (``ccu fabricate``'s folders), the thickness
+    correction of the cut patterns is undone first (:func:`import_design`).
+
     Parameters
     ----------
-    folder, crease, alpha, reference, units
+    folder, crease, alpha, reference, units, as_drawn
         As :func:`import_design`; ``crease`` names the leading crease.
 
     Returns
@@ -807,10 +1207,21 @@ def import_structure(folder, *, crease=None, alpha=None, reference=0.5, units=No
     DesignError
         As :func:`import_design` (except that the partner need not be the leading plate's
         mirror image), and a plate with more than two creases.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from compas_ccu.model import load_model
+    >>> from compas_ccu.fabrication.fabricate import fabricate
+    >>> out = tempfile.mkdtemp()
+    >>> _ = fabricate(load_model("examples/cone.toml"), out)
+    >>> structure = import_structure(out)
+    >>> undone = structure.report["thickness_correction"]
+    >>> structure.plate_ids, undone["thickness"], undone["iterations"], undone["leading"]
+    ([0, 1], 0.008, 1, 'crease 0')
     """
     folder = Path(folder)
     manifest, plates, pairs, pair, patterns = _select(folder, crease=crease, units=units)
-    a_pattern, b_pattern = patterns[pair.key]
     if alpha is None:
         alpha = manifest.get("alpha")
     if alpha is None:
@@ -818,79 +1229,27 @@ def import_structure(folder, *, crease=None, alpha=None, reference=0.5, units=No
             f"{folder}: no fabrication.json with the design angle: give the design reflection "
             "angle (alpha)"
         )
-    near_a, far_a, _ = a_pattern
-    document = {
-        "design": {"name": manifest.get("design") or folder.name},
-        "crease": {
-            "profile": "polyline",
-            "points": near_a.tolist(),
-            "segments": len(near_a) - 1,
-            "reference": float(reference),
-            "state": "flat",
-        },
-        "rulings": {"type": "explicit", "points": far_a.tolist()},
-        "deployment": {"alpha": float(alpha)},
-        "layout": {"type": "single"},
-    }
-    design = Design(document)
-    geometry = build(design)
-    leading = geometry.mechanism.leading
-    # the partner with its own ruling lengths, in the order of the leading crease
-    near_b, far_b, _ = b_pattern
-    if _row_order(pair.b, pair.crease_b, near_b, near_a, f"in {pair.a.label}"):
-        near_b, far_b = near_b[::-1], far_b[::-1]
-    links = [
-        geometry.mechanism.plates[0],
-        PlateLink(strip_intrinsics(near_b, far_b), 0, "near", "ccu", 0),
-    ]
-    creases = [CreaseLink(0, "near", 1, "ccu", True, (0.0, 0.0, 1.0))]
-    members = [(pair.a, pair.crease_a, far_a), (pair.b, pair.crease_b, far_b)]
-    done = {id(pair.a), id(pair.b)}
-    by_plate: dict = {}
-    for p in pairs:
-        by_plate.setdefault(id(p.a), []).append((p.crease_a, p.b, p.crease_b))
-        by_plate.setdefault(id(p.b), []).append((p.crease_b, p.a, p.crease_a))
-    k = 0
-    while k < len(members):
-        plate, near_crease, far_row = members[k]
-        others = [item for item in by_plate.get(id(plate), []) if item[0] is not near_crease]
-        if len(others) > 1:
-            raise DesignError(
-                f"{plate.label}: {len(others) + 1} creases; a CCU plate joins two creases "
-                "(its near and far boundary)"
-            )
-        for own, child, child_crease in others:
-            if id(child) in done:
-                continue  # a loop closes here: the mechanism places every plate once
-            d, _ = _distance_to_polyline(far_row, own.points)
-            if d.max() > SNAP * plate.size:
-                raise DesignError(
-                    f"{plate.label} CREASE #{own.handle}: the rulings of the plate do not end on "
-                    f"it ({d.max():.3g} m off)"
-                )
-            near_c, far_c, _ = crease_pattern(child, child_crease)
-            if _row_order(child, child_crease, near_c, far_row, f"in {plate.label}"):
-                near_c, far_c = near_c[::-1], far_c[::-1]
-            creases.append(CreaseLink(k, "far", len(links), "ccu", False, (0.0, 0.0, 1.0)))
-            links.append(
-                PlateLink(strip_intrinsics(near_c, far_c), k, "far", "ccu", len(creases) - 1)
-            )
-            members.append((child, child_crease, far_c))
-            done.add(id(child))
-        k += 1
-    mechanism = Mechanism(leading, links, creases)
-    ids = [m[0].plate_id if m[0].plate_id is not None else m[0].label for m in members]
+    members, links, undone, info = _zero_thickness(
+        folder, manifest, pairs, pair, patterns, alpha=alpha, reference=reference,
+        as_drawn=as_drawn,
+    )  # fmt: skip
+    name = manifest.get("design") or folder.name
+    design, mechanism = _assemble(
+        members, links, undone, alpha=alpha, reference=reference, name=name
+    )
+    ids = [m.plate.plate_id if m.plate.plate_id is not None else m.plate.label for m in members]
     report = {
         "crease": pair.key,
         "leading": pair.a.label,
         "partner": pair.b.label,
-        "attached": [m[0].label for m in members],
+        "attached": [m.plate.label for m in members],
         "plates": [p.label for p in plates],
+        "thickness_correction": info,
     }
     return ImportedStructure(mechanism, ids, design, report)
 
 
-def structure_round_trip_error(model, folder, *, crease=None) -> dict:
+def structure_round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> dict:
     """Fabricate -> import -> deploy for the whole structure (:func:`import_structure`).
 
     Both mechanisms are deployed to the model's design angle; every vertex of every plate is
@@ -901,7 +1260,7 @@ def structure_round_trip_error(model, folder, *, crease=None) -> dict:
     dict
         ``max`` (m), ``max_relative`` (to the structure's bounding-box diagonal), ``plates``.
     """
-    imported = import_structure(folder, crease=crease)
+    imported = import_structure(folder, crease=crease, as_drawn=as_drawn)
     alpha = math.radians(model.alpha_design)
     new = imported.mechanism.deploy(alpha)
     old = model.mechanism.deploy(alpha)
