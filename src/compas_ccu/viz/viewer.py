@@ -2,7 +2,7 @@
 
 :func:`viewer_figure` builds a plotly figure of a model along its deployment path, from the
 flat-folded stack (α = 0) to a target angle: plates, creases coloured by kind, rulings and
-(hidden at first) the cut patterns laid out on the ground next to the structure. A slider (with
+(hidden at first) the cut patterns laid out on the ground behind the structure. A slider (with
 Play / Pause) moves through the states; toggle buttons show and hide plates,
 creases, rulings and cut patterns. :func:`write_viewer` writes it as a single HTML file that works
 offline (plotly.js is bundled, nothing is loaded from the network).
@@ -181,15 +181,15 @@ def _pattern_offsets(flat: np.ndarray, n: int, gap: float) -> np.ndarray:
     return offsets
 
 
-def cut_pattern_layout(flat: np.ndarray, n: int, *, gap: float) -> np.ndarray:
+def cut_pattern_layout(flat: np.ndarray, n: int, *, gap: float, beside=None) -> np.ndarray:
     """(p, 2) translations that lay the cut patterns out compactly, without overlap.
 
     The plates are split into columns of consecutive plates; in every column each plate
     drops (−y) until it is ``gap`` below the plates above it (:func:`_pattern_offsets`: arcs
     nest in arcs), and the columns stand side by side, ``gap`` apart. The number of columns is
-    the one that makes the block most nearly square (the smallest larger side), so that many
-    plates neither make one long row nor one long column and the structure beside them stays
-    large on the screen.
+    the one that makes the whole picture (the structure's plan ``beside`` and the block in
+    front of it) most nearly square, the smallest larger side: many plates neither make one
+    long row nor one long column, and the structure beside them stays large on the screen.
 
     This is the viewer's own layout; it is kept apart from the figure so that the sheet
     nesting of the fabrication output can replace it (``viewer_figure(pattern_offsets=...)``).
@@ -202,6 +202,9 @@ def cut_pattern_layout(flat: np.ndarray, n: int, *, gap: float) -> np.ndarray:
         Segments per plate.
     gap : float
         Clearance between patterns, metres.
+    beside : (float, float), optional
+        Plan width (x) and depth (y) of the structure the block lies beside (behind it, +y, in
+        the viewer); default: none (the block alone is made square).
 
     Examples
     --------
@@ -227,7 +230,10 @@ def cut_pattern_layout(flat: np.ndarray, n: int, *, gap: float) -> np.ndarray:
             offsets[part, 0] = x - lo
             x += float(flat[part, :, 0].max()) - lo + gap
         moved = flat[..., :2] + offsets[:, None, :]
-        side = float(np.ptp(moved.reshape(-1, 2), axis=0).max())
+        width, depth = np.ptp(moved.reshape(-1, 2), axis=0)
+        if beside is not None:
+            width, depth = max(width, beside[0]), depth + beside[1] + 2.0 * gap
+        side = float(max(width, depth))
         if best is None or side < best[0] - 1e-9:
             best = (side, offsets)
     return best[1]
@@ -441,8 +447,11 @@ def viewer_figure(
     The states are ``numpy.linspace(0, alpha, steps + 1)``: from the flat-folded stack to the
     target; the figure opens on the last one. Every state is grounded (lowest point on
     ``z = 0``) and the axis ranges are fixed over all states, so the view does not jump. The cut
-    patterns (hidden at first) lie on the ground in front of the structure (−y), each plate
-    shifted so that none overlaps another; showing them widens the box to include them.
+    patterns (hidden at first) lie on the ground behind the structure (+y, so that the
+    structure stands in front of them, large), in the compact columns of
+    :func:`cut_pattern_layout` (or at ``pattern_offsets``), none overlapping another; showing
+    them widens the box to include them. A read-out under the scene gives α, span, rise and
+    plate length of the state shown (:func:`compas_ccu.key_figures.state_figures`).
 
     Traces, in order: plates (Mesh3d, two triangles per quad, alternating plate tones), plate
     edges (free boundaries and plate ends, thin dark lines), one crease trace per kind present
@@ -514,7 +523,8 @@ def viewer_figure(
     size = float(np.linalg.norm(hi - lo))
     fv = flat.vertices
     if pattern_offsets is None:
-        pattern_offsets = cut_pattern_layout(fv, n, gap=0.04 * size)
+        beside = (float(hi[0] - lo[0]), float(hi[1] - lo[1]))
+        pattern_offsets = cut_pattern_layout(fv, n, gap=0.02 * size, beside=beside)
     pattern_offsets = np.asarray(pattern_offsets, dtype=float)
     if pattern_offsets.shape != (p, 2):
         raise OptionError(
@@ -525,7 +535,7 @@ def viewer_figure(
     pattern[..., :2] += pattern_offsets[:, None, :]
     centre = 0.5 * (pattern[..., 0].min() + pattern[..., 0].max())
     shift = np.array(
-        [0.5 * (lo[0] + hi[0]) - centre, lo[1] - 0.08 * size - pattern[..., 1].max(), 0.0]
+        [0.5 * (lo[0] + hi[0]) - centre, hi[1] + 0.04 * size - pattern[..., 1].min(), 0.0]
     )
     pattern = pattern + shift
     pattern[..., 2] = 0.0
