@@ -156,37 +156,61 @@ def _face_values(values: np.ndarray, scene) -> np.ndarray:
     return values[np.arange(p)[:, None, None], scene.faces].mean(axis=-1)
 
 
-#: Sub-quads per quad side where a per-vertex field is painted (bilinear, like Gouraud shading).
-SUBDIVISIONS = 4
+#: Most sub-quads per quad where a per-vertex field is painted (bilinear, like Gouraud
+#: shading); they go to the quad direction(s) along which the field changes.
+SUBDIVISIONS = 16
+_COLOUR_STEP = 1.0 / 8.0  # largest change of a field within one sub-quad, of its colour range
 
 
-def _subdivide(quads: np.ndarray, corner_values: np.ndarray, s: int) -> tuple:
-    """Split quads into ``s x s`` bilinear sub-quads with the field at their centres.
+def _divisions(corner_values: np.ndarray, span: float) -> tuple:
+    """Sub-quads along the two quad directions (corner 0 -> 1, corner 0 -> 3): enough that no
+    sub-quad spans more than 1/8 of the colour range, at most :data:`SUBDIVISIONS` in all.
+
+    Examples
+    --------
+    >>> _divisions(np.array([[0.0, 0.0, 1.0, 1.0]]), 1.0)  # changes along 0 -> 3 only
+    (1, 8)
+    >>> _divisions(np.array([[0.0, 1.0, 2.0, 1.0]]), 1.0)
+    (4, 4)
+    """
+    v = np.asarray(corner_values, dtype=float)
+    step = _COLOUR_STEP * max(span, DIVISION_FLOOR)
+    along_u = np.nanmax(np.abs(np.r_[v[:, 1] - v[:, 0], v[:, 2] - v[:, 3]]), initial=0.0)
+    along_v = np.nanmax(np.abs(np.r_[v[:, 3] - v[:, 0], v[:, 2] - v[:, 1]]), initial=0.0)
+    su, sv = (max(1, math.ceil(x / step - 1e-9)) for x in (along_u, along_v))
+    while su * sv > SUBDIVISIONS:  # share the budget in proportion
+        su, sv = (max(1, x - 1) if x >= y else x for x, y in ((su, sv), (sv, su)))
+    return int(su), int(sv)
+
+
+def _subdivide(quads: np.ndarray, corner_values: np.ndarray, su: int, sv: int) -> tuple:
+    """Split quads into ``su x sv`` bilinear sub-quads with the field at their centres.
 
     Parameters
     ----------
     quads : (q, 4, 3) float
     corner_values : (q, 4) float
-    s : int
+    su, sv : int
+        Sub-quads along the quad directions corner 0 -> 1 and corner 0 -> 3.
 
     Returns
     -------
-    sub : (q, s * s, 4, 3) float
-    values : (q, s * s) float
+    sub : (q, su * sv, 4, 3) float
+    values : (q, su * sv) float
         The bilinear interpolation of the corner values at every sub-quad's centre.
     """
-    t = np.arange(s + 1) / s
-    i, j = np.meshgrid(np.arange(s), np.arange(s), indexing="ij")
+    tu, tv = np.arange(su + 1) / su, np.arange(sv + 1) / sv
+    i, j = np.meshgrid(np.arange(su), np.arange(sv), indexing="ij")
     i, j = i.ravel(), j.ravel()
-    # (s*s, 4) parameters (u, v) of the sub-quad corners, counter-clockwise like the quad
-    u = np.stack([t[i], t[i + 1], t[i + 1], t[i]], axis=1)
-    v = np.stack([t[j], t[j], t[j + 1], t[j + 1]], axis=1)
+    # (su*sv, 4) parameters (u, v) of the sub-quad corners, counter-clockwise like the quad
+    u = np.stack([tu[i], tu[i + 1], tu[i + 1], tu[i]], axis=1)
+    v = np.stack([tv[j], tv[j], tv[j + 1], tv[j + 1]], axis=1)
 
     def weights(u, v):  # bilinear weights of the quad corners 0, 1, 2, 3
         return np.stack([(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v], axis=-1)
 
     sub = np.einsum("kcq,fqd->fkcd", weights(u, v), quads)
-    centre = weights((t[i] + t[i + 1]) / 2, (t[j] + t[j + 1]) / 2)  # (s*s, 4)
+    centre = weights((tu[i] + tu[i + 1]) / 2, (tv[j] + tv[j + 1]) / 2)  # (su*sv, 4)
     return sub, corner_values @ centre.T
 
 
@@ -309,9 +333,10 @@ def draw_scene(
         # the colour range is that of the values themselves (vertex values, not face means)
         mappable = _mappable(values, vmin, vmax, cmap)
         if values.ndim == 2:
-            face_polys, sub_values = _subdivide(quads, values, SUBDIVISIONS)
+            su, sv = _divisions(values, mappable.norm.vmax - mappable.norm.vmin)
+            face_polys, sub_values = _subdivide(quads, values, su, sv)
             face_rgb = mappable.to_rgba(sub_values.ravel())[:, :3]
-            normals = np.repeat(normals, SUBDIVISIONS**2, axis=0)
+            normals = np.repeat(normals, su * sv, axis=0)
             face_polys = face_polys.reshape(-1, 4, 3)
         else:
             face_rgb = mappable.to_rgba(values)[:, :3]
