@@ -70,6 +70,8 @@ def figures(args) -> int:
     formats = comma_list(args.format, FIGURE_FORMATS, "--format")
     only = comma_list(args.only, FIGURE_NAMES, "--only") if args.only else list(FIGURE_NAMES)
     size = _size(args.size)
+    if args.dpi > 2400:
+        raise OptionError(f"--dpi must be from 10 to 2400, got {args.dpi}")
     views = ("perspective", "plan", "elevation", "side")
     if args.view is not None:
         camera(args.view)  # a bad --view fails before any work
