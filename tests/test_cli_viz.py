@@ -51,6 +51,12 @@ def test_figures_colour_by_values_from_a_file(tmp_path, cone_model):
         (["--color-by", "stress"], "--color-by must be kind, curvature or alpha, got 'stress'"),
         (["--values", "missing.npy"], "cannot read --values 'missing.npy'"),
         (["--alpha", "95"], "beyond the deployment limit"),
+        (["--view", "top-left"], "unknown view 'top-left'"),
+        (["--view", "30,120"], "view elevation must be within -90 to 90 degrees, got '30,120'"),
+        (["--size", "12by7"], "--size must be WIDTHxHEIGHT in inches, e.g. 12x7, got '12by7'"),
+        (["--size", "0x7"], "--size must be positive inches up to 200, got '0x7'"),
+        (["--dpi", "5"], "--dpi must be >= 10, got 5"),
+        (["--dpi", "5000"], "--dpi must be from 10 to 2400, got 5000"),
     ],
 )
 def test_figures_errors_name_the_cause(tmp_path, capsys, extra, message):
@@ -64,6 +70,27 @@ def test_figures_refuse_values_of_the_wrong_shape(tmp_path, capsys):
     args = ["figures", CONE, "--out", str(tmp_path), "--only", "views"]
     assert main(args + ["--values", str(tmp_path / "bad.npy")]) == 2
     assert "per-vertex values must have shape (2, 98)" in capsys.readouterr().err
+
+
+def test_figures_dpi_size_and_view_options(tmp_path):
+    # --dpi and --size set the pixel size of the PNG (today: always 150 dpi, each figure's size)
+    out = tmp_path / "a"
+    args = ["figures", VAULT, "--out", str(out), "--only", "views", "--color-by", "kind"]
+    assert main(args + ["--dpi", "40", "--size", "6x4", "--format", "png"]) == 0
+    assert Image.open(out / "views-kind.png").size == (240, 160)
+    out = tmp_path / "b"
+    args[3] = str(out)
+    assert main(args + ["--dpi", "80", "--view", "iso", "--format", "png,svg"]) == 0
+    w, h = Image.open(out / "views-kind.png").size
+    assert (w, h) == (12 * 80, 7 * 80)
+    # one camera (the iso view), its title on the one panel; SVG text stays text
+    svg = (out / "views-kind.svg").read_text(encoding="utf-8")
+    assert svg.count("<text") >= 3 and ">iso<" in svg.replace("\n", "")
+    assert "span 2.50 m · rise 1.00 m · plate length 2.72 m" in svg
+    out = tmp_path / "c"
+    args[3] = str(out)
+    assert main(args + ["--dpi", "40", "--view=-90,0", "--format", "png"]) == 0
+    assert_picture(load_rgb(out / "views-kind.png"), min_ink=0.05, min_colours=20)
 
 
 def test_animate_writes_the_gif_with_the_frame_count(tmp_path, capsys):
@@ -86,6 +113,14 @@ def test_view_writes_one_offline_page(tmp_path, capsys):
     page = (tmp_path / "viewer.html").read_text(encoding="utf-8")
     assert "works offline" in capsys.readouterr().out
     assert '<script src="http' not in page and '<link href="http' not in page
+
+
+def test_view_opens_on_the_chosen_camera(tmp_path, capsys):
+    assert main(["view", CONE, "--out", str(tmp_path), "--steps", "2", "--view", "top"]) == 0
+    html = (tmp_path / "viewer.html").read_text(encoding="utf-8")
+    assert '"projection":{"type":"orthographic"}' in html.replace(" ", "")
+    assert main(["view", CONE, "--out", str(tmp_path / "x"), "--view", "nowhere"]) == 2
+    assert "unknown view 'nowhere'" in capsys.readouterr().err
 
 
 def test_sheet_of_several_designs(tmp_path):

@@ -2,23 +2,29 @@
 
 from __future__ import annotations
 
+from xml.etree import ElementTree
+
 import numpy as np
 import pytest
 
 pytest.importorskip("matplotlib")
 
+from matplotlib.transforms import Affine2D  # noqa: E402
+
 from compas_ccu.design import load_design  # noqa: E402
-from compas_ccu.model import load_model
+from compas_ccu.key_figures import state_figures  # noqa: E402
+from compas_ccu.model import load_model  # noqa: E402
+from compas_ccu.strips.curvature import plate_curvature  # noqa: E402
 from compas_ccu.viz import colors as C  # noqa: E402
 from compas_ccu.viz.export import save_figure  # noqa: E402
 from compas_ccu.viz.patterns import pattern_layout, plate_outline, plot_cut_patterns  # noqa: E402
 from compas_ccu.viz.planarity import plot_planarity  # noqa: E402
 from compas_ccu.viz.quadrants import plot_quadrants, quadrant_pairs  # noqa: E402
-from compas_ccu.viz.render import Camera, camera, value_range  # noqa: E402
+from compas_ccu.viz.render import Camera, camera, colour_scale, value_range  # noqa: E402
 from compas_ccu.viz.scene import scene_from_structure  # noqa: E402
 from compas_ccu.viz.sequence import plot_deployment_sequence  # noqa: E402
 from compas_ccu.viz.sheet import plot_contact_sheet  # noqa: E402
-from compas_ccu.viz.views import plot_views  # noqa: E402
+from compas_ccu.viz.views import dimension_points, plot_views  # noqa: E402
 from conftest import EXAMPLES  # noqa: E402
 from imagecheck import assert_picture, has_colour, ink_fraction, load_rgb  # noqa: E402
 
@@ -33,6 +39,13 @@ def vault(vault_model):
 def png(fig, tmp_path, name="fig"):
     (path,) = save_figure(fig, tmp_path / name, formats=("png",), dpi=DPI)
     return load_rgb(path)
+
+
+def crop(rgb, fig, ax, dpi):
+    """The pixels of one axes of a figure saved at ``dpi``."""
+    box = ax.get_window_extent().transformed(Affine2D().scale(dpi / fig.dpi))
+    h = rgb.shape[0]
+    return rgb[int(h - box.y1) : int(h - box.y0), int(box.x0) : int(box.x1)]
 
 
 def expected_size(fig):
@@ -55,12 +68,91 @@ def test_views_by_curvature_have_a_colour_bar_with_the_plate_curvature(vault, tm
     bar = fig.axes[-1]
     assert "curvature" in bar.get_ylabel()
     lo, hi = bar.get_ylim()
-    # the vault's plates are cylinders: |kappa| = 0.4282 1/m everywhere (a constant field gets
-    # a +-1 % range, not a gradient of rounding noise)
-    assert lo == pytest.approx(0.4282 * 0.99, rel=1e-3) and hi == pytest.approx(
-        0.4282 * 1.01, rel=1e-3
-    )
-    assert_picture(png(fig, tmp_path), size=expected_size(fig), min_ink=0.15)
+    # the vault's plates are conical (orthogonal rulings): |kappa| varies across every plate,
+    # 0.390 to 0.466 1/m at the vertices. The bar shows that range (not the 0.424-0.432 of face
+    # means), the same maximum as the bending check (thickness_figures' bending_curvature)
+    kappa = np.abs(plate_curvature(np.asarray(vault.deployed)))
+    assert (lo, hi) == (kappa.min(), kappa.max())
+    assert lo == pytest.approx(0.3904, abs=1e-4) and hi == pytest.approx(0.4660, abs=1e-4)
+    rgb = png(fig, tmp_path)
+    assert_picture(rgb, size=expected_size(fig), min_ink=0.15)
+    # painted per vertex (bilinear sub-quads): both ends of the map are on the plates
+    assert has_colour(rgb, "#440154", tol=50) and has_colour(rgb, "#fde725", tol=50)
+
+
+def test_a_constant_field_gets_a_wide_scale_that_says_constant(vault, tmp_path):
+    # the vault's alpha is 30 deg along every crease: today drawn at the middle of a 29.7-30.3
+    # scale, plasma's pink, next to the anticlastic pink of the kind colouring
+    fig = plot_views(vault, color_by="alpha")
+    bar = fig.axes[-1]
+    assert bar.get_ylim() == pytest.approx((0.0, 30.0), abs=1e-9)
+    assert bar.get_ylabel().endswith(": constant = 30")
+    scene = crop(png(fig, tmp_path), fig, fig.axes[0], DPI)  # the perspective, not the bar
+    assert has_colour(scene, "#f0f921", tol=30, min_pixels=200)  # plasma's top: yellow
+    assert not has_colour(scene, C.KIND_COLORS["anticlastic"], tol=60, min_pixels=5)
+    assert colour_scale(np.full(4, -2.0)) == (-2.0, 0.0, -2.0)
+    assert colour_scale(np.zeros(3)) == (-1.0, 1.0, 0.0)
+    with pytest.raises(ValueError, match="vmin < vmax, got 3.0 to 1.0"):
+        colour_scale([1.0, 2.0], vmin=3.0, vmax=1.0)
+
+
+def test_stacked_plates_show_one_plate_not_stripes_of_another(vault_model, tmp_path):
+    # alpha = 0: all plates coincide; depth ties went either way quad by quad, so stripes of
+    # the lighter plate tone showed through the darker one (5.8 % of the plate pixels)
+    fig = plot_views(vault_model.deploy(0.0), views=("perspective",), figsize=(8, 5))
+    (path,) = save_figure(fig, tmp_path / "stack", formats=("png",), dpi=100)
+    rgb = load_rgb(path).reshape(-1, 3).astype(int)
+    tones = np.array([[int(t[i : i + 2], 16) for i in (1, 3, 5)] for t in C.PLATE_TONES])
+    colours, counts = np.unique(rgb, axis=0, return_counts=True)
+    plate = colours[np.argsort(-counts)[1]]  # the most common after the white background
+    # the shading factor of the flat stack: the same for both tones, found from the tone on top
+    shades = plate / tones  # (2, 3): one row is three equal ratios, that of the tone on top
+    top = int(np.argmin(np.ptp(shades, axis=1)))
+    other = np.round(tones[1 - top] * shades[top].mean())
+    near_other = int((np.abs(rgb - other).max(axis=1) <= 3).sum())
+    near_plate = int((np.abs(rgb - plate).max(axis=1) <= 3).sum())
+    assert near_plate > 20_000 and near_other < 0.002 * near_plate, (near_plate, near_other)
+
+
+def test_crease_lines_stay_apart_at_small_alpha(vault_model, tmp_path):
+    # the sequence's alpha = 6 deg panel at the CLI's 150 dpi: the five synclastic creases were
+    # one blue band (no column of the panel crossed 4 separate blue lines); now thinner lines
+    fig = plot_deployment_sequence(vault_model, count=6)
+    (path,) = save_figure(fig, tmp_path / "seq", formats=("png",), dpi=150)
+    ax = fig.axes[1]
+    assert ax.get_title() == "α = 6°"
+    panel = crop(load_rgb(path), fig, ax, 150).astype(int)
+    blue = (panel[..., 2] - panel[..., 0]) > 40  # bluer than plates, page and pink
+    runs = (blue[1:] & ~blue[:-1]).sum(axis=0) + blue[0]  # separate blue lines per column
+    crossed = runs[blue.any(axis=0)]
+    assert len(crossed) > 100
+    assert (crossed >= 4).mean() > 0.5, np.bincount(crossed)
+
+
+def test_views_carry_span_and_rise_dimensions_from_the_key_figures(vault, tmp_path):
+    fig = plot_views(vault)
+    figures = state_figures(vault)
+    assert fig._suptitle.get_text().endswith("span 2.50 m · rise 1.00 m · plate length 2.72 m")
+    assert figures["crease_span"] == pytest.approx(2.5) and figures["crease_rise"] == 1.0
+    by_view = {
+        ax.get_title(): [t.get_text().strip() for t in ax.texts if t.get_text()]
+        for ax in fig.axes[:4]
+    }
+    assert by_view["elevation"] == ["span 2.50 m", "rise 1.00 m"]
+    assert by_view["perspective"] == by_view["plan"] == by_view["side"] == []
+    # the dimension lines are drawn where the key figures measure: the leading crease
+    for name in ("vault", "cone", "quadrants"):
+        s = load_model(EXAMPLES / f"{name}.toml").deploy()
+        d = dimension_points(s.deployed, len(s.deployed[0]) // 2 - 1)
+        f = state_figures(s)
+        assert np.linalg.norm(d["span"][1] - d["span"][0]) == pytest.approx(f["crease_span"])
+        assert np.linalg.norm(d["rise"][1] - d["rise"][0]) == pytest.approx(f["crease_rise"])
+    # SVG text as <text>, not outlines: read with the standard library's XML parser
+    (svg,) = save_figure(fig, tmp_path / "v", formats=("svg",))
+    root = ElementTree.parse(svg).getroot()
+    texts = ["".join(t.itertext()).strip() for t in root.iter("{http://www.w3.org/2000/svg}text")]
+    assert "span 2.50 m" in texts and "rise 1.00 m" in texts and "elevation" in texts
+    assert len(texts) >= 10
 
 
 def test_views_by_a_per_vertex_value(vault, tmp_path):
@@ -78,8 +170,10 @@ def test_views_refuse_bad_values_and_modes(vault):
         plot_views(vault, color_by=np.zeros((3, 3)))
     with pytest.raises(ValueError, match="color_by must be one of"):
         plot_views(vault, color_by="stress")
-    with pytest.raises(ValueError, match="unknown view 'top'"):
-        plot_views(vault, views=("top",))
+    with pytest.raises(ValueError, match="unknown view 'above'"):
+        plot_views(vault, views=("above",))
+    with pytest.raises(ValueError, match="two numbers of degrees, got '30,x'"):
+        plot_views(vault, views=("30,x",))
 
 
 def test_cut_patterns_do_not_overlap_and_show_every_plate(vault, tmp_path):
@@ -97,6 +191,8 @@ def test_cut_patterns_do_not_overlap_and_show_every_plate(vault, tmp_path):
     assert sum(t.startswith("c") for t in texts) == 2 * 9  # each crease on both of its plates
     total = sum(p.area for p in polys)
     assert f"{total:.2f} m²" in fig.axes[0].get_title(loc="left")
+    assert fig.axes[0].get_title(loc="left").endswith("plate length 2.72 m")
+    assert sum(t.endswith("\n2.72 m long") for t in texts) == 10
     rgb = png(fig, tmp_path)
     assert_picture(rgb, size=expected_size(fig), min_ink=0.1)
     assert has_colour(rgb, C.KIND_COLORS["anticlastic"]) and has_colour(
@@ -180,6 +276,15 @@ def test_save_figure_formats(vault, tmp_path):
         save_figure(fig, tmp_path / "x", formats=("jpeg",))
 
 
+def test_named_views_and_azimuth_elevation():
+    assert camera("top") == camera("plan") and camera("front") == camera("elevation")
+    iso = camera("iso")
+    # isometric: the three axes foreshortened alike
+    lengths = np.linalg.norm(iso.axes()[:2].T, axis=1)
+    np.testing.assert_allclose(lengths, lengths[0], rtol=1e-12)
+    assert camera(" 30 , 20 ") == Camera(30.0, 20.0, None)
+
+
 def test_camera_projection_and_views():
     # orthographic plan: x right, y up; elevation: x right, z up
     xy, depth = camera("plan").project(np.array([[1.0, 2.0, 3.0]]), np.zeros(3), 1.0)
@@ -195,7 +300,7 @@ def test_camera_projection_and_views():
 
 
 def test_value_range_of_a_constant_field():
-    assert value_range(np.full(5, 2.0)) == pytest.approx((1.98, 2.02))
+    assert value_range(np.full(5, 2.0)) == (0.0, 2.0)
     assert value_range(np.array([1.0, 3.0])) == (1.0, 3.0)
     assert value_range(np.array([1.0, 3.0]), vmin=0.0) == (0.0, 3.0)
 

@@ -36,8 +36,11 @@ import numpy as np
 import pytest
 
 from browser import CHROMIUM_ARGS, chromium
+from compas_ccu.key_figures import state_figures
+from compas_ccu.model import load_model
 from compas_ccu.viz.colors import KIND_COLORS
-from compas_ccu.viz.viewer import VIEWER_DIV_ID, viewer_figure, write_viewer
+from compas_ccu.viz.viewer import VIEWER_DIV_ID, cut_pattern_layout, viewer_figure, write_viewer
+from conftest import EXAMPLES
 
 STEPS = 12
 VIEWPORT = {"width": 1280, "height": 800}
@@ -92,30 +95,42 @@ def viewer_html(tmp_path_factory, vault_model):
 
 
 @pytest.fixture(scope="module")
-def viewer(viewer_html):
-    """The vault viewer open in one headless Chromium page, with its console / request log."""
+def chromium_browser():
+    """One headless Chromium for the module (playwright's sync API allows one at a time)."""
     exe = _chromium()
     if not exe:
         yield _NoBrowser()
         return
     from playwright.sync_api import sync_playwright
 
-    log = SimpleNamespace(console=[], errors=[], requests=[])
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS, headless=True)
         try:
-            page = browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
-            page.on("console", lambda m: log.console.append((m.type, m.text)))
-            page.on("pageerror", lambda e: log.errors.append(str(e)))
-            page.on("request", lambda r: log.requests.append(r.url))
-            # recorded above; never let the page reach the network
-            page.route(re.compile(r"^(https?|wss?|ftp):"), lambda route: route.abort())
-            page.goto(viewer_html.as_uri())
-            page.wait_for_function(READY, timeout=30_000)
-            _settle(page)
-            yield SimpleNamespace(page=page, log=log, path=viewer_html)
+            yield browser
         finally:
             browser.close()
+
+
+@pytest.fixture(scope="module")
+def viewer(viewer_html, chromium_browser):
+    """The vault viewer open in one headless Chromium page, with its console / request log."""
+    if isinstance(chromium_browser, _NoBrowser):
+        yield chromium_browser
+        return
+    log = SimpleNamespace(console=[], errors=[], requests=[])
+    page = chromium_browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
+    try:
+        page.on("console", lambda m: log.console.append((m.type, m.text)))
+        page.on("pageerror", lambda e: log.errors.append(str(e)))
+        page.on("request", lambda r: log.requests.append(r.url))
+        # recorded above; never let the page reach the network
+        page.route(re.compile(r"^(https?|wss?|ftp):"), lambda route: route.abort())
+        page.goto(viewer_html.as_uri())
+        page.wait_for_function(READY, timeout=30_000)
+        _settle(page)
+        yield SimpleNamespace(page=page, log=log, path=viewer_html)
+    finally:
+        page.close()
 
 
 # -- helpers ----------------------------------------------------------------------------------
@@ -234,7 +249,7 @@ def test_figure_states_and_arguments(vault_model):
     assert np.nanmax(np.abs(zs)) == 0.0
     structure_y = np.concatenate([np.asarray(f.data[0].y, float) for f in fig.frames])
     cut_y = np.asarray(cut[0].y, float)
-    assert cut_y.max() < structure_y.min()
+    assert cut_y.min() > structure_y.max()  # behind the structure (+y), seen past it
 
     with pytest.raises(ValueError, match=r"steps.*\b0\b"):
         viewer_figure(vault_model, steps=0)
@@ -244,6 +259,74 @@ def test_figure_states_and_arguments(vault_model):
         viewer_figure(vault_model, alpha=float("nan"))
     with pytest.raises(DeploymentLimitError):
         viewer_figure(vault_model, alpha=95.0, steps=1)
+
+
+def test_read_out_per_state_and_readable_slider(vault_model):
+    fig = viewer_figure(vault_model, steps=24)
+    # one read-out per state, from the state's key figures (the slider's own value is hidden)
+    states = vault_model.path(np.linspace(0.0, 30.0, 25))
+    for frame, s in zip(fig.frames, states):
+        (note,) = frame.layout.annotations
+        f = state_figures(s)
+        assert note.text == (
+            f"α = {s.alpha:.4g}° · span {f['crease_span']:.2f} m · rise {f['crease_rise']:.2f} m"
+            f" · plate length {f['plate_length']:.2f} m"
+        )
+    assert fig.layout.annotations[0].text == fig.frames[-1].layout.annotations[0].text
+    assert fig.layout.sliders[0].currentvalue.visible is False
+    # 25 steps: 7 labels (every 5 deg), not 25 crowding ones; axes readable
+    labels = [st.label for st in fig.layout.sliders[0].steps]
+    assert [x for x in labels if x] == ["0°", "5°", "10°", "15°", "20°", "25°", "30°"]
+    assert fig.layout.scene.xaxis.tickfont.size >= 12 and fig.layout.scene.xaxis.nticks == 6
+    assert fig.layout.scene.zaxis.title.font.size >= 14
+    # a named camera: orthographic from the front (-y)
+    cam = viewer_figure(vault_model, steps=1, view="front").layout.scene.camera
+    assert cam.projection.type == "orthographic" and cam.eye.y < 0 and abs(cam.eye.x) < 1e-12
+
+
+def _outlines(pattern: np.ndarray, n: int) -> list:
+    from shapely.geometry import Polygon
+
+    order = np.r_[np.arange(n + 1), np.arange(2 * n + 1, n, -1)]
+    return [Polygon(p[order, :2]) for p in pattern]
+
+
+def _overlap(polys) -> float:
+    return max(
+        (polys[i].intersection(polys[j]).area for i in range(len(polys)) for j in range(i)),
+        default=0.0,
+    )
+
+
+@pytest.fixture(scope="module")
+def vault22(tmp_path_factory):
+    """The vault with 22 plates (the issue's case: one long row of cut patterns)."""
+    text = (
+        (EXAMPLES / "vault.toml").read_text(encoding="utf-8").replace("plates = 10", "plates = 22")
+    )
+    path = tmp_path_factory.mktemp("vault22") / "vault22.toml"
+    path.write_text(text.replace('name = "vault"', 'name = "vault22"'), encoding="utf-8")
+    return load_model(path)
+
+
+def test_cut_pattern_layout_is_compact_and_without_overlap(vault_model, vault22):
+    for model in (vault_model, vault22):
+        s = model.deploy()
+        flat, n = np.asarray(s.flat), model.segments
+        pts = np.asarray(s.deployed).reshape(-1, 3)
+        size = float(np.linalg.norm(np.ptp(pts, axis=0)))
+        plan = np.ptp(pts[:, :2], axis=0)
+        offsets = cut_pattern_layout(flat, n, gap=0.02 * size, beside=plan)
+        moved = flat.copy()
+        moved[..., :2] += offsets[:, None, :]
+        polys = _outlines(moved, n)
+        assert all(p.is_valid for p in polys) and _overlap(polys) == 0.0
+        # measured: the vault's block 5.5 x 3.0 m, the 22-plate vault's 8.3 x 4.7 m (size 3.8 m);
+        # one nested column (the layout before) was 13.7 m deep for 22 plates
+        block = np.ptp(moved[..., :2].reshape(-1, 2), axis=0)
+        assert block.max() < 2.5 * size, (block, size)
+    with pytest.raises(ValueError, match=r"pattern_offsets must have shape \(22, 2\)"):
+        viewer_figure(vault22, steps=1, pattern_offsets=np.zeros((3, 2)))
 
 
 # -- in the browser ---------------------------------------------------------------------------
@@ -284,8 +367,9 @@ def test_slider_moves_through_the_states(viewer):
     page.wait_for_function(f"() => {GD}._fullLayout.sliders[0].active === 0")
     page.wait_for_function(f"(before) => {PLATES_Z} !== before", arg=z_before)
     _settle(page)
-    current = page.locator(f"#{VIEWER_DIV_ID} g.slider-group > text.slider-label").text_content()
-    assert current.endswith("α = 0°"), current
+    # the read-out of the state (α, span, rise, plate length) follows the slider
+    current = page.locator(f"#{VIEWER_DIV_ID} g.annotation-text-g").first.text_content()
+    assert current == "α = 0° · span 2.72 m · rise 0.90 m · plate length 2.72 m", current
     folded_xyz = _plates(page)
     assert _flatness(folded_xyz) < 1e-5  # α = 0: all plates in one plane (float32 data)
     folded_img = _shot(page, "folded")
@@ -343,10 +427,10 @@ def test_cut_patterns_toggle(viewer):
     # every crease appears on both of its plates' patterns: many more anticlastic pixels
     assert _kind_pixels(shown, "anticlastic") > 2 * _kind_pixels(start, "anticlastic")
     assert _kind_pixels(shown, "synclastic") > MIN_KIND_PIXELS
-    # the box grew to hold the patterns, which lie on the ground in front (-y)
+    # the box grew to hold the patterns, which lie on the ground behind the structure (+y)
     cut_y = _array(page.evaluate(f"() => {GD}.data.find(t => t.legendgroup === 'cut').y"))
     wide = page.evaluate(f"() => {GD}._fullLayout.scene.yaxis.range.slice()")
-    assert wide[0] < y_range[0] and wide[0] <= cut_y.min() and cut_y.max() < y_range[0]
+    assert wide[1] > y_range[1] and wide[1] >= cut_y.max() and cut_y.min() > y_range[1]
 
     _click_button(page, "Cut patterns")
     page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === false)")
@@ -366,3 +450,50 @@ def test_play_deploys_from_the_folded_stack(viewer):
     page.wait_for_function(f"() => !{GD}._transitionData._animationRaf")
     _settle(page)
     assert _flatness(_plates(page)) > 1e-2
+
+
+@pytest.mark.slow
+def test_cut_patterns_leave_the_structure_visible(vault22, tmp_path, chromium_browser):
+    """22 plates: with the cut patterns shown the structure keeps a good part of its screen area
+    and the patterns plotted in the page do not overlap."""
+    path = write_viewer(vault22, tmp_path / "vault22.html", steps=2)
+    ready = READY.replace(f"=== {STEPS + 1}", "=== 3")
+    page = chromium_browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
+    try:
+        page.goto(path.as_uri())
+        page.wait_for_function(ready, timeout=30_000)
+        _settle(page)
+
+        def structure_pixels(name):
+            """Pixels that change when the structure (plates, creases, rulings) is hidden."""
+            shown = _shot(page, name)
+            for label in ("Plates", "Creases", "Rulings"):
+                _click_button(page, label)
+            page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v !== true)")
+            _settle(page)
+            hidden = _shot(page, name + "-hidden")
+            for label in ("Plates", "Creases", "Rulings"):
+                _click_button(page, label)
+            page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v === true)")
+            _settle(page)
+            return int((np.abs(shown.astype(int) - hidden.astype(int)).max(axis=2) > 24).sum())
+
+        alone = structure_pixels("22-alone")
+        _click_button(page, "Cut patterns")
+        page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
+        _settle(page)
+        with_cut = structure_pixels("22-cut")
+        # the patterns as plotted: x, y of the cut Mesh3d, one plate after the other
+        xy = page.evaluate(
+            f"() => {{const t = {GD}.data.find(t => t.legendgroup === 'cut'); return [t.x, t.y];}}"
+        )
+    finally:
+        page.close()
+    # measured: 140 000 px alone, 20 100 px with the patterns (14 %); the layout before (one
+    # nested column in front, an 18 m deep box) left 2 200 px (1.5 %)
+    assert alone > 50_000
+    assert with_cut > 0.08 * alone, (with_cut, alone)
+    x, y = (_array(a) for a in xy)
+    n = vault22.segments
+    pattern = np.stack([x, y], axis=1).reshape(22, 2 * n + 2, 2)
+    assert _overlap(_outlines(pattern, n)) < 1e-9

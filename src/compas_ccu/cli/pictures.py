@@ -20,6 +20,7 @@ from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
 from compas_ccu.viz.patterns import plot_cut_patterns
 from compas_ccu.viz.planarity import plot_planarity
 from compas_ccu.viz.quadrants import plot_quadrants
+from compas_ccu.viz.render import camera
 from compas_ccu.viz.report import write_report
 from compas_ccu.viz.sequence import plot_deployment_sequence
 from compas_ccu.viz.sheet import plot_contact_sheet
@@ -48,29 +49,55 @@ def _colorings(args) -> list:
     return colorings
 
 
+def _size(text):
+    """``--size WxH`` (inches) as (w, h), or None."""
+    if text is None:
+        return None
+    try:
+        w, h = (float(x) for x in text.lower().replace("×", "x").split("x"))
+    except ValueError:
+        raise OptionError(
+            f"--size must be WIDTHxHEIGHT in inches, e.g. 12x7, got {text!r}"
+        ) from None
+    if not (0.0 < w <= 200.0 and 0.0 < h <= 200.0):
+        raise OptionError(f"--size must be positive inches up to 200, got {text!r}")
+    return w, h
+
+
 def figures(args) -> int:
     need_viz("figures")
 
     formats = comma_list(args.format, FIGURE_FORMATS, "--format")
     only = comma_list(args.only, FIGURE_NAMES, "--only") if args.only else list(FIGURE_NAMES)
+    size = _size(args.size)
+    if args.dpi > 2400:
+        raise OptionError(f"--dpi must be from 10 to 2400, got {args.dpi}")
+    views = ("perspective", "plan", "elevation", "side")
+    if args.view is not None:
+        camera(args.view)  # a bad --view fails before any work
+        views = (args.view,)
     model = load_model(args.design)
     structure = model.deploy(args.alpha)
     alpha = structure.alpha
     out = Path(args.out)
     written = []
+
+    def save(fig, stem):
+        return save_figure(fig, out / stem, formats=formats, dpi=args.dpi, size=size)
+
     if "views" in only:
         for name, color_by in _colorings(args):
-            fig = plot_views(structure, color_by=color_by, label=args.label)
-            written += save_figure(fig, out / f"views-{name}", formats=formats)
+            fig = plot_views(structure, color_by=color_by, label=args.label, views=views)
+            written += save(fig, f"views-{name}")
     makers = {
         "cut-patterns": lambda: plot_cut_patterns(structure),
-        "sequence": lambda: plot_deployment_sequence(model, alpha=alpha),
+        "sequence": lambda: plot_deployment_sequence(model, alpha=alpha, view=views[0]),
         "quadrants": lambda: plot_quadrants(model.design, alpha=alpha),
         "planarity": lambda: plot_planarity(model, alpha=alpha),
     }
     for name in only:
         if name in makers:
-            written += save_figure(makers[name](), out / name, formats=formats)
+            written += save(makers[name](), name)
     for path in written:
         say(args, f"wrote {path}")
     return 0
@@ -103,8 +130,12 @@ def animate(args) -> int:
 def view(args) -> int:
     need_viz("view")
 
+    if args.view is not None:
+        camera(args.view)  # a bad --view fails before any work
     model = load_model(args.design)
-    path = write_viewer(model, Path(args.out) / "viewer.html", steps=args.steps, alpha=args.alpha)
+    path = write_viewer(
+        model, Path(args.out) / "viewer.html", steps=args.steps, alpha=args.alpha, view=args.view
+    )
     say(args, f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, works offline)")
     return 0
 
@@ -163,6 +194,10 @@ def report(args) -> int:
 
 
 FORMATS = option("--format", default="png,svg", help="png, svg, pdf (default png,svg)")
+VIEW_HELP = (
+    "camera: perspective, plan (= top), elevation (= front), side, iso, or AZIMUTH,ELEVATION "
+    "in degrees (orthographic)"
+)
 
 COMMANDS = (
     Command(
@@ -188,6 +223,24 @@ COMMANDS = (
             ),
             option("--label", default=None, help="colour bar label for --values"),
             option("--only", default=None, help="comma list of " + ", ".join(FIGURE_NAMES)),
+            option(
+                "--view",
+                default=None,
+                help=VIEW_HELP + "; the 3D views and the sequence show this one camera "
+                "(default: perspective, plan, elevation and side)",
+            ),
+            option(
+                "--dpi",
+                type=int,
+                minimum=10,
+                default=150,
+                help="PNG resolution, dots per inch (default 150)",
+            ),
+            option(
+                "--size",
+                default=None,
+                help="figure size WIDTHxHEIGHT in inches, e.g. 12x7 (default: each figure's own)",
+            ),
             FORMATS,
             QUIET,
         ),
@@ -228,6 +281,7 @@ COMMANDS = (
                 "--steps", limit="states", type=int, default=24, help="slider steps (default 24)"
             ),
             option("--alpha", type=float, default=None, help="last state, degrees"),
+            option("--view", default=None, help=VIEW_HELP + " (default: perspective)"),
             QUIET,
         ),
         view,

@@ -22,6 +22,7 @@ from compas_ccu.key_figures.measure import (
     key_figures,
     path_figures,
     plate_area,
+    state_figures,
     thickness_figures,
 )
 from compas_ccu.key_figures.table import FIGURES, GROUPS, Figure, figure, figures_markdown
@@ -34,6 +35,7 @@ __all__ = [
     "key_figures",
     "design_state_figures",
     "path_figures",
+    "state_figures",
     "thickness_figures",
     "plate_area",
     "figure",

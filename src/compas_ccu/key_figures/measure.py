@@ -176,11 +176,11 @@ def design_state_figures(model, structure=None) -> dict:
         )
     values = model.design.values  # the validated design document (layout type, description)
     m = structure.metrics
+    shape = state_figures(structure)
     kinds = structure.crease_kind_counts()
     alphas = [a for c in structure.creases for a in c["alpha"]] + list(m["alpha_leading"])
     plan_x, plan_y, height = (float(v) for v in m["bounding_box"])
     stack_x, stack_y = flat_footprint(structure)
-    rectangles = plate_rectangles(structure.flat)
     overlap = float(model.overlap_alpha)
     invariants = {
         key: float(m[key])
@@ -209,9 +209,7 @@ def design_state_figures(model, structure=None) -> dict:
             "limit_vertex": model.limit_vertex,
             "overlap_alpha": overlap,
             "limit_margin": float(min(model.alpha_limit, overlap) - model.alpha_design),
-            "crease_span": m["span"],
-            "crease_rise": m["rise"],
-            "crease_rise_to_span": m["rise"] / m["span"],
+            **{k: v for k, v in shape.items() if k.startswith("crease_")},
             "plan_x": plan_x,
             "plan_y": plan_y,
             "height": height,
@@ -222,8 +220,8 @@ def design_state_figures(model, structure=None) -> dict:
             "stack_y": stack_y,
             "stack_length": max(stack_x, stack_y),
             "stack_width": min(stack_x, stack_y),
-            "plate_length": float(rectangles[:, 0].max()),
-            "plate_width": float(rectangles[:, 1].max()),
+            "plate_length": shape["plate_length"],
+            "plate_width": shape["plate_width"],
             **invariants,
             "invariant_max_relative": structure.max_invariant_error,
             "crease_planarity_design": m["crease_planarity_max"],
@@ -235,6 +233,30 @@ def design_state_figures(model, structure=None) -> dict:
         out["target_fit_planes"] = ", ".join(str(q) for q in fit.planes)
         out["target_fit_max"] = float(fit.max_residual)
     return out
+
+
+def state_figures(structure) -> dict:
+    """The shape figures of any state of the path: ``crease_span``, ``crease_rise``,
+    ``crease_rise_to_span`` of the structure's state (the design values are those of
+    :func:`design_state_figures`), and the cut-pattern sizes ``plate_length``, ``plate_width``
+    (the same at every state). Pictures label their dimensions with these.
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> f = state_figures(load_model("examples/vault.toml").deploy(10.0))
+    >>> round(f["crease_span"], 3), round(f["crease_rise"], 3), round(f["plate_length"], 3)
+    (2.702, 0.911, 2.723)
+    """
+    m = structure.metrics
+    rectangles = plate_rectangles(structure.flat)
+    return {
+        "crease_span": float(m["span"]),
+        "crease_rise": float(m["rise"]),
+        "crease_rise_to_span": float(m["rise"]) / float(m["span"]),
+        "plate_length": float(rectangles[:, 0].max()),
+        "plate_width": float(rectangles[:, 1].max()),
+    }
 
 
 def _plane_figures(model) -> dict:

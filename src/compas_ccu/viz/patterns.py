@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from compas_ccu.analysis.plate_size import plate_rectangles
+from compas_ccu.key_figures import figure, state_figures
 from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.views import kind_legend_handles
@@ -65,7 +67,8 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
     rulings : bool
         Draw the rulings as dashed score lines.
     labels : bool
-        Plate id and area on every plate, crease id at the middle of every crease.
+        Plate id, area and length (the long side of its smallest rectangle) on every plate,
+        crease id at the middle of every crease.
 
     Returns
     -------
@@ -77,7 +80,7 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
     >>> s = load_model("examples/vault.toml").deploy()
     >>> fig = plot_cut_patterns(s)
     >>> fig.axes[0].get_title(loc="left")
-    'vault: 10 cut patterns, 7.62 m² in all'
+    'vault: 10 cut patterns, 7.62 m² in all, plate length 2.72 m'
     """
     from matplotlib.collections import LineCollection, PolyCollection
     from matplotlib.figure import Figure
@@ -89,6 +92,7 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
     xy = flats[..., :2] + offsets[:, None, :]
     outlines = [plate_outline(f) for f in xy]
     areas = [_area(o) for o in outlines]
+    lengths = plate_rectangles(flats)[:, 0]
     extent = np.ptp(np.concatenate(outlines), axis=0)
     scale = 10.0 / max(extent[0], extent[1] * 1.6)
     fig = Figure(figsize=(11.0, max(3.5, 11.0 * extent[1] / extent[0] + 1.2)), layout="constrained")
@@ -130,10 +134,11 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
             at = 0.5 * (xy[i, ends[0]] + xy[i, ends[1]])
             ax.text(
                 *at,
-                f"P{pid}\n{areas[i]:.3f} m²",
+                f"P{pid}\n{areas[i]:.3f} m²\n{lengths[i]:.2f} m long",
                 ha="center",
                 va="center",
                 fontsize=max(6.0, min(9.0, 9.0 * scale)),
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.7},
                 color="#222222",
             )
     # scale bar: 1, 0.5, 0.2 or 0.1 m, about a fifth of the sheet
@@ -156,8 +161,11 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
             frameon=False,
         )
     name = structure.name or "structure"
+    longest = (
+        f"plate length {state_figures(structure)['plate_length']:.2f} {figure('plate_length').unit}"
+    )
     ax.set_title(
-        title or f"{name}: {p} cut patterns, {sum(areas):.2f} m² in all",
+        title or f"{name}: {p} cut patterns, {sum(areas):.2f} m² in all, {longest}",
         loc="left",
         fontsize=11,
     )

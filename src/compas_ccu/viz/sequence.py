@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from compas_ccu.key_figures import state_figures
 from compas_ccu.viz.render import draw_scene, path_frames
+from compas_ccu.viz.views import readout
 
 __all__ = ["plot_deployment_sequence"]
 
@@ -51,11 +53,10 @@ def plot_deployment_sequence(
         ax = fig.add_subplot(1, int(count), i + 1)
         draw_scene(ax, scene, view, color_by=color_by, centre=centre, size=size, limits=limits)
         ax.set_title(f"α = {a:.4g}°", fontsize=10)
-        m = s.metrics
         ax.text(
             0.5,
             -0.02,
-            f"span {m['span']:.2f} m · rise {m['rise']:.2f} m",
+            readout(state_figures(s), names=("crease_span", "crease_rise")),
             transform=ax.transAxes,
             ha="center",
             va="top",

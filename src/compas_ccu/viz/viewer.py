@@ -2,7 +2,7 @@
 
 :func:`viewer_figure` builds a plotly figure of a model along its deployment path, from the
 flat-folded stack (α = 0) to a target angle: plates, creases coloured by kind, rulings and
-(hidden at first) the cut patterns laid out on the ground next to the structure. A slider (with
+(hidden at first) the cut patterns laid out on the ground behind the structure. A slider (with
 Play / Pause) moves through the states; toggle buttons show and hide plates,
 creases, rulings and cut patterns. :func:`write_viewer` writes it as a single HTML file that works
 offline (plotly.js is bundled, nothing is loaded from the network).
@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from compas_ccu.errors import OptionError
+from compas_ccu.key_figures import state_figures
 from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.tolerances import EXACT_RELATIVE
 from compas_ccu.viz.colors import (
@@ -31,12 +32,14 @@ from compas_ccu.viz.colors import (
     RULING_COLOR,
     plate_tone,
 )
+from compas_ccu.viz.render import camera
 from compas_ccu.viz.scene import scene_from_structure
+from compas_ccu.viz.views import readout
 
 if TYPE_CHECKING:  # plotly is imported when a figure is built, not with this module
     import plotly.graph_objects as go
 
-__all__ = ["viewer_figure", "write_viewer", "VIEWER_DIV_ID"]
+__all__ = ["viewer_figure", "write_viewer", "cut_pattern_layout", "VIEWER_DIV_ID"]
 
 VIEWER_DIV_ID = "ccu-viewer"
 """``id`` of the plot ``<div>`` in the page written by :func:`write_viewer`."""
@@ -49,6 +52,7 @@ _PANE = "#f3f1ec"
 _GRID = "#dedad2"
 _FONT = "#2b2b2b"
 _PATTERN_TAG = "cut pattern"
+_SLIDER_LABELS = 6  # slider steps labelled (about; the ends always)
 
 _ON, _OFF = "☑", "☐"
 _TOGGLES = (
@@ -175,6 +179,118 @@ def _pattern_offsets(flat: np.ndarray, n: int, gap: float) -> np.ndarray:
         inside = np.isfinite(lower)
         floor[inside] = np.minimum(floor[inside], lower[inside] + offsets[i])
     return offsets
+
+
+def cut_pattern_layout(flat: np.ndarray, n: int, *, gap: float, beside=None) -> np.ndarray:
+    """(p, 2) translations that lay the cut patterns out compactly, without overlap.
+
+    The plates are split into columns of consecutive plates; in every column each plate
+    drops (−y) until it is ``gap`` below the plates above it (:func:`_pattern_offsets`: arcs
+    nest in arcs), and the columns stand side by side, ``gap`` apart. The number of columns is
+    the one that makes the whole picture (the structure's plan ``beside`` and the block in
+    front of it) most nearly square, the smallest larger side: many plates neither make one
+    long row nor one long column, and the structure beside them stays large on the screen.
+
+    This is the viewer's own layout; it is kept apart from the figure so that the sheet
+    nesting of the fabrication output can replace it (``viewer_figure(pattern_offsets=...)``).
+
+    Parameters
+    ----------
+    flat : (p, v, 3) float
+        Cut patterns (z = 0), all in the same plane coordinates (the flat-folded stack).
+    n : int
+        Segments per plate.
+    gap : float
+        Clearance between patterns, metres.
+    beside : (float, float), optional
+        Plan width (x) and depth (y) of the structure the block lies beside (behind it, +y, in
+        the viewer); default: none (the block alone is made square).
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> s = load_model("examples/vault.toml").deploy()
+    >>> off = cut_pattern_layout(np.asarray(s.flat), 64, gap=0.1)
+    >>> off.shape
+    (10, 2)
+    """
+    flat = np.asarray(flat, dtype=float)
+    p = len(flat)
+    best = None
+    for columns in range(1, p + 1):
+        rows = math.ceil(p / columns)
+        if columns > 1 and math.ceil(p / (columns - 1)) == rows:
+            continue  # same rows as fewer columns
+        offsets = np.zeros((p, 2))
+        x = 0.0
+        for start in range(0, p, rows):
+            part = slice(start, min(p, start + rows))
+            offsets[part, 1] = _pattern_offsets(flat[part], n, gap)
+            lo = float(flat[part, :, 0].min())
+            offsets[part, 0] = x - lo
+            x += float(flat[part, :, 0].max()) - lo + gap
+        moved = flat[..., :2] + offsets[:, None, :]
+        width, depth = np.ptp(moved.reshape(-1, 2), axis=0)
+        if beside is not None:
+            width, depth = max(width, beside[0]), depth + beside[1] + 2.0 * gap
+        side = float(max(width, depth))
+        if best is None or side < best[0] - 1e-9:
+            best = (side, offsets)
+    return best[1]
+
+
+_DEFAULT_CAMERA = {
+    "eye": {"x": 0.7, "y": -1.05, "z": 0.5},
+    "center": {"x": 0.0, "y": 0.0, "z": -0.08},
+    "up": {"x": 0.0, "y": 0.0, "z": 1.0},
+    "projection": {"type": "perspective"},
+}
+_READOUT_NAME = "ccu-readout"
+
+
+def _readout_annotation(text: str) -> dict:
+    """The state read-out above the slider (α, span, rise, plate length)."""
+    return {
+        "name": _READOUT_NAME,
+        "text": text,
+        "xref": "paper",
+        "yref": "paper",
+        "x": 0.0,
+        "y": 0.0,
+        "xanchor": "left",
+        "yanchor": "bottom",
+        "yshift": 4,
+        "showarrow": False,
+        "font": {"size": 15, "color": _FONT},
+        "bgcolor": "rgba(255,255,255,0.85)",
+    }
+
+
+def _readouts(structures) -> list:
+    """One line per state: α, then span, rise and plate length (the state's key figures)."""
+    return [f"α = {s.alpha:.4g}° · {readout(state_figures(s))}" for s in structures]
+
+
+def _eye(view) -> dict:
+    """A plotly scene camera for a view name or ``"azimuth,elevation"`` (see render.camera)."""
+    cam = camera(view)
+    az, el = math.radians(cam.azimuth), math.radians(cam.elevation)
+    r = 1.9
+    eye = {
+        "x": r * math.cos(el) * math.cos(az),
+        "y": r * math.cos(el) * math.sin(az),
+        "z": r * math.sin(el),
+    }
+    up = {"x": 0.0, "y": 0.0, "z": 1.0}
+    if abs(cam.elevation) > 89.0:  # from above: y up the screen
+        up = {"x": 0.0, "y": 1.0, "z": 0.0}
+    kind = "perspective" if cam.distance is not None else "orthographic"
+    return {
+        "eye": eye,
+        "up": up,
+        "center": {"x": 0.0, "y": 0.0, "z": 0.0},
+        "projection": {"type": kind},
+    }
 
 
 def _range(lo: np.ndarray, hi: np.ndarray):
@@ -318,15 +434,24 @@ def _title(model, kinds: list, counts: dict, alphas: np.ndarray) -> dict:
 
 
 def viewer_figure(
-    model, *, steps: int = 24, alpha: float | None = None, title: str | None = None
+    model,
+    *,
+    steps: int = 24,
+    alpha: float | None = None,
+    title: str | None = None,
+    view=None,
+    pattern_offsets=None,
 ) -> go.Figure:
     """Interactive 3D figure of a model along its deployment path, with slider and toggles.
 
     The states are ``numpy.linspace(0, alpha, steps + 1)``: from the flat-folded stack to the
     target; the figure opens on the last one. Every state is grounded (lowest point on
     ``z = 0``) and the axis ranges are fixed over all states, so the view does not jump. The cut
-    patterns (hidden at first) lie on the ground in front of the structure (−y), each plate
-    shifted so that none overlaps another; showing them widens the box to include them.
+    patterns (hidden at first) lie on the ground behind the structure (+y, so that the
+    structure stands in front of them, large), in the compact columns of
+    :func:`cut_pattern_layout` (or at ``pattern_offsets``), none overlapping another; showing
+    them widens the box to include them. A read-out under the scene gives α, span, rise and
+    plate length of the state shown (:func:`compas_ccu.key_figures.state_figures`).
 
     Traces, in order: plates (Mesh3d, two triangles per quad, alternating plate tones), plate
     edges (free boundaries and plate ends, thin dark lines), one crease trace per kind present
@@ -344,6 +469,13 @@ def viewer_figure(
         Target reference reflection angle, degrees (``> 0``); default the design angle.
     title : str, optional
         Replaces the headline (the design name); the key figures stay below it.
+    view : str, optional
+        The opening camera: a view name of :func:`compas_ccu.viz.render.camera` (``iso``,
+        ``front``, ``side``, ``top``, ...) or ``"azimuth,elevation"``; default a perspective
+        from the front right.
+    pattern_offsets : (p, 2) float, optional
+        Where the cut patterns lie (translations of the flat-folded stack's plates), e.g. a
+        sheet nesting; default :func:`cut_pattern_layout`.
 
     Returns
     -------
@@ -390,12 +522,20 @@ def viewer_figure(
     lo, hi = allv.min(axis=0), allv.max(axis=0)
     size = float(np.linalg.norm(hi - lo))
     fv = flat.vertices
-    offsets = _pattern_offsets(fv, n, gap=0.04 * size)
+    if pattern_offsets is None:
+        beside = (float(hi[0] - lo[0]), float(hi[1] - lo[1]))
+        pattern_offsets = cut_pattern_layout(fv, n, gap=0.02 * size, beside=beside)
+    pattern_offsets = np.asarray(pattern_offsets, dtype=float)
+    if pattern_offsets.shape != (p, 2):
+        raise OptionError(
+            f"pattern_offsets must have shape {(p, 2)} (one translation per plate), got "
+            f"{pattern_offsets.shape}"
+        )
     pattern = fv.copy()
-    pattern[..., 1] += offsets[:, None]
-    centre = 0.5 * (fv[..., 0].min() + fv[..., 0].max())
+    pattern[..., :2] += pattern_offsets[:, None, :]
+    centre = 0.5 * (pattern[..., 0].min() + pattern[..., 0].max())
     shift = np.array(
-        [0.5 * (lo[0] + hi[0]) - centre, lo[1] - 0.08 * size - pattern[..., 1].max(), 0.0]
+        [0.5 * (lo[0] + hi[0]) - centre, hi[1] + 0.04 * size - pattern[..., 1].min(), 0.0]
     )
     pattern = pattern + shift
     pattern[..., 2] = 0.0
@@ -527,15 +667,22 @@ def viewer_figure(
     # frames carry coordinates only: styling, text and triangles stay those of the traces
     keys = ["plates", "edges", *kinds, "rulings"]
     kinds_of = [go.Mesh3d] + [go.Scatter3d] * (len(keys) - 1)
+    readouts = _readouts(structures)
     frames = [
         go.Frame(
             name=str(k),
             data=[cls(**_xyz(d[key])) for cls, key in zip(kinds_of, keys)],
             traces=moving,
+            layout={"annotations": [_readout_annotation(readouts[k])]},
         )
         for k, d in enumerate(data)
     ]
-    labels = [_label(a) for a in alphas]
+    every = max(1, math.ceil((len(alphas) - 1) / _SLIDER_LABELS))
+    labels = [
+        _label(a) if k % every == 0 or k == len(alphas) - 1 else "" for k, a in enumerate(alphas)
+    ]
+    if len(alphas) > 1 and (len(alphas) - 1) % every and (len(alphas) - 1) % every < every / 2:
+        labels[(len(alphas) - 1) // every * every] = ""  # too close to the last label
     animate = {"mode": "immediate", "transition": {"duration": 0}}
     slider = {
         "active": len(alphas) - 1,
@@ -545,11 +692,7 @@ def viewer_figure(
         "y": 0.0,
         "yanchor": "top",
         "pad": {"t": 8, "b": 8, "l": 0, "r": 10},
-        "currentvalue": {
-            "prefix": "reference reflection angle α = ",
-            "font": {"size": 14, "color": _FONT},
-            "xanchor": "left",
-        },
+        "currentvalue": {"visible": False},  # the read-out annotation shows the state
         "font": {"size": 11, "color": _FONT},
         "bgcolor": "#efe9dc",
         "activebgcolor": "#d5bd93",
@@ -641,7 +784,9 @@ def viewer_figure(
         "gridcolor": _GRID,
         "zerolinecolor": "#c9c3b6",
         "color": "#666666",
-        "tickfont": {"size": 10},
+        "tickfont": {"size": 13},
+        "nticks": 6,
+        "ticksuffix": " m",
     }
     layout = {
         "template": "none",
@@ -663,18 +808,14 @@ def viewer_figure(
             "itemsizing": "constant",
         },
         "scene": {
-            "xaxis": {**axis, "title": {"text": "x (m)"}},
-            "yaxis": {**axis, "title": {"text": "y (m)"}},
-            "zaxis": {**axis, "title": {"text": "z (m)"}},
-            "camera": {
-                "eye": {"x": 0.7, "y": -1.05, "z": 0.5},
-                "center": {"x": 0.0, "y": 0.0, "z": -0.08},
-                "up": {"x": 0.0, "y": 0.0, "z": 1.0},
-                "projection": {"type": "perspective"},
-            },
+            "xaxis": {**axis, "title": {"text": "x", "font": {"size": 16}}},
+            "yaxis": {**axis, "title": {"text": "y", "font": {"size": 16}}},
+            "zaxis": {**axis, "title": {"text": "z", "font": {"size": 16}}},
+            "camera": _DEFAULT_CAMERA if view is None else _eye(view),
             "dragmode": "turntable",
         },
         "sliders": [slider],
+        "annotations": [_readout_annotation(readouts[-1])],
         "updatemenus": [play, *toggles],
         "uirevision": "ccu-viewer",
         "hoverlabel": {"bgcolor": "#ffffff", "font": {"size": 12}},
@@ -687,7 +828,14 @@ def viewer_figure(
 
 
 def write_viewer(
-    model, path, *, steps: int = 24, alpha: float | None = None, title: str | None = None
+    model,
+    path,
+    *,
+    steps: int = 24,
+    alpha: float | None = None,
+    title: str | None = None,
+    view=None,
+    pattern_offsets=None,
 ) -> Path:
     """Write the viewer of :func:`viewer_figure` as one self-contained, offline HTML page.
 
@@ -702,7 +850,7 @@ def write_viewer(
     model : compas_ccu.model.CCUModel
     path : str or pathlib.Path
         The ``.html`` file to write (its folder is created).
-    steps, alpha, title
+    steps, alpha, title, view, pattern_offsets
         As in :func:`viewer_figure`.
 
     Returns
@@ -719,7 +867,9 @@ def write_viewer(
     >>> out.stat().st_size > 4_000_000, "cdn.plot.ly/plotly" in out.read_text(encoding="utf-8")
     (True, False)
     """
-    fig = viewer_figure(model, steps=steps, alpha=alpha, title=title)
+    fig = viewer_figure(
+        model, steps=steps, alpha=alpha, title=title, view=view, pattern_offsets=pattern_offsets
+    )
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     html = fig.to_html(
