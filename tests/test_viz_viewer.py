@@ -444,10 +444,13 @@ def test_play_deploys_from_the_folded_stack(viewer):
     page = viewer.page
     assert _slider_active(page) == STEPS
     _click_button(page, "Play")
-    # the animation starts at the flat-folded stack and stops at the design state
+    # the animation starts at the flat-folded stack and stops at the design state; it plays
+    # STEPS frames of 140 ms and every frame redraws the plates and the read-out, which takes
+    # up to a second per frame with software WebGL on a busy machine: allow for the slowest
+    slow = 120_000
     page.wait_for_function(f"() => {GD}._fullLayout.sliders[0].active < {STEPS // 2}")
-    page.wait_for_function(f"() => {GD}._fullLayout.sliders[0].active === {STEPS}")
-    page.wait_for_function(f"() => !{GD}._transitionData._animationRaf")
+    page.wait_for_function(f"() => {GD}._fullLayout.sliders[0].active === {STEPS}", timeout=slow)
+    page.wait_for_function(f"() => !{GD}._transitionData._animationRaf", timeout=slow)
     _settle(page)
     assert _flatness(_plates(page)) > 1e-2
 
