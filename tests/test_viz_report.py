@@ -41,9 +41,12 @@ class Links(HTMLParser):
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
     out = tmp_path_factory.mktemp("report")
-    code = main(
-        ["report", str(EXAMPLES / "vault.toml"), "--out", str(out), "--steps", "6", "--frames", "4"]
-    )
+    with pytest.MonkeyPatch.context() as mp:  # no validation of vault.toml from elsewhere
+        mp.setenv("CCU_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
+        code = main(
+            ["report", str(EXAMPLES / "vault.toml"), "--out", str(out)]
+            + ["--steps", "6", "--frames", "4"]
+        )
     assert code == 0
     page = Links()
     page.feed((out / "index.html").read_text(encoding="utf-8"))
@@ -131,7 +134,8 @@ def test_thickness_checks_are_on_the_page(report):
     assert "<tr class=bad><th>bending check</th>" in html_text
 
 
-def test_structural_section_shows_every_case_and_marks_the_failed_ones():
+def _load_case_checks() -> dict:
+    """The checks of a validation.json with two load cases (one failed)."""
     actions = [
         dict(name="self-weight", value_N_per_m2=47.1, where="surface", half_span=False, gamma=1.35),
         dict(
@@ -170,6 +174,11 @@ def test_structural_section_shows_every_case_and_marks_the_failed_ones():
         "deflection_limit_m": 0.005,
         "governing": dict(deflection="wet-concrete", utilisation="snow", buckling="wet-concrete"),
     }
+    return checks
+
+
+def test_structural_section_shows_every_case_and_marks_the_failed_ones():
+    checks = _load_case_checks()
     html = structural_section({"checks": checks, "engine": "kratos"}, ["figures/fe_load_cases.png"])
     assert "feet springs" in html and "deflection limit 5.00 mm" in html
     assert "<tr class=bad><th>wet-concrete</th>" in html and "<tr><th>snow</th>" in html
@@ -309,3 +318,54 @@ def test_a_fabrication_of_another_design_is_refused_before_any_work(tmp_path, ca
     assert "--fabrication must be a folder written by 'ccu fabricate', got 'nowhere'" in (
         capsys.readouterr().err
     )
+
+
+def test_the_last_validation_of_the_file_joins_the_checks_and_the_pdf(tmp_path, monkeypatch):
+    pypdf = pytest.importorskip("pypdf")
+    from compas_ccu.fea.record import remember
+
+    monkeypatch.setenv("CCU_CACHE_DIR", str(tmp_path / "cache"))
+    design = tmp_path / "cone.toml"
+    design.write_bytes((EXAMPLES / "cone.toml").read_bytes())
+    fe = tmp_path / "fe"
+    fe.mkdir()
+    checks = {
+        **_load_case_checks(),
+        "deflection_max_m": 0.0061,
+        "utilisation_max": 0.8,
+        "deflection_ok": False,
+        "utilisation_ok": True,
+    }
+    summary = {
+        "design": "cone",
+        "engine": "kratos",
+        "mode": "nonlinear",
+        "alpha": 30.0,
+        "span": 1.0,
+        "deviation": {"max_percent": 0.12, "mean_percent": 0.05, "max_m": 0.001},
+        "stresses": {"max_bending_MPa": 21.5},
+        "checks": checks,
+        "converged": True,
+    }
+    (fe / "validation.json").write_text(json.dumps(summary), encoding="utf-8")
+    remember(str(design), summary, fe)
+    out = tmp_path / "report"
+    code = main(["report", str(design), "--out", str(out), "--steps", "1", "--frames", "2"])
+    assert code == 0
+    page = Links()
+    page.feed((out / "index.html").read_text(encoding="utf-8"))
+    text = " ".join(" ".join(page.text).split())
+    assert "FE validation kratos nonlinear, alpha 30 deg: deviation max 0.120 %" in text
+    assert "FE checks deflection 6.10 mm (limit 5.00 mm), utilisation 0.80" in text
+    assert "NOT OK" in text
+    assert "Structural checks (FE, load cases)" in text
+    pdf = "\n".join(p.extract_text() for p in pypdf.PdfReader(str(out / "report.pdf")).pages)
+    assert "Structural checks (FE, load cases)" in pdf
+    assert "governing: deflection wet-concrete, utilisation snow" in pdf
+    # the file changes: its validation is not shown any more
+    with design.open("a", encoding="utf-8") as f:
+        f.write("# changed\n")
+    code = main(["report", str(design), "--out", str(out), "--steps", "1", "--frames", "2"])
+    assert code == 0
+    text = (out / "index.html").read_text(encoding="utf-8")
+    assert "Structural checks" not in text and "none yet" in text

@@ -156,7 +156,7 @@ def report(args) -> int:
         progress=not args.quiet,
         validation=validation,
         validation_figures=pictures,
-        validation_record=last_validation(args.design) if validation is not None else None,
+        validation_record=last_validation(args.design),  # the headline, as ccu info has it
         design_file=args.design,
         fabrication=args.fabrication,
         pdf=not args.no_pdf,

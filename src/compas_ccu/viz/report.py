@@ -375,24 +375,35 @@ def _all_figures_table(k: KeyFigures) -> str:
 
 
 def _record_section(record: dict, root: Path) -> str:
+    """The page's "Engineering record": file, hash, version, date, units, materials."""
     e = html.escape
     copy = record.get("copy")
-    link = f' (<a href="{_rel(copy, root)}">{e(copy.name)}</a>)' if copy else ""
     parts = [
         '<h2 id="record">Engineering record</h2>',
         _rows_table(_record_rows(record)),
     ]
+    if copy is not None:
+        parts.append(
+            f'<p>The design file as read: <a href="{_rel(copy, root)}">{e(_rel(copy, root))}</a>'
+            " (verbatim at the end of the page, under Design inputs).</p>"
+        )
     if record["material"]:
         parts.append('<h3 id="materials">Material constants</h3>' + _rows_table(record["material"]))
     elif record["material_error"]:
         parts.append(f'<p class="skip">Material not modelled: {e(record["material_error"])}</p>')
-    if record["text"] is not None:
-        parts.append(
-            f'<h3 id="design-inputs">Design inputs: the design file as read{link}</h3>'
-            f'<p class="sub">sha256 <code>{e(record["sha256"])}</code></p>'
-            f"<pre>{e(record['text'])}</pre>"
-        )
     return "".join(parts)
+
+
+def _inputs_section(record: dict) -> str:
+    """The page's "Design inputs": the design file verbatim with its hash."""
+    if record["text"] is None:
+        return ""
+    e = html.escape
+    return (
+        f'<h2 id="design-inputs">Design inputs: {e(record["file"])} as read</h2>'
+        f'<p class="sub">sha256 <code>{e(record["sha256"])}</code></p>'
+        f"<pre>{e(record['text'])}</pre>"
+    )
 
 
 def _fabrication_tables(fab: dict) -> list:
@@ -524,14 +535,15 @@ def _page(
 initial-scale=1"> <title>{e(k.name)}: compas_ccu report</title><style>{_CSS}</style></head> <body>
 <h1>{e(k.name)}</h1>{description} <p class="sub">compas_ccu {e(__version__)} · curved-crease
 unfolding report · {e(r.get("date", ""))}{sha} · written in {elapsed:.1f} s{pdf}</p>
-<h2 id="viewer">Interactive viewer</h2>{viewer}
+{_record_section(r, root)}
 <h2 id="key-figures">Key figures and checks</h2><p class="sub">As <code>ccu info</code> prints
 them; lengths in metres, angles in degrees.</p>{_rows_table(checks)}{per_plate}
 {_all_figures_table(k)} <h3>Creases at the design state</h3>
 <table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
 <th>planarity</th></tr>{crease_rows}</table> {structural}
-{_fabrication_section(report.fabrication, root)} {anim} <h2
-id="figures">Figures</h2>{"".join(figs)} {_record_section(r, root)} {
+{_fabrication_section(report.fabrication, root)}
+<h2 id="viewer">Interactive viewer</h2>{viewer} {anim} <h2
+id="figures">Figures</h2>{"".join(figs)} {_inputs_section(r)} {
         "<h2>Not produced</h2><ul>" + skipped + "</ul>" if skipped else ""
     } <h2 id="files">Files</h2><table>{file_rows}</table> </body></html>
 """
