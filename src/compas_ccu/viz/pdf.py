@@ -30,6 +30,7 @@ _FONT = 7.5  # points, monospace
 _LINE = _FONT * 1.45 / 72.0  # inches per line
 _CHAR = _FONT * 0.602 / 72.0  # width of a DejaVu Sans Mono character, inches
 _BAD = "#b00020"
+_DPI = 150  # largest resolution of a picture on the page
 
 
 def write_pdf(path, blocks, *, footer: str = "") -> Path:
@@ -200,9 +201,16 @@ class _Layout:
         self.y += _LINE * 0.5
 
     def _image(self, path, caption=""):
-        from matplotlib.image import imread
+        import numpy as np
+        from PIL import Image
 
-        image = imread(str(path))
+        with Image.open(path) as im:  # RGB on white, at most _DPI dots per inch on the page
+            rgba = im.convert("RGBA")
+            flat = Image.new("RGBA", rgba.size, "white")
+            flat.alpha_composite(rgba)
+            picture = flat.convert("RGB")
+            picture.thumbnail((int(self.width * _DPI), int(self.width * _DPI)), Image.LANCZOS)
+            image = np.asarray(picture)
         h, w = image.shape[:2]
         width = self.width
         height = width * h / w
@@ -219,7 +227,7 @@ class _Layout:
                 height / A4[1],
             )
         )
-        ax.imshow(image, interpolation="antialiased")
+        ax.imshow(image, interpolation="none")  # embedded as it is, not resampled
         ax.set_axis_off()
         self.y += height + 0.08
         for line in self._wrap(caption, self.columns):
