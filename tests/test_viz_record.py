@@ -136,3 +136,13 @@ def test_validation_rows_mark_a_failed_check():
         "FE checks",
         "deflection 10.00 mm (limit 5.00 mm), utilisation 0.50  ** NOT OK **",
     )
+
+
+def test_a_manifest_without_tables_is_said_so_on_the_page(tmp_path):
+    from compas_ccu.viz.report import _fabrication_section
+
+    (tmp_path / "fabrication.json").write_text('{"design": "cone", "plates": 2}')
+    page = _fabrication_section(read_fabrication(tmp_path, design="cone"), tmp_path)
+    assert "design cone · 2 plates" in page
+    assert "lists no sheets and no bill of materials" in page
+    assert _fabrication_section(None, tmp_path) == ""

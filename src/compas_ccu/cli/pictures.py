@@ -282,6 +282,7 @@ COMMANDS = (
             option(
                 "--fabrication",
                 default=None,
+                metavar="FOLDER",
                 help="a folder written by 'ccu fabricate' for this design: copied into "
                 "--out/fabrication, every file linked, its sheets and bill of materials shown",
             ),

@@ -441,6 +441,11 @@ def _fabrication_section(fab: dict | None, root: Path) -> str:
             facts.append("units " + ", ".join(f"{k} {v}" for k, v in m["units"].items()))
         lines.append(f"<p>{e(' · '.join(facts))}</p>")
     lines += [f'<p class="skip">{e(p)}</p>' for p in fab["problems"]]
+    if m and not fab["bom"] and not fab["sheets"]:
+        lines.append(
+            '<p class="sub">fabrication.json lists no sheets and no bill of materials (its keys '
+            "<code>sheets</code>, <code>bom</code>).</p>"
+        )
     for title, columns, rows in _fabrication_tables(fab):
         head = "".join(f"<th>{e(c)}</th>" for c in columns)
         body = "".join(
