@@ -46,11 +46,12 @@ demo: setup
 	$(BIN)/ccu deploy examples/vault.toml --out $(OUT)/vault
 	$(BIN)/ccu fabricate examples/vault.toml --out $(OUT)/vault-fab
 	$(BIN)/ccu path examples/vault.toml --steps 12 --out $(OUT)/vault-path
-	$(BIN)/ccu report examples/vault.toml --out $(OUT)/vault-report
+	$(BIN)/ccu report examples/vault.toml --out $(OUT)/vault-report --fabrication $(OUT)/vault-fab
 	$(BIN)/ccu validate examples/cone.toml --out $(OUT)/cone-fe --compare
 	@echo ""
 	@echo "Demo finished. Open the report to see the vault deploy:"
 	@echo "  $(OUT)/vault-report/index.html      (viewer, figures, animation, key figures, all files)"
+	@echo "  $(OUT)/vault-report/report.pdf      (the same engineering record as A4 pages)"
 	@echo "Other files written:"
 	@echo "  $(OUT)/vault/structure.json        (the deployed vault, docs/structure-json.md contract)"
 	@echo "  $(OUT)/vault/structure.obj         (deployed plates, OBJ)"

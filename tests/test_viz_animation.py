@@ -9,7 +9,13 @@ pytest.importorskip("matplotlib")
 
 from PIL import Image  # noqa: E402
 
-from compas_ccu.viz.animation import mp4_available, render_frames, write_animation  # noqa: E402
+from compas_ccu.errors import OptionError  # noqa: E402
+from compas_ccu.viz.animation import (  # noqa: E402
+    mp4_available,
+    render_frames,
+    write_animation,
+    write_animations,
+)
 from imagecheck import assert_picture, ink_fraction, load_rgb  # noqa: E402
 
 
@@ -60,3 +66,46 @@ def test_bad_animation_requests(cone_model, tmp_path):
         write_animation(cone_model, tmp_path / "c.gif", fps=0)
     with pytest.raises(ValueError, match="alpha must be > 0 degrees"):
         write_animation(cone_model, tmp_path / "c.gif", alpha=0.0)
+
+
+@pytest.mark.skipif(not mp4_available(), reason="no MP4 encoder (video extra)")
+def test_gif_and_mp4_come_from_one_rendering(cone_model, tmp_path, monkeypatch):
+    import imageio_ffmpeg
+
+    from compas_ccu.viz import animation
+
+    calls = []
+    real = animation.render_frames
+
+    def counting(*args, **kwargs):
+        calls.append(kwargs["frames"])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(animation, "render_frames", counting)
+    gif, mp4 = write_animations(cone_model, [tmp_path / "c.gif", tmp_path / "c.mp4"], frames=5)
+    assert calls == [5]  # rendered once for both files
+    assert Image.open(gif).n_frames == 5
+    assert imageio_ffmpeg.count_frames_and_secs(str(mp4))[0] == 5
+    # the same pictures: the MP4's last frame matches the GIF's (lossy encoders: close, not equal)
+    reader = imageio_ffmpeg.read_frames(str(mp4))
+    meta = next(reader)
+    *_, last = reader
+    w, h = meta["size"]
+    video = np.frombuffer(last, dtype=np.uint8).reshape(h, w, 3).astype(int)
+    im = Image.open(gif)
+    im.seek(4)
+    picture = load_rgb(im).astype(int)
+    assert np.abs(video - picture).mean() < 6.0
+
+
+def test_write_animations_checks_every_request_before_rendering(cone_model, tmp_path, monkeypatch):
+    from compas_ccu.viz import animation
+
+    monkeypatch.setattr(animation, "render_frames", lambda *a, **k: pytest.fail("rendered"))
+    with pytest.raises(OptionError, match="at least one file to write, got none"):
+        write_animations(cone_model, [])
+    with pytest.raises(OptionError, match="animation format must be one of .*'c.avi'"):
+        write_animations(cone_model, [tmp_path / "c.gif", tmp_path / "c.avi"])
+    with pytest.raises(OptionError, match="fps must be > 0, got -1"):
+        write_animations(cone_model, [tmp_path / "c.gif"], fps=-1)
+    assert not any(tmp_path.iterdir())

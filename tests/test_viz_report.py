@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import datetime
+import hashlib
+import html
+import json
+import re
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -9,7 +14,10 @@ import pytest
 
 pytest.importorskip("matplotlib")
 
+from compas_ccu import __version__  # noqa: E402
 from compas_ccu.cli import main  # noqa: E402
+from compas_ccu.key_figures import key_figures  # noqa: E402
+from compas_ccu.key_figures.text import figure_rows  # noqa: E402
 from compas_ccu.outputs import MANIFEST
 from compas_ccu.viz.report import FIGURES, structural_section  # noqa: E402
 from conftest import EXAMPLES  # noqa: E402
@@ -33,9 +41,12 @@ class Links(HTMLParser):
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
     out = tmp_path_factory.mktemp("report")
-    code = main(
-        ["report", str(EXAMPLES / "vault.toml"), "--out", str(out), "--steps", "6", "--frames", "4"]
-    )
+    with pytest.MonkeyPatch.context() as mp:  # no validation of vault.toml from elsewhere
+        mp.setenv("CCU_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
+        code = main(
+            ["report", str(EXAMPLES / "vault.toml"), "--out", str(out)]
+            + ["--steps", "6", "--frames", "4"]
+        )
     assert code == 0
     page = Links()
     page.feed((out / "index.html").read_text(encoding="utf-8"))
@@ -60,13 +71,16 @@ def test_key_figures_are_on_the_page(report, vault_model):
     out, page = report
     text = " ".join(" ".join(page.text).split())
     s = vault_model.deploy()
-    assert f"Span (leading crease chord) {s.metrics['span']:.4f} m" in text
-    assert f"Rise {s.metrics['rise']:.4f} m" in text
-    assert "Plates 10" in text
-    assert "Creases 9 ( 4 anticlastic, 5 synclastic)" in text
-    assert f"Deployment limit {vault_model.alpha_limit:.4f}°" in text
-    assert "α along the creases 30.000° … 30.000°" in text
-    assert f"Isometry (quad sides and diagonals) {s.metrics['isometry_relative']:.1e}" in text
+    # worded as ccu info words them: one definition (compas_ccu.key_figures.text)
+    assert f"span {s.metrics['span']:.4f} m (leading crease chord)" in text
+    assert f"rise {s.metrics['rise']:.4f} m" in text
+    assert "plates 10" in text
+    assert "creases 9 (4 anticlastic, 5 synclastic)" in text
+    assert f"deployment limit {vault_model.alpha_limit:.4f} deg (crease segment" in text
+    assert "FE validation none yet ('ccu validate' to run one)" in text
+    # every key figure with its unit in the complete table
+    assert f"isometry_relative {s.metrics['isometry_relative']:.6g}" in text
+    assert "crease_span 2.5 m" in text
 
 
 def test_report_pictures_are_real(report):
@@ -102,24 +116,26 @@ def test_report_refuses_bad_steps(tmp_path, capsys):
     assert not (Path(tmp_path) / "index.html").exists()
 
 
-def test_thickness_section_is_on_the_page(report):
-    _, page = report
+def test_thickness_checks_are_on_the_page(report):
+    out, page = report
     text = " ".join(" ".join(page.text).split())
-    assert "Thickness and bending (paper §5.3)" in text
-    assert "Flat-folded stack height (Σt) 80 mm" in text
-    assert "Axis-shift hinges (Fig. 8c) 5 intrados–intrados, 4 extrados–extrados" in text
-    assert "Collisions, flat stack → design none; min clearance 8 mm" in text
-    # 8 mm plywood: within the characteristic strength (0.559), not the design strength (1.118)
-    assert "EXCEEDED" in text
+    assert "thickness 8 mm plywood, flat stack 80 mm" in text
+    assert "axis-shift hinges 5 intrados-intrados, 4 extrados-extrados" in text
+    assert "collisions none from the flat stack to the design; min clearance 8 mm" in text
+    # 8 mm plywood: within the characteristic strength (0.56), not the design strength (1.12)
+    assert "EXCEEDED: above the design bending strength (EC5 SC1 permanent)" in text
     assert (
-        "Basis of the bending check EC5 SC1 permanent: f_d = k_mod · f_k / γ_M with k_mod = 0.6, "
-        "γ_M = 1.2" in text
+        "bending basis EC5 SC1 permanent: f_d = k_mod f_k / gamma_M, k_mod 0.6, gamma_M 1.2" in text
     )
-    assert "Characteristic utilisation κ / (f_k / (E t/2)) 0.559" in text
-    assert "k_def 0.8: 5 / 5 GPa (E1 / E2)" in text
+    assert "characteristic utilisation 0.56" in text
+    assert "creep: k_def 0.8, final stiffness E/(1 + k_def) 5 / 5 GPa (E1 / E2)" in text
+    # the failed check is marked on the page
+    html_text = (out / "index.html").read_text(encoding="utf-8")
+    assert "<tr class=bad><th>bending check</th>" in html_text
 
 
-def test_structural_section_shows_every_case_and_marks_the_failed_ones():
+def _load_case_checks() -> dict:
+    """The checks of a validation.json with two load cases (one failed)."""
     actions = [
         dict(name="self-weight", value_N_per_m2=47.1, where="surface", half_span=False, gamma=1.35),
         dict(
@@ -158,6 +174,11 @@ def test_structural_section_shows_every_case_and_marks_the_failed_ones():
         "deflection_limit_m": 0.005,
         "governing": dict(deflection="wet-concrete", utilisation="snow", buckling="wet-concrete"),
     }
+    return checks
+
+
+def test_structural_section_shows_every_case_and_marks_the_failed_ones():
+    checks = _load_case_checks()
     html = structural_section({"checks": checks, "engine": "kratos"}, ["figures/fe_load_cases.png"])
     assert "feet springs" in html and "deflection limit 5.00 mm" in html
     assert "<tr class=bad><th>wet-concrete</th>" in html and "<tr><th>snow</th>" in html
@@ -167,3 +188,181 @@ def test_structural_section_shows_every_case_and_marks_the_failed_ones():
     assert "<td class=num>—</td>" in html  # no buckling factor: a dash, not a number
     assert '<img src="figures/fe_load_cases.png"' in html
     assert structural_section({"checks": {"deflection_max_m": 0.001}}) == ""  # an old file
+
+
+# -- the engineering record, the PDF, the fabrication section ------------------------------
+
+
+def test_the_record_shows_the_design_file_as_read_with_its_hash(report):
+    out, page = report
+    text = " ".join(page.text)
+    design = (EXAMPLES / "vault.toml").read_bytes()
+    sha = hashlib.sha256(design).hexdigest()
+    assert sha in text
+    assert (out / "design" / "vault.toml").read_bytes() == design  # the copy, linked
+    assert "design/vault.toml" in page.links
+    html_text = (out / "index.html").read_text(encoding="utf-8")
+    verbatim = re.search(r"<pre>(.*?)</pre>", html_text, re.S).group(1)
+    assert html.unescape(verbatim) == design.decode("utf-8")
+    assert f"compas_ccu {__version__}" in text
+    date = re.search(r"date \(UTC\)\s*(\S+)", text).group(1)
+    when = datetime.datetime.fromisoformat(date)
+    assert when.utcoffset() == datetime.timedelta(0)
+    assert abs(datetime.datetime.now(datetime.timezone.utc) - when).total_seconds() < 3600
+    for row in ("stiffness E1 9 GPa, E2 9 GPa, G12 3.462 GPa, nu12 0.3", "density 600 kg/m3"):
+        assert row in " ".join(text.split())
+    assert "f1 30 MPa, f2 30 MPa (characteristic f_k)" in text
+    assert "design strengths f_d f1 15 MPa, f2 15 MPa" in text  # k_mod 0.6 / gamma_M 1.2
+
+
+def test_the_pdf_is_read_by_an_independent_reader(report, vault_model):
+    pypdf = pytest.importorskip("pypdf")
+    out, page = report
+    assert "report.pdf" in page.links
+    reader = pypdf.PdfReader(str(out / "report.pdf"))
+    assert 4 <= len(reader.pages) <= 12
+    assert reader.pages[0].mediabox.width == pytest.approx(595.44, abs=1)  # A4
+    text = "\n".join(p.extract_text() for p in reader.pages)
+    sha = hashlib.sha256((EXAMPLES / "vault.toml").read_bytes()).hexdigest()
+    assert sha in text
+    k = key_figures(vault_model)
+    for label, value in figure_rows(k)[:13]:  # the key figures, as ccu info words them
+        assert value in text, label
+    assert "EXCEEDED: above the design bending strength" in text
+    assert 'name = "vault"' in text  # the design file, verbatim
+    # one picture per figure
+    images = sum(len(p.images) for p in reader.pages)
+    assert images >= len(FIGURES)
+
+
+def test_the_pdf_hash_follows_the_design_file(tmp_path):
+    pypdf = pytest.importorskip("pypdf")
+    original = (EXAMPLES / "cone.toml").read_bytes()
+    design = tmp_path / "cone.toml"
+    design.write_bytes(original + b"# a comment changes the file, so its hash\n")
+    out = tmp_path / "r"
+    code = main(["report", str(design), "--out", str(out), "--steps", "1", "--frames", "2"])
+    assert code == 0
+    text = "\n".join(p.extract_text() for p in pypdf.PdfReader(str(out / "report.pdf")).pages)
+    assert hashlib.sha256(design.read_bytes()).hexdigest() in text
+    assert hashlib.sha256(original).hexdigest() not in text
+    assert "# a comment changes the file, so its hash" in text  # the file as read
+    assert (out / "design" / "cone.toml").read_bytes() == design.read_bytes()
+
+
+def test_no_pdf_writes_no_pdf(tmp_path):
+    code = main(
+        ["report", str(EXAMPLES / "cone.toml"), "--out", str(tmp_path), "--steps", "1"]
+        + ["--frames", "2", "--no-pdf", "--quiet"]
+    )
+    assert code == 0
+    assert not (tmp_path / "report.pdf").exists()
+    assert "report.pdf" not in (tmp_path / "index.html").read_text(encoding="utf-8")
+
+
+def _fabrication_folder(folder, **manifest):
+    (folder / "plates").mkdir(parents=True)
+    (folder / "plates" / "plate_0.dxf").write_text("0\nEOF\n")
+    (folder / "hinges.dxf").write_text("0\nEOF\n")
+    (folder / "fabrication.json").write_text(json.dumps(manifest), encoding="utf-8")
+    return folder
+
+
+def test_the_fabrication_section_links_every_file_and_shows_the_tables(tmp_path):
+    fab = _fabrication_folder(
+        tmp_path / "fab",
+        design="cone",
+        plates=2,
+        utilisation=0.625,
+        bom=[{"item": "plywood 8 mm", "quantity": 2, "area_m2": 1.23456}],
+        nesting={"sheets": [{"sheet": 1, "size_mm": [2500, 1250], "plates": [0, 1]}]},
+    )
+    out = tmp_path / "report"
+    code = main(
+        ["report", str(EXAMPLES / "cone.toml"), "--out", str(out), "--steps", "1"]
+        + ["--frames", "2", "--fabrication", str(fab), "--quiet"]
+    )
+    assert code == 0
+    page = Links()
+    page.feed((out / "index.html").read_text(encoding="utf-8"))
+    for rel in ("plates/plate_0.dxf", "hinges.dxf", "fabrication.json"):
+        assert f"fabrication/{rel}" in page.links
+        assert (out / "fabrication" / rel).read_bytes() == (fab / rel).read_bytes()
+    text = " ".join(" ".join(page.text).split())
+    assert "utilisation 62.5%" in text
+    assert "Bill of materials (fabrication.json: bom)" in text
+    assert "plywood 8 mm 2 1.235" in text
+    assert "Sheets (fabrication.json: sheets)" in text and "2500, 1250 0, 1" in text
+    pypdf = pytest.importorskip("pypdf")
+    pdf = "\n".join(p.extract_text() for p in pypdf.PdfReader(str(out / "report.pdf")).pages)
+    assert "plates/plate_0.dxf" in pdf and "plywood 8 mm" in pdf
+
+
+def test_a_fabrication_of_another_design_is_refused_before_any_work(tmp_path, capsys):
+    fab = _fabrication_folder(tmp_path / "fab", design="vault")
+    out = tmp_path / "report"
+    code = main(
+        ["report", str(EXAMPLES / "cone.toml"), "--out", str(out), "--fabrication", str(fab)]
+    )
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "holds the fabrication of design 'vault', not of 'cone'" in err
+    assert not (out / "index.html").exists()
+    code = main(
+        ["report", str(EXAMPLES / "cone.toml"), "--out", str(out), "--fabrication", "nowhere"]
+    )
+    assert code == 2
+    assert "--fabrication must be a folder written by 'ccu fabricate', got 'nowhere'" in (
+        capsys.readouterr().err
+    )
+
+
+def test_the_last_validation_of_the_file_joins_the_checks_and_the_pdf(tmp_path, monkeypatch):
+    pypdf = pytest.importorskip("pypdf")
+    from compas_ccu.fea.record import remember
+
+    monkeypatch.setenv("CCU_CACHE_DIR", str(tmp_path / "cache"))
+    design = tmp_path / "cone.toml"
+    design.write_bytes((EXAMPLES / "cone.toml").read_bytes())
+    fe = tmp_path / "fe"
+    fe.mkdir()
+    checks = {
+        **_load_case_checks(),
+        "deflection_max_m": 0.0061,
+        "utilisation_max": 0.8,
+        "deflection_ok": False,
+        "utilisation_ok": True,
+    }
+    summary = {
+        "design": "cone",
+        "engine": "kratos",
+        "mode": "nonlinear",
+        "alpha": 30.0,
+        "span": 1.0,
+        "deviation": {"max_percent": 0.12, "mean_percent": 0.05, "max_m": 0.001},
+        "stresses": {"max_bending_MPa": 21.5},
+        "checks": checks,
+        "converged": True,
+    }
+    (fe / "validation.json").write_text(json.dumps(summary), encoding="utf-8")
+    remember(str(design), summary, fe)
+    out = tmp_path / "report"
+    code = main(["report", str(design), "--out", str(out), "--steps", "1", "--frames", "2"])
+    assert code == 0
+    page = Links()
+    page.feed((out / "index.html").read_text(encoding="utf-8"))
+    text = " ".join(" ".join(page.text).split())
+    assert "FE validation kratos nonlinear, alpha 30 deg: deviation max 0.120 %" in text
+    assert "FE checks deflection 6.10 mm (limit 5.00 mm), utilisation 0.80" in text
+    assert "NOT OK" in text
+    assert "Structural checks (FE, load cases)" in text
+    pdf = "\n".join(p.extract_text() for p in pypdf.PdfReader(str(out / "report.pdf")).pages)
+    assert "Structural checks (FE, load cases)" in pdf
+    assert "governing: deflection wet-concrete, utilisation snow" in pdf
+    # the file changes: its validation is not the report's any more
+    from compas_ccu.cli.pictures import _last_validation
+
+    assert _last_validation(str(design))[0] is not None
+    with design.open("a", encoding="utf-8") as f:
+        f.write("# changed\n")
+    assert _last_validation(str(design)) == (None, [])

@@ -15,7 +15,7 @@ from compas_ccu.cli.parser import DESIGN, OUT, QUIET, QUIET_PROGRESS, Command, o
 from compas_ccu.errors import OptionError
 from compas_ccu.fea.record import last_validation
 from compas_ccu.io import read_values
-from compas_ccu.viz.animation import ANIMATION_FORMATS, mp4_available, write_animation
+from compas_ccu.viz.animation import ANIMATION_FORMATS, mp4_available, write_animations
 from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
 from compas_ccu.viz.patterns import plot_cut_patterns
 from compas_ccu.viz.planarity import plot_planarity
@@ -112,15 +112,15 @@ def animate(args) -> int:
         formats = comma_list(args.format, ANIMATION_FORMATS, "--format")
     model = load_model(args.design)
     out = Path(args.out)
-    for fmt in formats:
-        path = write_animation(
-            model,
-            out / f"deployment.{fmt}",
-            frames=args.frames,
-            fps=args.fps,
-            alpha=args.alpha,
-            progress=not args.quiet,
-        )
+    written = write_animations(  # the frames are rendered once for every format
+        model,
+        [out / f"deployment.{fmt}" for fmt in formats],
+        frames=args.frames,
+        fps=args.fps,
+        alpha=args.alpha,
+        progress=not args.quiet,
+    )
+    for path in written:
         say(args, f"wrote {path} ({args.frames} frames)")
     if args.format is None and "mp4" not in formats:
         say(args, "no MP4 encoder (pip install 'compas_ccu[video]'): wrote the GIF only")
@@ -177,6 +177,8 @@ def report(args) -> int:
     validation, pictures = _last_validation(args.design)
     if validation is not None:
         say(args, f"with the FE validation in {validation['_folder']}")
+    if args.fabrication is not None:
+        say(args, f"with the fabrication files in {args.fabrication}")
     written = write_report(
         model,
         args.out,
@@ -185,11 +187,17 @@ def report(args) -> int:
         progress=not args.quiet,
         validation=validation,
         validation_figures=pictures,
+        validation_record=last_validation(args.design),  # the headline, as ccu info has it
+        design_file=args.design,
+        fabrication=args.fabrication,
+        pdf=not args.no_pdf,
     )
     for name, reason in sorted(written.skipped.items()):
         print(f"ccu: warning: {name} not produced: {reason}", file=sys.stderr)
     say(args, f"wrote {len(written.files)} files into {Path(args.out)}")
     say(args, f"report: {written.index.resolve()}")
+    if written.pdf is not None:
+        say(args, f"report (PDF): {written.pdf.resolve()}")
     return 0
 
 
@@ -302,9 +310,12 @@ COMMANDS = (
     ),
     Command(
         "report",
-        "write the design report (index.html)",
-        "Write --out/index.html with the viewer, the figures, the animation, the "
-        "key figures of the design and links to every file written (data, figures, viewer).",
+        "write the design report (index.html, report.pdf)",
+        "Write --out/index.html and --out/report.pdf: the engineering record of a design (the "
+        "design file as read with its SHA-256, the compas_ccu version, the date, the units and "
+        "the material constants), its key figures and checks as 'ccu info' words them, the FE "
+        "results of its last 'ccu validate' (of this file's contents), the fabrication files of "
+        "--fabrication, the viewer, the figures, the animation and links to every file written.",
         (
             DESIGN,
             OUT,
@@ -322,6 +333,14 @@ COMMANDS = (
                 default=48,
                 help="animation frames (default 48)",
             ),
+            option(
+                "--fabrication",
+                default=None,
+                metavar="FOLDER",
+                help="a folder written by 'ccu fabricate' for this design: copied into "
+                "--out/fabrication, every file linked, its sheets and bill of materials shown",
+            ),
+            option("--no-pdf", action="store_true", help="do not write report.pdf"),
             QUIET_PROGRESS,
         ),
         report,

@@ -11,7 +11,13 @@ from compas_ccu.errors import OptionError
 from compas_ccu.viz.render import draw_scene, path_frames
 from compas_ccu.viz.views import kind_legend_handles
 
-__all__ = ["render_frames", "write_animation", "mp4_available", "ANIMATION_FORMATS"]
+__all__ = [
+    "render_frames",
+    "write_animation",
+    "write_animations",
+    "mp4_available",
+    "ANIMATION_FORMATS",
+]
 
 ANIMATION_FORMATS = ("gif", "mp4")
 
@@ -133,26 +139,92 @@ def write_animation(
     >>> Image.open(gif).n_frames
     5
     """
-    path = Path(path)
-    fmt = path.suffix.lower().lstrip(".")
-    if fmt not in ANIMATION_FORMATS:
-        raise OptionError(f"animation format must be one of {ANIMATION_FORMATS}, got {path.name!r}")
+    (written,) = write_animations(
+        model,
+        [path],
+        frames=frames,
+        fps=fps,
+        alpha=alpha,
+        view=view,
+        color_by=color_by,
+        progress=progress,
+    )
+    return written
+
+
+def write_animations(
+    model,
+    paths,
+    *,
+    frames: int = 48,
+    fps: float = 12.0,
+    alpha: float | None = None,
+    view="perspective",
+    color_by="kind",
+    progress: bool = False,
+) -> list:
+    """Write the deployment animation to several files (``.gif``, ``.mp4``) from one rendering.
+
+    The frames are rendered once (:func:`render_frames`) and every file is written from the
+    same images: a GIF and an MP4 cost one rendering, not two. Every request is checked before
+    the first frame is rendered.
+
+    Parameters
+    ----------
+    model : compas_ccu.model.CCUModel
+    paths : sequence of str or Path
+        The files to write; each suffix chooses its format (one file per format).
+    frames, fps, alpha, view, color_by, progress
+        See :func:`write_animation`.
+
+    Returns
+    -------
+    list of Path
+        The files written, in the order of ``paths``.
+
+    Raises
+    ------
+    compas_ccu.errors.OptionError
+        No path, an unknown format, or MP4 without an encoder (install ``compas_ccu[video]``).
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> import tempfile, pathlib
+    >>> from PIL import Image
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> gif, = write_animations(load_model("examples/cone.toml"), [out / "cone.gif"], frames=3)
+    >>> Image.open(gif).n_frames
+    3
+    """
+    paths = [Path(p) for p in paths]
+    if not paths:
+        raise OptionError("write_animations needs at least one file to write, got none")
+    for path in paths:
+        fmt = path.suffix.lower().lstrip(".")
+        if fmt not in ANIMATION_FORMATS:
+            raise OptionError(
+                f"animation format must be one of {ANIMATION_FORMATS}, got {path.name!r}"
+            )
+        if fmt == "mp4" and not mp4_available():
+            raise OptionError(
+                "MP4 needs an encoder: install the video extra (pip install "
+                "'compas_ccu[video]', imageio-ffmpeg); GIF works without it"
+            )
     if not fps > 0:
         raise OptionError(f"fps must be > 0, got {fps!r}")
-    if fmt == "mp4" and not mp4_available():
-        raise OptionError(
-            "MP4 needs an encoder: install the video extra (pip install 'compas_ccu[video]', "
-            "imageio-ffmpeg); GIF works without it"
+    images = list(
+        render_frames(
+            model, frames=frames, alpha=alpha, view=view, color_by=color_by, progress=progress
         )
-    images = render_frames(
-        model, frames=frames, alpha=alpha, view=view, color_by=color_by, progress=progress
     )
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if fmt == "gif":
-        _write_gif(path, images, fps)
-    else:
-        _write_mp4(path, images, fps)
-    return path
+    for path in paths:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if path.suffix.lower() == ".gif":
+            _write_gif(path, images, fps)
+        else:
+            _write_mp4(path, images, fps)
+    return paths
 
 
 def _write_gif(path: Path, images, fps: float) -> None:

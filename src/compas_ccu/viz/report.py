@@ -8,6 +8,7 @@ written.
 from __future__ import annotations
 
 import html
+import re
 import shutil
 import sys
 import time
@@ -19,16 +20,25 @@ import numpy as np
 from compas_ccu import __version__
 from compas_ccu.errors import CCUError, OptionError
 from compas_ccu.io import write_compas_json, write_obj, write_path_table, write_structure_json
+from compas_ccu.key_figures import FIGURES as KEY_FIGURES
 from compas_ccu.key_figures import KeyFigures, key_figures
+from compas_ccu.key_figures.text import (
+    figure_rows,
+    load_case_lines,
+    row_failed,
+    thickness_rows,
+    validation_rows,
+    value_text,
+)
 from compas_ccu.thickness import ThickModel
-from compas_ccu.thickness.bending import bending_verdict
-from compas_ccu.thickness.model import collision_text
-from compas_ccu.viz.animation import mp4_available, write_animation
+from compas_ccu.viz.animation import mp4_available, write_animations
 from compas_ccu.viz.colors import KIND_COLORS
 from compas_ccu.viz.export import save_figure
 from compas_ccu.viz.patterns import plot_cut_patterns
+from compas_ccu.viz.pdf import write_pdf
 from compas_ccu.viz.planarity import plot_planarity
 from compas_ccu.viz.quadrants import plot_quadrants
+from compas_ccu.viz.record import cell_text, design_record, read_fabrication, table_columns
 from compas_ccu.viz.sequence import plot_deployment_sequence
 from compas_ccu.viz.viewer import write_viewer
 from compas_ccu.viz.views import plot_views
@@ -54,6 +64,8 @@ class Report:
     ----------
     index : Path
         The report page.
+    pdf : Path or None
+        The PDF version of the report (``report.pdf``), if written.
     files : list of Path
         Every file written (the page included).
     skipped : dict
@@ -63,12 +75,20 @@ class Report:
         (:meth:`compas_ccu.key_figures.KeyFigures.to_dict`, the path figures over the ``steps``
         intervals of the path) and under ``thickness`` the thick-plate summary
         (:meth:`compas_ccu.thickness.ThickModel.summary`).
+    record : dict
+        The engineering record (:func:`compas_ccu.viz.record.design_record`: design file,
+        SHA-256, version, date, units, material constants).
+    fabrication : dict or None
+        The fabrication folder as read (:func:`compas_ccu.viz.record.read_fabrication`).
     """
 
     index: Path
+    pdf: Path | None = None
     files: list = field(default_factory=list)
     skipped: dict = field(default_factory=dict)
     figures: dict = field(default_factory=dict)
+    record: dict = field(default_factory=dict)
+    fabrication: dict | None = None
 
 
 def write_report(
@@ -81,6 +101,10 @@ def write_report(
     progress: bool = False,
     validation: dict | None = None,
     validation_figures=(),
+    validation_record: dict | None = None,
+    design_file=None,
+    fabrication=None,
+    pdf: bool = True,
 ) -> Report:
     """Write the report of a design into the folder ``out``.
 
@@ -92,7 +116,7 @@ def write_report(
     steps : int
         Intervals of the deployment path (viewer slider, path table, planarity).
     frames : int
-        Frames of the animation.
+        Frames of the animation (rendered once for the GIF and the MP4).
     formats : sequence of str
         Figure formats (PNG is always written: the page shows it).
     progress : bool
@@ -103,26 +127,48 @@ def write_report(
     validation_figures : sequence of path
         Pictures of that validation to copy into ``out/figures`` and show there (e.g.
         ``fe_load_cases.png``).
+    validation_record : dict, optional
+        The record of that validation (:func:`compas_ccu.fea.record.last_validation`): its
+        headline joins the key figures and checks, worded as by ``ccu info``.
+    design_file : str or Path, optional
+        The design TOML the model was loaded from: copied into ``out/design/`` and shown
+        verbatim with its SHA-256 (the engineering record).
+    fabrication : str or Path, optional
+        A folder written by ``ccu fabricate`` for this design: copied into
+        ``out/fabrication/``; the page links every file and shows its sheets and bill of
+        materials (:func:`compas_ccu.viz.record.read_fabrication`).
+    pdf : bool
+        Also write ``report.pdf``: the record, the key figures and checks, the FE and
+        fabrication sections, the design file and every figure.
 
     Returns
     -------
     Report
+
+    Raises
+    ------
+    compas_ccu.errors.OptionError
+        Bad ``steps``; ``fabrication`` is no folder or the fabrication of another design.
 
     Examples
     --------
     >>> from compas_ccu.model import load_model
     >>> import tempfile
     >>> r = write_report(load_model("examples/cone.toml"), tempfile.mkdtemp(),
-    ...                  steps=4, frames=3)
-    >>> r.index.name, r.figures["plates"]
-    ('index.html', 2)
+    ...                  steps=4, frames=3, design_file="examples/cone.toml", pdf=False)
+    >>> r.index.name, r.figures["plates"], len(r.record["sha256"])
+    ('index.html', 2, 64)
     """
     if int(steps) != steps or steps < 1:
         raise OptionError(f"steps must be an integer >= 1, got {steps!r}")
     formats = tuple(dict.fromkeys(("png", *formats)))
     out = Path(out)
+    record = design_record(model, design_file)
+    fab = None
+    if fabrication is not None:  # read (and refused) before any work
+        fab = read_fabrication(fabrication, design=model.design.name, sha256=record["sha256"])
     out.mkdir(parents=True, exist_ok=True)
-    report = Report(index=out / "index.html")
+    report = Report(index=out / "index.html", record=record, fabrication=fab)
     started = time.perf_counter()
     structure = model.deploy()
     alphas = np.linspace(0.0, model.alpha_design, int(steps) + 1)
@@ -134,6 +180,27 @@ def write_report(
     except CCUError as exc:
         report.skipped["thickness"] = str(exc)
     figures: dict = {}
+
+    def inputs():
+        if design_file is None:
+            return
+        dst = out / "design" / Path(design_file).name
+        dst.parent.mkdir(exist_ok=True)
+        shutil.copyfile(design_file, dst)
+        report.files.append(dst)
+        record["copy"] = dst
+
+    def fabrication_files():
+        if fab is None:
+            return
+        copied = []
+        for rel in fab["files"]:
+            dst = out / "fabrication" / rel
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(fab["folder"] / rel, dst)
+            copied.append(dst)
+        fab["copies"] = copied
+        report.files += copied
 
     def data():
         data_dir = out / "data"
@@ -154,24 +221,23 @@ def write_report(
 
         return run
 
-    def animation(fmt):
-        def run():
-            if fmt == "mp4" and not mp4_available():
-                report.skipped["deployment.mp4"] = (
-                    "no MP4 encoder: install the video extra (imageio-ffmpeg)"
-                )
-                return
-            report.files.append(write_animation(model, out / f"deployment.{fmt}", frames=frames))
-
-        return run
+    def animation():
+        paths = [out / "deployment.gif"]
+        if mp4_available():
+            paths.append(out / "deployment.mp4")
+        else:
+            report.skipped["deployment.mp4"] = (
+                "no MP4 encoder: install the video extra (imageio-ffmpeg)"
+            )
+        report.files += write_animations(model, paths, frames=frames)  # one rendering
 
     def viewer():
         report.files.append(write_viewer(model, out / "viewer.html", steps=steps))
 
-    tasks = [("data files", data)]
+    tasks = [("design file", inputs), ("fabrication files", fabrication_files)]
+    tasks += [("data files", data)]
     tasks += [(f"figure {name}", figure(name)) for name, _ in FIGURES]
-    tasks += [("animation gif", animation("gif")), ("animation mp4", animation("mp4"))]
-    tasks += [("viewer", viewer)]
+    tasks += [("animation", animation), ("viewer", viewer)]
     from tqdm.auto import tqdm
 
     bar = tqdm(tasks, desc="report", disable=not progress, file=sys.stderr, leave=False)
@@ -183,8 +249,8 @@ def write_report(
             report.skipped[label] = str(exc)
     bar.close()
     structural = ""
+    shown = []
     if validation is not None:
-        shown = []
         for src in validation_figures:
             src = Path(src)
             if src.exists():
@@ -194,11 +260,50 @@ def write_report(
                 report.files.append(dst)
                 shown.append(dst)
         structural = structural_section(validation, [_rel(p, out) for p in shown])
+    checks = _check_rows(figures_of_design, report.figures.get("thickness"), validation_record)
+    if pdf:
+        try:
+            report.pdf = write_pdf(
+                out / "report.pdf",
+                _pdf_blocks(figures_of_design, report, checks, figures, validation, shown),
+                footer=_footer(figures_of_design, record),
+            )
+            report.files.append(report.pdf)
+        except (CCUError, ValueError, OSError) as exc:
+            report.skipped["report.pdf"] = str(exc)
     elapsed = time.perf_counter() - started
-    page = _page(figures_of_design, structure, report, figures, elapsed, structural)
+    page = _page(figures_of_design, structure, report, figures, elapsed, structural, checks)
     report.index.write_text(page, encoding="utf-8")
     report.files.append(report.index)
     return report
+
+
+def _check_rows(k: KeyFigures, thickness, validation_record) -> list:
+    """The key figures and checks, as ``ccu info`` words them (one definition)."""
+    rows = figure_rows(k)
+    if thickness:
+        rows += thickness_rows(thickness)
+    rows += validation_rows(validation_record)
+    return rows
+
+
+def _footer(k: KeyFigures, record: dict) -> str:
+    sha = f" · sha256 {record['sha256'][:12]}" if record.get("sha256") else ""
+    return f"{k.name} · compas_ccu {record['version']} · {record['date']}{sha}"
+
+
+def _record_rows(record: dict) -> list:
+    rows = [
+        ("design file", record["file"] or "not given (the model was built in Python)"),
+    ]
+    if record["sha256"]:
+        rows.append(("sha256", record["sha256"]))
+    rows += [
+        ("compas_ccu", f"{record['version']} (Python {record['python']})"),
+        ("date (UTC)", record["date"]),
+    ]
+    rows.append(("units", "; ".join(f"{k} {v}" for k, v in record["units"].items())))
+    return rows
 
 
 def _make_figure(name, model, structure):
@@ -222,6 +327,8 @@ body { font: 15px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; color: 
        margin: 0 auto; max-width: 1180px; padding: 1.2em 1.5em 3em; }
 h1 { margin-bottom: 0.1em; } h2 { margin-top: 1.8em; border-bottom: 1px solid #ddd; }
 tr.bad th, tr.bad td { color: #b00020; }
+pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; font-size: 0.85em; }
+table.rows th { white-space: nowrap; }
 .sub { color: #666; margin-top: 0; }
 table { border-collapse: collapse; margin: 0.6em 0; }
 td, th { padding: 0.25em 0.9em 0.25em 0; text-align: left; vertical-align: top; }
@@ -235,46 +342,139 @@ figcaption { color: #444; font-size: 0.93em; }
 """
 
 
-def _fmt(x, digits=4) -> str:
-    return f"{x:.{digits}g}"
-
-
 def _rel(path: Path, root: Path) -> str:
     return path.relative_to(root).as_posix()
 
 
+def _html_text(text: str) -> str:
+    """A row's text as HTML: a failed check (``** ... **``) in bold red."""
+    return re.sub(r"\*\* (.+?) \*\*", r'<b class="skip">\1</b>', html.escape(text))
+
+
+def _rows_table(rows, *, cls: str = "rows") -> str:
+    body = "\n".join(
+        f"<tr{' class=bad' if row_failed(text) else ''}><th>{html.escape(label)}</th>"
+        f"<td>{_html_text(text)}</td></tr>"
+        for label, text in rows
+    )
+    return f'<table class="{cls}">{body}</table>'
+
+
+def _all_figures_table(k: KeyFigures) -> str:
+    e = html.escape
+    body = "\n".join(
+        f"<tr><td><code>{e(f.name)}</code></td><td class=num>{e(value_text(f.name, k[f.name]))}"
+        f"</td><td>{e(f.group)}</td><td>{e(f.doc)}</td></tr>"
+        for f in KEY_FIGURES
+    )
+    return (
+        "<details><summary>Every key figure (docs/key-figures.md)</summary><table>"
+        "<tr><th>figure</th><th>value</th><th>group</th><th>meaning</th></tr>"
+        f"{body}</table></details>"
+    )
+
+
+def _record_section(record: dict, root: Path) -> str:
+    """The page's "Engineering record": file, hash, version, date, units, materials."""
+    e = html.escape
+    copy = record.get("copy")
+    parts = [
+        '<h2 id="record">Engineering record</h2>',
+        _rows_table(_record_rows(record)),
+    ]
+    if copy is not None:
+        parts.append(
+            f'<p>The design file as read: <a href="{_rel(copy, root)}">{e(_rel(copy, root))}</a>'
+            " (verbatim at the end of the page, under Design inputs).</p>"
+        )
+    if record["material"]:
+        parts.append('<h3 id="materials">Material constants</h3>' + _rows_table(record["material"]))
+    elif record["material_error"]:
+        parts.append(f'<p class="skip">Material not modelled: {e(record["material_error"])}</p>')
+    return "".join(parts)
+
+
+def _inputs_section(record: dict) -> str:
+    """The page's "Design inputs": the design file verbatim with its hash."""
+    if record["text"] is None:
+        return ""
+    e = html.escape
+    return (
+        f'<h2 id="design-inputs">Design inputs: {e(record["file"])} as read</h2>'
+        f'<p class="sub">sha256 <code>{e(record["sha256"])}</code></p>'
+        f"<pre>{e(record['text'])}</pre>"
+    )
+
+
+def _fabrication_tables(fab: dict) -> list:
+    """(title, columns, rows of cell strings) of the fabrication folder's tables."""
+    out = []
+    for key, title in (("sheets", "Sheets"), ("bom", "Bill of materials")):
+        rows = fab.get(key)
+        if rows:
+            columns = table_columns(rows)
+            out.append(
+                (
+                    f"{title} (fabrication.json: {key})",
+                    columns,
+                    [[cell_text(r.get(c)) for c in columns] for r in rows],
+                )
+            )
+    return out
+
+
+def _fabrication_section(fab: dict | None, root: Path) -> str:
+    if fab is None:
+        return ""
+    e = html.escape
+    m = fab["manifest"] or {}
+    lines = []
+    if m:
+        facts = [f"design {m.get('design')}"] if m.get("design") else []
+        if m.get("plates") is not None:
+            facts.append(f"{m['plates']} plates")
+        if fab["sheets"]:
+            facts.append(f"{len(fab['sheets'])} sheets")
+        if fab["utilisation"] is not None:
+            facts.append(f"utilisation {fab['utilisation']:.1%}")
+        if isinstance(m.get("units"), dict):
+            facts.append("units " + ", ".join(f"{k} {v}" for k, v in m["units"].items()))
+        lines.append(f"<p>{e(' · '.join(facts))}</p>")
+    lines += [f'<p class="skip">{e(p)}</p>' for p in fab["problems"]]
+    if m and not fab["bom"] and not fab["sheets"]:
+        lines.append(
+            '<p class="sub">fabrication.json lists no sheets and no bill of materials (its keys '
+            "<code>sheets</code>, <code>bom</code>).</p>"
+        )
+    for title, columns, rows in _fabrication_tables(fab):
+        head = "".join(f"<th>{e(c)}</th>" for c in columns)
+        body = "".join(
+            "<tr>" + "".join(f"<td class=num>{e(c)}</td>" for c in r) + "</tr>" for r in rows
+        )
+        lines.append(f"<h3>{e(title)}</h3><table><tr>{head}</tr>{body}</table>")
+    files = "\n".join(
+        f'<tr><td><a href="{_rel(p, root)}">{e(_rel(p, root))}</a></td>'
+        f"<td class=num>{_size(p)}</td></tr>"
+        for p in fab.get("copies", [])
+    )
+    return (
+        '<h2 id="fabrication">Fabrication</h2>'
+        f'<p class="sub">From {e(str(fab["folder"]))} ({len(fab["files"])} files, copied into '
+        "fabrication/)</p>" + "".join(lines) + f"<h3>Fabrication files</h3><table>{files}</table>"
+    )
+
+
 def _page(
-    k: KeyFigures, structure, report: Report, figures: dict, elapsed: float, structural: str = ""
+    k: KeyFigures,
+    structure,
+    report: Report,
+    figures: dict,
+    elapsed: float,
+    structural: str = "",
+    checks=(),
 ) -> str:
     e = html.escape
     root = report.index.parent
-    kinds = ", ".join(
-        f'<span class="kind" style="background:{KIND_COLORS.get(c, "#888")}"></span>{v} {e(c)}'
-        for c, v in k.crease_kind_counts().items()
-    )
-    bbox = " × ".join(f"{v:.3f}" for v in (k.plan_x, k.plan_y, k.height))
-    rows = [
-        ("Span (leading crease chord)", f"{k.crease_span:.4f} m"),
-        ("Rise", f"{k.crease_rise:.4f} m"),
-        ("Bounding box (x × y × z)", f"{bbox} m"),
-        ("Plates", str(k.plates)),
-        ("Creases", f"{k.creases} ({kinds})" if k.creases else "0"),
-        ("Segments per crease", str(k.segments)),
-        ("Design α (reference vertex)", f"{k.alpha_design:g}°"),
-        ("α along the creases", f"{k.alpha_min:.3f}° … {k.alpha_max:.3f}°"),
-        ("Deployment limit", f"{k.alpha_limit:.4f}°"),
-        ("First self-overlap of a crease", f"{k.overlap_alpha:.4f}°"),
-        ("Flat-folded stack footprint", f"{k.stack_x:.3f} × {k.stack_y:.3f} m"),
-    ]
-    inv = [
-        ("Isometry (quad sides and diagonals)", k.isometry_relative),
-        ("Quad planarity", k.quad_planarity_relative),
-        ("Hinge coincidence", k.hinge_gap_relative),
-        ("Mirror symmetry", k.mirror_error_relative),
-        ("Crease planarity, largest along the path", k.crease_planarity_path_relative),
-    ]
-    key_rows = "\n".join(f"<tr><th>{e(a)}</th><td class=num>{b}</td></tr>" for a, b in rows)
-    inv_rows = "\n".join(f"<tr><th>{e(a)}</th><td class=num>{b:.1e}</td></tr>" for a, b in inv)
     crease_rows = "\n".join(
         "<tr><td>c{id}</td><td>P{a} – P{b}</td><td>"
         '<span class="kind" style="background:{col}"></span>{kind}</td>'
@@ -331,96 +531,95 @@ def _page(
         if p != report.index
     )
     description = f'<p class="sub">{e(k.description)}</p>' if k.description else ""
-    thick = _thickness_section(report.figures.get("thickness"))
+    pdf = ' · <a href="report.pdf">PDF version</a>' if report.pdf is not None else ""
+    r = report.record
+    sha = f" · design sha256 <code>{e(r['sha256'][:12])}</code>" if r.get("sha256") else ""
+    per_plate = _per_plate(report.figures.get("thickness"))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"> <meta name="viewport" content="width=device-width,
 initial-scale=1"> <title>{e(k.name)}: compas_ccu report</title><style>{_CSS}</style></head> <body>
 <h1>{e(k.name)}</h1>{description} <p class="sub">compas_ccu {e(__version__)} · curved-crease
-unfolding report · written in {elapsed:.1f} s</p> <h2 id="viewer">Interactive viewer</h2>{viewer}
-<h2 id="key-figures">Key figures</h2><table>{key_rows}</table> <h3>Invariant errors (relative to the
-structure size {k.size:.3f} m; exact below 1e-9)</h3>
-<table>{inv_rows}</table> <h3>Creases at the design state</h3>
+unfolding report · {e(r.get("date", ""))}{sha} · written in {elapsed:.1f} s{pdf}</p>
+{_record_section(r, root)}
+<h2 id="key-figures">Key figures and checks</h2><p class="sub">As <code>ccu info</code> prints
+them; lengths in metres, angles in degrees.</p>{_rows_table(checks)}{per_plate}
+{_all_figures_table(k)} <h3>Creases at the design state</h3>
 <table><tr><th>crease</th><th>plates</th><th>kind</th><th>α range</th><th>mean Σβ</th>
-<th>planarity</th></tr>{crease_rows}</table> {thick} {structural} {anim} <h2
-id="figures">Figures</h2>{"".join(figs)} {
+<th>planarity</th></tr>{crease_rows}</table> {structural}
+{_fabrication_section(report.fabrication, root)}
+<h2 id="viewer">Interactive viewer</h2>{viewer} {anim} <h2
+id="figures">Figures</h2>{"".join(figs)} {_inputs_section(r)} {
         "<h2>Not produced</h2><ul>" + skipped + "</ul>" if skipped else ""
     } <h2 id="files">Files</h2><table>{file_rows}</table> </body></html>
 """
 
 
-def _thickness_section(t) -> str:
-    """The page's "Thickness and bending" section from ``ThickModel.summary()``."""
+def _per_plate(t) -> str:
     if not t:
         return ""
-    e = html.escape
-    b, c = t["bending"], t["collisions"]
-    collide = e(collision_text(c, degree="°"))
-    if c["first"] is not None:
-        collide = f'<b class="skip">{collide}</b>'
-    worst = b["worst"]
-    verdict = bending_verdict(b["exceeded"], b["basis"])
-    verdict = f'<b class="skip">{e(verdict)}</b>' if b["exceeded"] else e(verdict)
-    pairs = t["pairing"]
-    basis = b["basis"]
-    design = basis["code"] != "characteristic"
-    basis_line = (
-        f"{basis['basis']}: f_d = k_mod · f_k / γ_M with k_mod = {basis['k_mod']:g}, "
-        f"γ_M = {basis['gamma_M']:g} ({basis['source']})"
-        if design
-        else "characteristic strengths f_k (k_mod = γ_M = 1)"
-    )
-    rows = [
-        ("Plates", f"{t['thickness'] * 1e3:.4g} mm {e(t['material'])}, grain {t['grain']:g}°"),
-        ("Flat-folded stack height (Σt)", f"{t['stack_height'] * 1e3:.4g} mm"),
-        ("Stack order, bottom to top", ", ".join(f"P{i}" for i in t["stack_order"])),
-        (
-            "Axis-shift hinges (Fig. 8c)",
-            f"{pairs.count('intrados')} intrados–intrados, "
-            f"{pairs.count('extrados')} extrados–extrados",
-        ),
-        (
-            "Offset-crease correction at the design state",
-            f"{max(t['correction_design'], default=0.0) * 1e3:.3g} mm",
-        ),
-        ("Hinge gap along the path", f"{t['hinge_gap_max_path'] * 1e3:.3g} mm"),
-        ("Collisions, flat stack → design", collide),
-        ("Largest plate curvature", f"{b['max_curvature']:.4g} 1/m"),
-        (
-            "Bending utilisation κ / (f_d / (E t/2))"
-            if design
-            else "Bending utilisation κ / (f_k / (E t/2))",
-            f"{b['max_utilisation']:.3f} (plate {worst['plate']} at α {worst['alpha']:.3g}°): "
-            f"{verdict}",
-        ),
-        ("Basis of the bending check", e(basis_line)),
-    ]
-    if design:
-        rows.append(
-            (
-                "Characteristic utilisation κ / (f_k / (E t/2))",
-                f"{b['max_utilisation_characteristic']:.3f}",
-            )
-        )
-    if b.get("final_modulus") is not None and basis.get("k_def") is not None:
-        rows.append(
-            (
-                "Creep (k_def), final stiffness E / (1 + k_def)",
-                f"k_def {basis['k_def']:g}: "
-                + " / ".join(f"{v / 1e9:.3g}" for v in b["final_modulus"])
-                + " GPa (E1 / E2)",
-            )
-        )
-    body = "\n".join(f"<tr><th>{e(a)}</th><td>{v}</td></tr>" for a, v in rows)
+    u = t["bending"]["utilisation_per_plate"]
     return (
-        '<h2 id="thickness">Thickness and bending (paper §5.3)</h2>'
-        f"<table>{body}</table>"
-        "<p>Per plate utilisation: "
-        + ", ".join(
-            f"P{i}: {u:.2f}"
-            for i, u in zip(range(len(b["utilisation_per_plate"])), b["utilisation_per_plate"])
-        )
+        "<p>Bending utilisation per plate: "
+        + ", ".join(f"P{i}: {v:.2f}" for i, v in enumerate(u))
         + "</p>"
     )
+
+
+def _pdf_blocks(k: KeyFigures, report: Report, checks, figures, validation, shown) -> list:
+    """The report as blocks of :func:`compas_ccu.viz.pdf.write_pdf`."""
+    r = report.record
+    blocks = [
+        (
+            "title",
+            k.name,
+            (k.description + " · " if k.description else "")
+            + f"compas_ccu {r['version']} · curved-crease unfolding report · {r['date']}",
+        ),
+        ("heading", "Engineering record"),
+        ("rows", _record_rows(r)),
+        ("heading", "Key figures and checks"),
+        ("rows", checks),
+    ]
+    if r["material"]:
+        blocks += [("heading", "Material constants"), ("rows", r["material"])]
+    c = (validation or {}).get("checks")
+    if c and "cases" in c:
+        blocks += [
+            ("heading", "Structural checks (FE, load cases)"),
+            ("paragraph", f"{validation.get('engine', '')} {validation.get('mode', '')}"),
+            ("lines", load_case_lines(c)),
+        ]
+        blocks += [
+            ("image", p, "Deflection under the characteristic loads of every case") for p in shown
+        ]
+    fab = report.fabrication
+    if fab is not None:
+        blocks += [("heading", "Fabrication"), ("paragraph", f"From {fab['folder']}")]
+        blocks += [("paragraph", p) for p in fab["problems"]]
+        if fab["utilisation"] is not None:
+            blocks.append(("paragraph", f"Sheet utilisation {fab['utilisation']:.1%}"))
+        for title, columns, rows in _fabrication_tables(fab):
+            blocks += [("paragraph", title), ("table", columns, rows)]
+        blocks += [
+            ("paragraph", "Files (in fabrication/ beside this report):"),
+            ("lines", fab["files"]),
+        ]
+    for name, caption in FIGURES:
+        if name in figures:
+            png = next(p for p in figures[name] if p.suffix == ".png")
+            blocks.append(("image", png, caption))
+    if r["text"] is not None:
+        blocks += [
+            ("heading", f"Design inputs: {r['file']}"),
+            ("paragraph", f"sha256 {r['sha256']}"),
+            ("code", r["text"]),
+        ]
+    if report.skipped:
+        blocks += [
+            ("heading", "Not produced"),
+            ("lines", [f"{a}: {b}" for a, b in sorted(report.skipped.items())]),
+        ]
+    return blocks
 
 
 def _size(path: Path) -> str:

@@ -1,0 +1,220 @@
+"""The report as an engineering record: what went in (the design file as read, its SHA-256, the
+package version, the date, the units, the material constants) and what the workshop got (the
+fabrication folder: every file, the sheets and the bill of materials).
+
+:func:`design_record` and :func:`read_fabrication` gather plain data; the report
+(:mod:`compas_ccu.viz.report`) renders it as HTML and PDF.
+
+The fabrication folder is read tolerantly: every file is listed; ``fabrication.json`` (written by
+``ccu fabricate``) is read if it is there and parses; the tables ``bom`` and ``sheets`` (each a
+list of objects, at the top level or under ``nesting``) and the number ``utilisation`` are shown
+if present, and ``design_sha256`` is compared with the design file's hash.
+"""
+
+from __future__ import annotations
+
+import datetime
+import hashlib
+import json
+import math
+import platform
+from pathlib import Path
+
+from compas_ccu import __version__
+from compas_ccu.errors import CCUError, OptionError
+from compas_ccu.key_figures.text import material_rows
+from compas_ccu.outputs import MANIFEST
+from compas_ccu.thickness import ThickModel
+
+__all__ = ["design_record", "read_fabrication", "table_columns", "cell_text", "FABRICATION_KEYS"]
+
+#: Keys of ``fabrication.json`` the report reads (all optional).
+FABRICATION_KEYS = ("design", "design_sha256", "bom", "sheets", "nesting", "utilisation")
+
+
+def design_record(model, design_file=None, *, now=None) -> dict:
+    """The inputs of a report: design file text and hash, version, date, units, materials.
+
+    Parameters
+    ----------
+    model : compas_ccu.model.CCUModel
+    design_file : str or Path, optional
+        The design TOML the model was loaded from: its text is kept verbatim with its SHA-256
+        (of the bytes, as :func:`compas_ccu.fea.record.last_validation` keys validations).
+    now : datetime.datetime, optional
+        The date of the record (default: now, UTC).
+
+    Returns
+    -------
+    dict
+        ``file`` (name or None), ``text`` (str or None), ``sha256`` (str or None), ``version``,
+        ``python``, ``date`` (UTC, ISO 8601), ``units`` (the file's length units and the
+        report's), ``material`` (rows of :func:`compas_ccu.key_figures.text.material_rows`, or
+        None with ``material_error``), ``material_constants`` (plain numbers, SI units).
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> r = design_record(load_model("examples/cone.toml"), "examples/cone.toml")
+    >>> r["file"], len(r["sha256"]), r["units"]["lengths in the file"]
+    ('cone.toml', 64, 'm')
+    """
+    now = now or datetime.datetime.now(datetime.timezone.utc)
+    record = {
+        "file": None,
+        "text": None,
+        "sha256": None,
+        "version": __version__,
+        "python": platform.python_version(),
+        "date": now.astimezone(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "units": {
+            "lengths in the file": model.design.units,
+            "lengths in the report": "m (DXF: mm)",
+            "angles": "deg",
+            "stresses": "MPa (moduli GPa)",
+        },
+        "material": None,
+        "material_error": None,
+        "material_constants": None,
+    }
+    if design_file is not None:
+        path = Path(design_file)
+        data = path.read_bytes()
+        record.update(
+            file=path.name,
+            text=data.decode("utf-8", errors="replace"),
+            sha256=hashlib.sha256(data).hexdigest(),
+        )
+    try:
+        thick = ThickModel(model)
+    except CCUError as exc:
+        record["material_error"] = str(exc)
+        return record
+    m, f = thick.material, thick.factors
+    record["material"] = material_rows(m, f, thickness=thick.thickness, grain=thick.grain)
+    record["material_constants"] = {
+        **m.to_dict(),
+        "thickness": thick.thickness,
+        "grain": thick.grain,
+        "design_factors": f.to_dict(),
+    }
+    return record
+
+
+def read_fabrication(folder, *, design=None, sha256=None) -> dict:
+    """Read a fabrication folder (``ccu fabricate``) tolerantly.
+
+    Parameters
+    ----------
+    folder : str or Path
+    design : str, optional
+        The design's name: a ``fabrication.json`` of another design is refused.
+    sha256 : str, optional
+        The design file's hash: a ``fabrication.json`` with another ``design_sha256`` is
+        refused (one without that key is accepted).
+
+    Returns
+    -------
+    dict
+        ``folder`` (Path), ``files`` (relative POSIX paths of every file, sorted),
+        ``manifest`` (the parsed ``fabrication.json`` or None), ``problems`` (list of str: what
+        could not be read), ``bom`` and ``sheets`` (lists of dicts or None), ``utilisation``
+        (float or None).
+
+    Raises
+    ------
+    OptionError
+        ``folder`` is not a folder, or its ``fabrication.json`` is of another design.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (d / "plate_0.dxf").write_text("0\\nEOF\\n")
+    >>> f = read_fabrication(d)
+    >>> f["files"], f["manifest"], f["bom"]
+    (['plate_0.dxf'], None, None)
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise OptionError(
+            f"--fabrication must be a folder written by 'ccu fabricate', got {str(folder)!r}"
+        )
+    files = sorted(
+        p.relative_to(folder).as_posix()
+        for p in folder.rglob("*")
+        if p.is_file() and p.name != MANIFEST and not p.name.startswith(".ccu-")
+    )
+    out = {
+        "folder": folder,
+        "files": files,
+        "manifest": None,
+        "problems": [],
+        "bom": None,
+        "sheets": None,
+        "utilisation": None,
+    }
+    path = folder / "fabrication.json"
+    if not path.is_file():
+        out["problems"].append("no fabrication.json in the folder: the files are listed only")
+        return out
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        out["problems"].append(f"fabrication.json could not be read: {exc}")
+        return out
+    if not isinstance(manifest, dict):
+        out["problems"].append(f"fabrication.json holds a {type(manifest).__name__}, not an object")
+        return out
+    out["manifest"] = manifest
+    if design is not None and manifest.get("design") not in (None, design):
+        raise OptionError(
+            f"--fabrication {str(folder)!r} holds the fabrication of design "
+            f"{manifest.get('design')!r}, not of {design!r}"
+        )
+    if sha256 is not None and manifest.get("design_sha256") not in (None, sha256):
+        raise OptionError(
+            f"--fabrication {str(folder)!r} was written from another version of the design file "
+            f"(design_sha256 {manifest.get('design_sha256')!r}, the file's is {sha256!r})"
+        )
+    nesting = manifest.get("nesting") if isinstance(manifest.get("nesting"), dict) else {}
+    for key in ("bom", "sheets"):
+        table = manifest.get(key, nesting.get(key))
+        if table is None:
+            continue
+        if isinstance(table, list) and all(isinstance(r, dict) for r in table):
+            out[key] = table
+        else:
+            out["problems"].append(f"fabrication.json: {key} is not a list of objects, not shown")
+    u = manifest.get("utilisation", nesting.get("utilisation"))
+    if isinstance(u, (int, float)) and not isinstance(u, bool) and math.isfinite(u):
+        out["utilisation"] = float(u)
+    return out
+
+
+def table_columns(rows) -> list:
+    """The columns of a list of objects: every key, in order of first appearance.
+
+    >>> table_columns([{"a": 1}, {"b": 2, "a": 3}])
+    ['a', 'b']
+    """
+    return list(dict.fromkeys(k for r in rows for k in r))
+
+
+def cell_text(value) -> str:
+    """A table cell of a fabrication table: numbers to 4 significant digits, lists joined.
+
+    >>> cell_text(0.123456), cell_text(None), cell_text([1, 2]), cell_text(True)
+    ('0.1235', '', '1, 2', 'yes')
+    """
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    if isinstance(value, (list, tuple)):
+        return ", ".join(cell_text(v) for v in value)
+    if isinstance(value, dict):
+        return json.dumps(value, separators=(",", ":"))
+    return str(value)
