@@ -27,6 +27,10 @@ from compas_ccu.fabrication.importing import (  # noqa: E402
     round_trip_error,
     structure_round_trip_error,
 )
+from compas_ccu.fabrication.workshop import WorkshopOptions  # noqa: E402
+
+#: The sheets nested by shelves: fast, and the plate files do not depend on the nesting.
+SHELF = WorkshopOptions(nesting="shelf")
 
 R, WIDTH, SWEEP, N, ALPHA = 2.0, 0.4, 90.0, 48, 40.0
 
@@ -107,7 +111,7 @@ def test_hand_drawn_circular_crease_deploys_to_the_cone(tmp_path):
 
 def test_round_trip_cone_fabricate_import_deploy(tmp_path):
     model = load_model(EXAMPLES / "cone.toml")
-    fabricate(model, tmp_path / "fab")
+    fabricate(model, tmp_path / "fab", workshop=SHELF)
     result = round_trip_error(model, tmp_path / "fab")
     assert result["max_relative"] < 1e-9
     assert result["plate_ids"] == [0, 1] and result["crease_id"] == 0
@@ -118,7 +122,7 @@ def test_round_trip_vault_every_crease_pair(tmp_path):
     """The vault's orthogonal rulings need no offset-crease correction: every one of its nine
     crease pairs comes back to rounding (measured 1.1e-15 ... 1.6e-15 relative)."""
     model = load_model(EXAMPLES / "vault.toml")
-    fabricate(model, tmp_path / "fab")
+    fabricate(model, tmp_path / "fab", workshop=SHELF)
     errors = [round_trip_error(model, tmp_path / "fab", crease=c)["max_relative"] for c in range(9)]
     assert max(errors) < 1e-9
     with pytest.raises(DesignError, match="9 creases .*one crease pair: choose one"):
@@ -136,7 +140,14 @@ def test_round_trip_fig11a_whole_structure_is_the_thickness_correction(tmp_path)
     relative (measured), with 8 mm plates to 2.4e-4; its plates alternate in width, so no
     single crease pair but the whole structure is imported."""
     model = load_model(catalog_path("fig11a-constant-apex"))
-    fabricate(model, tmp_path / "thin", thickness=1e-8, hinge_width=0.03, allow_collisions=True)
+    fabricate(
+        model,
+        tmp_path / "thin",
+        thickness=1e-8,
+        hinge_width=0.03,
+        allow_collisions=True,
+        workshop=SHELF,
+    )
     assert structure_round_trip_error(model, tmp_path / "thin", crease=4)["max_relative"] < 1e-9
     with pytest.raises(DesignError, match=r"RULING_SCORE #\w+ \(end ruling\): the ruling at"):
         import_design(tmp_path / "thin", crease=0)

@@ -35,6 +35,7 @@ import ezdxf  # noqa: E402
 
 from compas_ccu.catalog import catalog_path  # noqa: E402
 from compas_ccu.fabrication.fabricate import fabricate  # noqa: E402
+from compas_ccu.fabrication.workshop import WorkshopOptions  # noqa: E402
 from compas_ccu.model import load_model  # noqa: E402
 
 pytestmark = pytest.mark.slow
@@ -104,7 +105,9 @@ def fabricated(request, tmp_path_factory):
     path = DESIGNS[request.param][0] or vault22(folder)
     model = load_model(path)
     out = folder / "fab"
-    manifest = fabricate(model, out)
+    # the sheets of the vault nested by spyrrow, of the others by shelves (fast; same entities)
+    nesting = "spyrrow" if request.param == "vault" else "shelf"
+    manifest = fabricate(model, out, workshop=WorkshopOptions(nesting=nesting))
     return request.param, out, manifest, model
 
 
