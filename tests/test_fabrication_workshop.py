@@ -13,7 +13,6 @@ from conftest import EXAMPLES
 
 ezdxf = pytest.importorskip("ezdxf")
 shapely = pytest.importorskip("shapely")
-pytest.importorskip("spyrrow")
 
 from compas_ccu.cli import main  # noqa: E402
 from compas_ccu.design import Design  # noqa: E402
@@ -32,6 +31,10 @@ from compas_ccu.fabrication.workshop import (  # noqa: E402
 )
 
 VAULT = str(EXAMPLES / "vault.toml")
+
+
+def _need_spyrrow():
+    pytest.importorskip("spyrrow")  # no wheel for Python 3.9
 
 
 def _strip(length: float, width: float, quads: int) -> np.ndarray:
@@ -94,6 +97,8 @@ def _check_sheets(parts, options):
 
 @pytest.mark.parametrize("nesting", ["spyrrow", "shelf"])
 def test_nesting_keeps_parts_on_the_sheets_and_apart(nesting):
+    if nesting == "spyrrow":
+        _need_spyrrow()
     o = WorkshopOptions(nesting=nesting)
     parts = [_rect(f"R{k}", 1.1, 0.55) for k in range(6)]  # 4 fit on one 2.5 x 1.25 sheet
     sheets = nest_parts(parts, o)
@@ -116,6 +121,7 @@ def test_a_part_larger_than_every_sheet_is_refused():
 
 @pytest.fixture(scope="module")
 def vault_plan(vault_fab_data):
+    _need_spyrrow()
     o = WorkshopOptions()
     return plan_workshop(vault_fab_data, hinge_strips(vault_fab_data), o, density=500.0)
 

@@ -22,13 +22,15 @@ and degrees here, millimetres in the DXF files.
 
 from __future__ import annotations
 
+import importlib.util
 import math
-from dataclasses import dataclass, field
+import warnings
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from compas_ccu.errors import GeometryError, MissingExtraError
+from compas_ccu.errors import CCUWarning, GeometryError, MissingExtraError
 from compas_ccu.fabrication.dxf import APPID, MM, _new_doc, _save, _xy, label_frame
 
 __all__ = [
@@ -505,7 +507,7 @@ def _shelf_sheet(shapes, orientations, length, width, gap):
     boxes = {}
     for name, pts in shapes.items():
         angles = orientations[name]
-        angles = np.arange(0.0, 180.0, 5.0) if angles is None else np.asarray(angles[:1])
+        angles = np.arange(0.0, 180.0, 1.0) if angles is None else np.asarray(angles[:1])
         best = None
         for a in angles:
             q = _moved(pts, float(a), (0.0, 0.0))
@@ -560,6 +562,8 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
                 on = _pack_sheet(
                     shapes, orient, length, width, options.spacing * MM, options.nesting_time
                 )
+            if not on:  # pragma: no cover - every part fits a sheet alone (fitting_size)
+                raise GeometryError(f"no part of {sorted(left)} could be placed on a sheet")
             index = len(sheets)
             names = []
             for m, (rot, t, _) in sorted(on.items()):
@@ -840,6 +844,14 @@ def plan_workshop(data, strips, options: WorkshopOptions, *, density: float, pai
         A part fits no sheet (e.g. a plate wider than every sheet), or a hinge strip is wider
         than the roll.
     """
+    if options.nesting == "spyrrow" and importlib.util.find_spec("spyrrow") is None:
+        warnings.warn(
+            "spyrrow is not installed (pip install 'compas_ccu[fab]'; it has no wheel for "
+            "Python 3.9): the parts are nested by shelves of bounding boxes, which wastes sheets",
+            CCUWarning,
+            stacklevel=2,
+        )
+        options = replace(options, nesting="shelf")
     parts, splits = make_parts(data, options)
     sheets = nest_parts(parts, options)
     roll = nest_roll(strips, options)
