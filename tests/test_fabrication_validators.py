@@ -192,7 +192,8 @@ def ezdxf_summary(path: Path) -> dict:
 def test_dxf_second_reader(node, fabricated):
     name, out, manifest, model = fabricated
     files = [out / f for f in manifest["files"] if f.endswith(".dxf")]
-    assert len(files) == manifest["plates"] + 1
+    sheets = manifest["workshop"]["sheets"]
+    assert len(files) == manifest["plates"] + 1 + len(sheets)
     for path, v in zip(files, run(node, "dxf.js", files)):
         assert v["errors"] == 0 and v["warnings"] == 0, (path, v["messages"])
         ref = ezdxf_summary(path)
@@ -205,9 +206,16 @@ def test_dxf_second_reader(node, fabricated):
         if path.name == "hinges.dxf":
             assert v["entities"]["HINGE_CUT/LWPOLYLINE"] == manifest["hinge_strips"]
             assert v["closed"] == {"HINGE_CUT": manifest["hinge_strips"]}
+        elif path.parent.name == "sheets":
+            parts = len(sheets[int(path.stem.split("_")[1]) - 1]["parts"])
+            assert v["entities"]["OUTER_CUT/LWPOLYLINE"] == parts
+            assert v["entities"]["PART_OUTLINE/LWPOLYLINE"] == parts
+            assert v["closed"]["OUTER_CUT"] == v["closed"]["PART_OUTLINE"] == parts
+            assert v["closed"]["SHEET"] == 1 and "SCORE/LINE" not in v["entities"]
         else:
             assert v["entities"]["CUT/LWPOLYLINE"] == 1
-            assert v["entities"]["RULING_SCORE/LINE"] == model.segments - 1
+            # the rulings are not scored by default: on the reference layer RULING
+            assert v["entities"]["RULING/LINE"] == model.segments - 1
             # the cut outline is the drawing: labels inside, extents = the outline's box
             np.testing.assert_allclose(v["header"]["extmin"][:2], v["geometry"]["min"], atol=1e-9)
             np.testing.assert_allclose(v["header"]["extmax"][:2], v["geometry"]["max"], atol=1e-9)

@@ -275,3 +275,12 @@ def test_fabricate_exits_3_on_exceeded_bending_unless_allowed(tmp_path, capsys):
     assert manifest["workshop"]["sheet_count"] == len(list((out / "sheets").glob("*.dxf")))
     assert manifest["bom"]["cost_total"] > 0 and manifest["assembly"]
     assert main([*args[:3], str(tmp_path / "ok"), *args[4:], "--allow-exceeded"]) == 0
+
+
+def test_fabricate_refuses_sheets_too_small_naming_the_plate(tmp_path, capsys):
+    out = tmp_path / "fab"
+    args = ["fabricate", VAULT, "--out", str(out), "--sheet", "0.2", "0.2", "--allow-exceeded"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "plate 0: the quad between rulings 0 and 1 fits no sheet in stock (200 x 200 mm" in err
+    assert not out.exists()  # refused before anything was written

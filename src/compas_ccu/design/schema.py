@@ -619,8 +619,8 @@ SCHEMA: dict = {
         ),
         "tool_diameter": Key(
             "float",
-            "Diameter of the router bit, m (the kerf when kerf is unset; inside corners of a "
-            "toolpath are rounded to half of it).",
+            "Diameter of the router bit, m: the kerf when kerf is unset (a router's cut is as "
+            "wide as its bit).",
             default=0.006,
             check=lambda v: 0.0 < v <= 0.1,
             check_doc="> 0 and <= 0.1",
