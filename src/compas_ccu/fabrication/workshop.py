@@ -460,7 +460,16 @@ def _pack_sheet(shapes, orientations, length, width, gap, seconds):
     """The parts of ``shapes`` (mm) that go on one sheet of usable ``length`` x ``width`` mm,
     with their placement: name -> (rotation, translation, placed points)."""
     names = sorted(shapes, key=lambda k: -_area(shapes[k]))
-    place, _ = _strip_pack(shapes, orientations, width, gap, seconds)
+    # the candidates: the largest parts, about CANDIDATES sheets' worth of area (a strip a
+    # little longer than the sheet, so that its first sheet length is packed densely)
+    chosen, total = [], 0.0
+    for name in names:
+        if total > CANDIDATES * length * width:
+            break
+        chosen.append(name)
+        total += _area(shapes[name])
+    candidates = {k: shapes[k] for k in chosen}
+    place, _ = _strip_pack(candidates, orientations, width, gap, seconds)
     on = {}
     for name, (rot, t) in place.items():
         pts = _moved(shapes[name], rot, t)
@@ -587,49 +596,74 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
     return sheets
 
 
-#: Pairs of sheets :func:`nest_parts` tries to merge at most (each try is one packing).
-MERGE_ATTEMPTS = 6
+#: Parts a sheet's first packing considers, in sheets' worth of area (the largest parts first).
+CANDIDATES = 2.0
+#: Packings :func:`nest_parts` spends at most on emptying sheets (merging pairs of sheets,
+#: moving the emptiest sheet's parts onto the others).
+MERGE_ATTEMPTS = 8
 #: Parts :func:`nest_parts` tries to add to a sheet's free space at most.
 FILL_ATTEMPTS = 2
 
 
 def _merge_sheets(sheets, parts, centres, options, k, length, width) -> None:
-    """Merge the emptiest sheets of size ``k`` pairwise where their parts fit on one."""
+    """Empty the emptiest sheets of size ``k``: merge pairs of sheets whose parts fit on one,
+    then move the parts of the emptiest sheet onto the others, where they fit."""
     by_name = {p.name: p for p in parts}
     capacity = length * width / MM**2
-    merged, attempts = True, 0
-    while merged and attempts < MERGE_ATTEMPTS:
+    budget = [MERGE_ATTEMPTS]
+
+    def area(names):
+        return sum(by_name[m].area for m in names)
+
+    def repack(names) -> bool:
+        """Place ``names`` on one sheet if they fit (one packing of the budget)."""
+        if budget[0] <= 0 or area(names) > 0.9 * capacity:
+            return False
+        budget[0] -= 1
+        shapes = {m: (by_name[m].outline - centres[m]) * MM for m in names}
+        orient = {m: _orientations(options, by_name[m].grain) for m in names}
+        place, used = _strip_pack(shapes, orient, width, options.spacing * MM, options.nesting_time)
+        if used > length + 1e-6 or len(place) != len(names):
+            return False
+        x0 = min(_moved(shapes[m], *place[m])[:, 0].min() for m in names)
+        for m in names:
+            rot, t = place[m]
+            a = math.radians(rot)
+            r = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+            shift = (np.asarray(t) - [x0, 0.0]) / MM + options.inset - r @ centres[m]
+            by_name[m].rotation, by_name[m].translation = float(rot), tuple(shift.tolist())
+        return True
+
+    def mine():
+        out = [s for s in sheets if s["size"] == list(options.sheets[k])]
+        return sorted(out, key=lambda s: area(s["parts"]))
+
+    merged = True
+    while merged and budget[0] > 0:  # pairs of sheets onto one
         merged = False
-        mine = [s for s in sheets if s["size"] == list(options.sheets[k])]
-        mine.sort(key=lambda s: sum(by_name[m].area for m in s["parts"]))
-        for a in range(len(mine)):
-            for b in range(a + 1, len(mine)):
-                names = mine[a]["parts"] + mine[b]["parts"]
-                if sum(by_name[m].area for m in names) > 0.85 * capacity:
-                    continue
-                if attempts >= MERGE_ATTEMPTS:
+        ours = mine()
+        for a in range(len(ours)):
+            for b in range(a + 1, len(ours)):
+                names = ours[a]["parts"] + ours[b]["parts"]
+                if area(names) <= 0.85 * capacity and repack(names):
+                    ours[a]["parts"] = sorted(names)
+                    sheets.remove(ours[b])
+                    merged = True
                     break
-                attempts += 1
-                shapes = {m: (by_name[m].outline - centres[m]) * MM for m in names}
-                orient = {m: _orientations(options, by_name[m].grain) for m in names}
-                place, used = _strip_pack(
-                    shapes, orient, width, options.spacing * MM, options.nesting_time
-                )
-                if used > length + 1e-6 or len(place) != len(names):
-                    continue
-                x0 = min(_moved(shapes[m], *place[m])[:, 0].min() for m in names)
-                for m in names:
-                    rot, t = place[m]
-                    a_ = math.radians(rot)
-                    r = np.array([[math.cos(a_), -math.sin(a_)], [math.sin(a_), math.cos(a_)]])
-                    shift = (np.asarray(t) - [x0, 0.0]) / MM + options.inset - r @ centres[m]
-                    by_name[m].rotation, by_name[m].translation = float(rot), tuple(shift.tolist())
-                mine[a]["parts"] = sorted(names)
-                sheets.remove(mine[b])
-                merged = True
+            if merged or budget[0] <= 0:
                 break
-            if merged:
-                break
+    ours = mine()
+    if len(ours) > 1:  # the emptiest sheet's parts onto the others, the freest first
+        last = ours[0]
+        for m in sorted(last["parts"], key=lambda n: -by_name[n].area):
+            for target in sorted(ours[1:], key=lambda s: area(s["parts"]))[:2]:
+                names = target["parts"] + [m]
+                if repack(names):
+                    target["parts"] = sorted(names)
+                    last["parts"].remove(m)
+                    break
+        if not last["parts"]:
+            sheets.remove(last)
 
 
 def nest_roll(strips, options: WorkshopOptions) -> dict:
