@@ -28,6 +28,7 @@ SAMPLES = {
     "point3": ([100.0, -250.0, 5.0], [0.1, -0.25, 0.005]),
     "points2": ([[0.0, 0.0], [500.0, 250.0], [1000.0, 0.0]], [[0, 0], [0.5, 0.25], [1, 0]]),
     "polyline2": ([[0.0, 300.0], [1000.0, 250.0]], [[0.0, 0.3], [1.0, 0.25]]),
+    "sizes2": ([[2500.0, 1250.0], [2440.0, 1220.0]], [[2.5, 1.25], [2.44, 1.22]]),
 }
 ROWS = {  # positions converted, load intensities kept
     "point_loads": ([[-250.0, 3.0], [400.0, 1.5]], [[-0.25, 3.0], [0.4, 1.5]]),
@@ -52,6 +53,9 @@ def test_the_length_keys_are_the_expected_ones():
         "layout.ccf_width", "layout.spacing", "layout.spacing_start", "layout.spacing_end",
         "layout.axis", "target.apex", "target.support", "target.support_end",
         "plates.thickness", "plates.hinge_width", "loads.concrete_thickness", "plane.origin",
+        "fabrication.sheets", "fabrication.kerf", "fabrication.tool_diameter",
+        "fabrication.bridge", "fabrication.margin", "fabrication.splice_width",
+        "fabrication.roll_width",
     }  # fmt: skip
 
 

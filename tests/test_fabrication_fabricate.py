@@ -29,7 +29,8 @@ VAULT = str(EXAMPLES / "vault.toml")
 @pytest.fixture(scope="module")
 def fabricated(tmp_path_factory):
     out = tmp_path_factory.mktemp("fab")
-    assert main(["fabricate", VAULT, "--out", str(out), "--quiet"]) == 0
+    # the vault's bending check fails (utilisation 1.12): written, exit 3 without the flag
+    assert main(["fabricate", VAULT, "--out", str(out), "--quiet", "--allow-exceeded"]) == 0
     return out, json.loads((out / "fabrication.json").read_text())
 
 
@@ -39,7 +40,10 @@ def test_manifest_lists_every_file(fabricated):
     for name in manifest["files"]:
         assert (out / name).is_file() and (out / name).stat().st_size > 0, name
     suffixes = {name.rsplit(".", 1)[-1] for name in manifest["files"]}
-    assert suffixes == {"dxf", "3dm", "obj", "glb", "fold", "svg", "pdf", "json"}
+    assert suffixes == {"dxf", "csv", "3dm", "obj", "glb", "fold", "svg", "pdf", "json"}
+    assert sum(name.startswith("sheets/") for name in manifest["files"]) == len(
+        manifest["workshop"]["sheets"]
+    )
     assert sum(name.startswith("plates/") for name in manifest["files"]) == 10
 
 

@@ -35,6 +35,10 @@ from compas_ccu.fabrication.importing import (  # noqa: E402
     structure_round_trip_error,
     thickness_shifts,
 )
+from compas_ccu.fabrication.workshop import WorkshopOptions  # noqa: E402
+
+#: The sheets nested by shelves: fast, and the plate files do not depend on the nesting.
+SHELF = WorkshopOptions(nesting="shelf")
 
 R, WIDTH, SWEEP, N, ALPHA = 2.0, 0.4, 90.0, 48, 40.0
 
@@ -115,7 +119,7 @@ def test_hand_drawn_circular_crease_deploys_to_the_cone(tmp_path):
 
 def test_round_trip_cone_fabricate_import_deploy(tmp_path):
     model = load_model(EXAMPLES / "cone.toml")
-    fabricate(model, tmp_path / "fab")
+    fabricate(model, tmp_path / "fab", workshop=SHELF)
     result = round_trip_error(model, tmp_path / "fab")
     assert result["max_relative"] < 1e-9
     assert result["plate_ids"] == [0, 1] and result["crease_id"] == 0
@@ -126,7 +130,7 @@ def test_round_trip_vault_every_crease_pair(tmp_path):
     """The vault's orthogonal rulings need no offset-crease correction: every one of its nine
     crease pairs comes back to rounding (measured 1.1e-15 ... 1.6e-15 relative)."""
     model = load_model(EXAMPLES / "vault.toml")
-    fabricate(model, tmp_path / "fab")
+    fabricate(model, tmp_path / "fab", workshop=SHELF)
     errors = [round_trip_error(model, tmp_path / "fab", crease=c)["max_relative"] for c in range(9)]
     assert max(errors) < 1e-9
     with pytest.raises(DesignError, match="9 creases .*one crease pair: choose one"):

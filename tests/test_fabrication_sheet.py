@@ -49,12 +49,15 @@ def test_svg_title_and_assembly(data, svg_text):
     assert f"t = {data.thickness * 1000:g} mm" in joined
     assert f"stack height \u03a3t = {p * data.thickness * 1000:g} mm" in joined
     assert "face up" in joined
-    # bottom-to-top order and one hinge entry per crease (crease c between plates a and b)
-    order = sorted(range(p), key=lambda i: data.stack_position[i])
-    assert ", ".join(f"P{data.plate_ids[i]}" for i in order) in re.sub(r"\s+", " ", joined)
+    # bottom-to-top order, each plate with the hinge strips joining it to the plates below:
+    # the vault's ids follow the stack, so plate k + 1 comes with crease k
+    text = re.sub(r"\s+", " ", joined)
+    assert data.plate_ids == data.stack_position == list(range(p))
+    faces = data.metadata["pairing"]
+    sequence = ", ".join(["P0"] + [f"P{k + 1}+c{k} {faces[k][:3]}" for k in range(p - 1)])
+    assert sequence in text
     for c in data.creases:
-        a, b = c["plates"]
-        assert f"c{c['id']}: P{a}-P{b}" in joined
+        assert sorted(c["plates"]) == [c["id"], c["id"] + 1]
         assert f"c{c['id']}" in _texts(svg_text)  # the crease marker in the stack section
 
 

@@ -35,6 +35,7 @@ import ezdxf  # noqa: E402
 
 from compas_ccu.catalog import catalog_path  # noqa: E402
 from compas_ccu.fabrication.fabricate import fabricate  # noqa: E402
+from compas_ccu.fabrication.workshop import WorkshopOptions  # noqa: E402
 from compas_ccu.model import load_model  # noqa: E402
 
 pytestmark = pytest.mark.slow
@@ -104,7 +105,9 @@ def fabricated(request, tmp_path_factory):
     path = DESIGNS[request.param][0] or vault22(folder)
     model = load_model(path)
     out = folder / "fab"
-    manifest = fabricate(model, out)
+    # the sheets of the vault nested by spyrrow, of the others by shelves (fast; same entities)
+    nesting = "spyrrow" if request.param == "vault" else "shelf"
+    manifest = fabricate(model, out, workshop=WorkshopOptions(nesting=nesting))
     return request.param, out, manifest, model
 
 
@@ -189,7 +192,8 @@ def ezdxf_summary(path: Path) -> dict:
 def test_dxf_second_reader(node, fabricated):
     name, out, manifest, model = fabricated
     files = [out / f for f in manifest["files"] if f.endswith(".dxf")]
-    assert len(files) == manifest["plates"] + 1
+    sheets = manifest["workshop"]["sheets"]
+    assert len(files) == manifest["plates"] + 1 + len(sheets)
     for path, v in zip(files, run(node, "dxf.js", files)):
         assert v["errors"] == 0 and v["warnings"] == 0, (path, v["messages"])
         ref = ezdxf_summary(path)
@@ -202,9 +206,16 @@ def test_dxf_second_reader(node, fabricated):
         if path.name == "hinges.dxf":
             assert v["entities"]["HINGE_CUT/LWPOLYLINE"] == manifest["hinge_strips"]
             assert v["closed"] == {"HINGE_CUT": manifest["hinge_strips"]}
+        elif path.parent.name == "sheets":
+            parts = len(sheets[int(path.stem.split("_")[1]) - 1]["parts"])
+            assert v["entities"]["OUTER_CUT/LWPOLYLINE"] == parts
+            assert v["entities"]["PART_OUTLINE/LWPOLYLINE"] == parts
+            assert v["closed"]["OUTER_CUT"] == v["closed"]["PART_OUTLINE"] == parts
+            assert v["closed"]["SHEET"] == 1 and "SCORE/LINE" not in v["entities"]
         else:
             assert v["entities"]["CUT/LWPOLYLINE"] == 1
-            assert v["entities"]["RULING_SCORE/LINE"] == model.segments - 1
+            # the rulings are not scored by default: on the reference layer RULING
+            assert v["entities"]["RULING/LINE"] == model.segments - 1
             # the cut outline is the drawing: labels inside, extents = the outline's box
             np.testing.assert_allclose(v["header"]["extmin"][:2], v["geometry"]["min"], atol=1e-9)
             np.testing.assert_allclose(v["header"]["extmax"][:2], v["geometry"]["max"], atol=1e-9)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from compas_ccu.cli.common import FAB, load_model, need_extra, say
@@ -11,6 +12,7 @@ from compas_ccu.design import load_design
 from compas_ccu.errors import OptionError
 from compas_ccu.fabrication.fabricate import fabricate as write_fabrication
 from compas_ccu.fabrication.importing import design_toml, import_design
+from compas_ccu.fabrication.workshop import WorkshopOptions
 from compas_ccu.model import CCUModel
 
 __all__ = ["COMMANDS"]
@@ -24,6 +26,13 @@ def fabricate(args) -> int:
     say(
         args, f"{model.design.name}: thick plates, collision and bending checks, then the files ..."
     )
+    workshop = WorkshopOptions.from_section(
+        model.design.fabrication,
+        sheets=None if args.sheet is None else tuple(tuple(s) for s in args.sheet),
+        kerf=args.kerf,
+        score_rulings=True if args.score_rulings else None,
+        nesting=args.nesting,
+    )
     manifest = write_fabrication(
         model,
         args.out,
@@ -32,12 +41,53 @@ def fabricate(args) -> int:
         grain=args.grain,
         hinge_width=args.hinge_width,
         allow_collisions=args.allow_collisions,
+        workshop=workshop,
     )
     for line in thickness_lines(manifest):
         say(args, line)
+    for line in workshop_lines(manifest):
+        say(args, line)
     for f in manifest["files"]:
         say(args, f"wrote {Path(args.out) / f}")
+    failed = manifest["failed_checks"]
+    if failed and not args.allow_exceeded:
+        for reason in failed:
+            print(f"ccu: check failed: {reason}", file=sys.stderr)
+        print(
+            "ccu: the files are written for inspection; exit status 3 (--allow-exceeded: 0)",
+            file=sys.stderr,
+        )
+        return 3
     return 0
+
+
+def workshop_lines(manifest: dict) -> list:
+    """The sheets, the bill of materials and the assembly of a ``fabrication.json`` as text."""
+    w, b = manifest["workshop"], manifest["bom"]
+    sizes = ", ".join(f"{x * 1e3:g} x {y * 1e3:g}" for x, y in w["sheets_in_stock"])
+    split = {k: v for k, v in w["splits"].items() if v}
+    lines = [
+        f"sheets            {w['sheet_count']} of {sizes} mm, utilisation "
+        f"{100 * w['utilisation']:.1f} % (kerf {w['kerf'] * 1e3:g} mm, bridge "
+        f"{w['bridge'] * 1e3:g} mm, grain {w['grain']})",
+        "split plates      "
+        + (
+            ", ".join(f"P{k} at rulings {v}" for k, v in split.items())
+            + f"; {b['splices']} splice plates"
+            if split
+            else "none: every plate fits a sheet"
+        ),
+        f"bill of materials {b['plates']} plate parts + {b['splices']} splices, "
+        f"{b['parts_area_m2']:.2f} m2, {b['mass_kg']:.1f} kg; textile {b['textile_length_m']:.2f} "
+        f"m of a {b['textile_roll_width_m']:g} m roll; glue line {b['glue_line_m']:.1f} m; "
+        f"{b['fasteners']} fasteners",
+        f"cost estimate     {b['cost_total']:.0f} {b['currency']} (sheets "
+        f"{b['cost']['sheets']:.0f}, textile {b['cost']['textile']:.0f}, glue "
+        f"{b['cost']['glue']:.0f}, fasteners {b['cost']['fasteners']:.0f})",
+        f"assembly          {len(manifest['assembly'])} steps in stack order (fabrication.json "
+        "assembly, assembly.pdf)",
+    ]
+    return lines
 
 
 def import_plates(args) -> int:
@@ -96,11 +146,14 @@ COMMANDS = (
         "fabricate",
         "write the workshop files (DXF, 3dm, OBJ/glTF, FOLD, assembly sheet)",
         "Model the plates' thickness (axis-shift hinges), check collisions from "
-        "the flat stack to the design state and the bending of the plates, then write into "
-        "--out: plates/plate_<id>.dxf (mm; layers CUT, CREASE, RULING_SCORE, LABEL), "
+        "the flat stack to the design state and the bending of the plates; split the plates "
+        "that fit no sheet along rulings (splice plates) and nest every part onto the sheets; "
+        "then write into --out: plates/plate_<id>.dxf (mm; layers CUT, CREASE, RULING_SCORE "
+        "or RULING, LABEL), sheets/sheet_<k>.dxf (kerf-compensated toolpaths), bom.csv, "
         "hinges.dxf (textile hinge strips), <name>.3dm (m), solids.obj / solids.glb / "
         "stack.obj, <name>.fold, assembly.svg / .pdf and fabrication.json. Defaults come from "
-        "the design's [plates] section.",
+        "the design's [plates] and [fabrication] sections. Exit status 3 when a check fails "
+        "(the files are written) unless --allow-exceeded.",
         (
             DESIGN,
             OUT,
@@ -111,6 +164,28 @@ COMMANDS = (
             option(
                 "--allow-collisions", action="store_true", help="write even if the plates collide"
             ),
+            option(
+                "--allow-exceeded",
+                action="store_true",
+                help="exit 0 even if a check fails (bending utilisation above 1)",
+            ),
+            option(
+                "--sheet",
+                type=float,
+                nargs=2,
+                action="append",
+                default=None,
+                metavar=("LENGTH", "WIDTH"),
+                help="a sheet size in stock, m (repeat for several; default [fabrication] sheets)",
+            ),
+            option("--kerf", type=float, default=None, help="kerf, m"),
+            option(
+                "--nesting",
+                default=None,
+                choices=("spyrrow", "shelf"),
+                help="true-shape nesting (spyrrow) or bounding boxes in rows (shelf, fast)",
+            ),
+            option("--score-rulings", action="store_true", help="score the rulings on the sheets"),
             QUIET,
         ),
         fabricate,

@@ -184,6 +184,11 @@ class Design(Data):
         return self.sections.hinges
 
     @property
+    def fabrication(self):
+        """The ``[fabrication]`` section: sheets, cutter, nesting and unit prices."""
+        return self.sections.fabrication
+
+    @property
     def materials(self):
         """The file's ``[materials.NAME]`` tables: name -> Material."""
         return self.sections.materials

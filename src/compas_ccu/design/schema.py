@@ -40,7 +40,7 @@ class Key:
     """One design-file key."""
 
     kind: str  # "float", "int", "str", "bool", "point2", "point3", "points2", "polyline2",
-    # "float_or_list", "gamma"
+    # "sizes2" (one or more [x, y] pairs), "float_or_list", "gamma"
     doc: str
     default: Any = None
     required: bool = False
@@ -595,6 +595,132 @@ SCHEMA: dict = {
             check_doc="> 0 and <= 1e15",
         ),
     },
+    "fabrication": {
+        "_doc": "The workshop (`ccu fabricate`, docs/fabrication.md): the plywood sheets in "
+        "stock, the cutter, the nesting of every part onto the sheets, the textile roll of the "
+        "hinge strips and the unit prices of the bill of materials. A plate longer than every "
+        "sheet is split along rulings (straight lines on the plate: a splice there does not "
+        "fight the bending) and joined by splice plates on both faces.",
+        "sheets": Key(
+            "sizes2",
+            "Sheet sizes in stock, [[length, width], ...], m; the face grain runs along the "
+            "length. Every part is nested onto the first size it fits (the order is the "
+            "preference).",
+            default=[[2.5, 1.25]],
+            check=lambda v: all(0.0 < x <= 100.0 for p in v for x in p),
+            check_doc="every size > 0 and <= 100",
+        ),
+        "kerf": Key(
+            "float",
+            "Width of the cut, m: toolpaths run kerf / 2 outside the parts; default: "
+            "tool_diameter.",
+            check=lambda v: 0.0 <= v <= 0.1,
+            check_doc=">= 0 and <= 0.1",
+        ),
+        "tool_diameter": Key(
+            "float",
+            "Diameter of the router bit, m: the kerf when kerf is unset (a router's cut is as "
+            "wide as its bit).",
+            default=0.006,
+            check=lambda v: 0.0 < v <= 0.1,
+            check_doc="> 0 and <= 0.1",
+        ),
+        "bridge": Key(
+            "float",
+            "Least material left between the kerfs of two parts, m (parts lie at least kerf + "
+            "bridge apart).",
+            default=0.01,
+            check=lambda v: 0.0 <= v <= 1.0,
+            check_doc=">= 0 and <= 1",
+        ),
+        "margin": Key(
+            "float",
+            "Least distance from a sheet's edge to a toolpath, m.",
+            default=0.01,
+            check=lambda v: 0.0 <= v <= 1.0,
+            check_doc=">= 0 and <= 1",
+        ),
+        "grain": Key(
+            "str",
+            "How the parts may turn on a sheet: 'along': every plate's face grain "
+            "([plates] grain) along the sheet's length, turned by 0 or 180 degrees; 'across': "
+            "across it; 'free': any angle (isotropic sheets).",
+            default="along",
+            choices=("along", "across", "free"),
+        ),
+        "splice_width": Key(
+            "float",
+            "Width of a splice plate across the cut of a split plate, m (half on each part); "
+            "two splice plates per cut, one on each face.",
+            default=0.15,
+            check=lambda v: 0.0 < v <= 2.0,
+            check_doc="> 0 and <= 2",
+        ),
+        "fasteners_per_splice": Key(
+            "int",
+            "Screws through every splice plate (bill of materials), besides the glue.",
+            default=8,
+            check=lambda v: 0 <= v <= 1000,
+            check_doc="0 ... 1000",
+        ),
+        "roll_width": Key(
+            "float",
+            "Width of the textile roll the hinge strips are cut from, m.",
+            default=1.4,
+            check=lambda v: 0.0 < v <= 10.0,
+            check_doc="> 0 and <= 10",
+        ),
+        "score_rulings": Key(
+            "bool",
+            "Score every interior ruling on the sheets (layer SCORE). Off by default: 8 mm "
+            "plywood must bend along them, and a score weakens it; the per-plate files keep "
+            "the rulings on the reference layer RULING_SCORE either way.",
+            default=False,
+        ),
+        "nesting": Key(
+            "str",
+            "'spyrrow': true-shape nesting with spyrrow (sparrow); 'shelf': the parts' "
+            "bounding boxes in rows (fast, wasteful; the fallback without spyrrow).",
+            default="spyrrow",
+            choices=("spyrrow", "shelf"),
+        ),
+        "nesting_time": Key(
+            "float",
+            "Time the nesting library (spyrrow) may take per packing, s (whole seconds).",
+            default=1.0,
+            check=lambda v: 0.0 < v <= 3600.0,
+            check_doc="> 0 and <= 3600",
+        ),
+        "currency": Key("str", "Currency of the prices below (text).", default="EUR"),
+        "sheet_price": Key(
+            "float",
+            "Price of one sheet (every size in stock), currency per sheet.",
+            default=60.0,
+            check=lambda v: 0.0 <= v <= 1.0e9,
+            check_doc=">= 0",
+        ),
+        "textile_price": Key(
+            "float",
+            "Price of the hinge textile, currency per metre of roll.",
+            default=12.0,
+            check=lambda v: 0.0 <= v <= 1.0e9,
+            check_doc=">= 0",
+        ),
+        "glue_price": Key(
+            "float",
+            "Price of glue, currency per metre of glue line.",
+            default=0.3,
+            check=lambda v: 0.0 <= v <= 1.0e9,
+            check_doc=">= 0",
+        ),
+        "fastener_price": Key(
+            "float",
+            "Price of one fastener, currency.",
+            default=0.05,
+            check=lambda v: 0.0 <= v <= 1.0e9,
+            check_doc=">= 0",
+        ),
+    },
     "plane": {
         "_doc": "Placement of the leading crease plane in world coordinates (metres). Profile "
         "x runs along xaxis, profile y along yaxis; the plane normal is xaxis x yaxis.",
@@ -630,6 +756,12 @@ _UNITS = {
     },
     "supports": {"stiffness": "N/m²", "tie_stiffness": "N/m"},
     "hinges": {"rotational_stiffness": "N", "translational_stiffness": "N/m²"},
+    "fabrication": {
+        "sheets": "m", "kerf": "m", "tool_diameter": "m", "bridge": "m", "margin": "m",
+        "splice_width": "m", "fasteners_per_splice": "1", "roll_width": "m", "nesting_time": "s",
+        "sheet_price": "currency", "textile_price": "currency/m", "glue_price": "currency/m",
+        "fastener_price": "currency",
+    },
     "plane": {"origin": "m", "xaxis": "1", "yaxis": "1"},
 }  # fmt: skip
 for _section, _units in _UNITS.items():
@@ -875,13 +1007,13 @@ def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS
         value = [float(v) for v in value]
     elif where in CURVE_FILE_PLACES and isinstance(value, (str, dict)):
         value = _curve_file(where, value)
-    elif key.kind in ("points2", "polyline2"):
+    elif key.kind in ("points2", "polyline2", "sizes2"):
         ok = isinstance(value, list) and all(
             isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in value
         )
         if not ok:
             fail("must be a list of [x, y] number pairs")
-        least = 3 if key.kind == "points2" else 2
+        least = {"points2": 3, "polyline2": 2}.get(key.kind, 1)
         if len(value) < least:
             fail(f"needs at least {least} points")
         value = [[float(x), float(y)] for x, y in value]
@@ -932,6 +1064,8 @@ def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS
 def _units_hint(key: Key, metres: float, units: str) -> str:
     """``(= 0.2 m): did you mean units = "mm"?`` for a length that fails its check in
     ``units`` but would pass in other units."""
+    if isinstance(metres, list):  # a list of sizes: no single value to convert
+        return ""
     given = metres / unit_factor(units)
     note = "" if units == DEFAULT_UNITS else f" (= {metres:.6g} m)"
     fits = [u for u, f in LENGTH_UNITS.items() if u != units and key.check(given * f)]

@@ -53,6 +53,7 @@ DesignCodeSection = SECTION_TYPES["design_code"]
 LoadsSection = SECTION_TYPES["loads"]
 SupportsSection = SECTION_TYPES["supports"]
 HingesSection = SECTION_TYPES["hinges"]
+FabricationSection = SECTION_TYPES["fabrication"]
 
 
 class MaterialsSection(Mapping):
@@ -105,6 +106,7 @@ class DesignSections:
     loads: LoadsSection
     supports: SupportsSection
     hinges: HingesSection
+    fabrication: FabricationSection
     plane: PlaneSection
     materials: MaterialsSection
 

@@ -14,7 +14,44 @@ from compas_ccu.fabrication.data import FabricationData
 from compas_ccu.fabrication.hinges import check_hinge_width
 from compas_ccu.thickness import ThickModel
 
-__all__ = ["FabricationData", "fabrication_data"]
+__all__ = ["FabricationData", "fabrication_data", "workshop_ids"]
+
+
+def workshop_ids(plate_ids, stack_position, creases) -> tuple:
+    """Plate and crease ids that follow the flat-folded stack.
+
+    Plate ``k`` is the plate at stack position ``k`` (0 = bottom); crease ``k`` is the ``k``-th
+    crease from the bottom of the stack (sorted by the lower, then the upper stack position of
+    its two plates): on a stacked chain crease ``k`` joins plates ``k`` and ``k + 1``.
+
+    Parameters
+    ----------
+    plate_ids : list of int
+        The model's plate ids (array order).
+    stack_position : list of int
+        Stack position of every plate (array order).
+    creases : list of dict
+        Crease records with the model's ``id`` and ``plates``.
+
+    Returns
+    -------
+    plate_map, crease_map : dict
+        Model id -> workshop id.
+
+    Examples
+    --------
+    >>> creases = [{"id": 0, "plates": [1, 2]}, {"id": 1, "plates": [1, 0]}]
+    >>> workshop_ids([0, 1, 2], [0, 1, 2], creases)
+    ({0: 0, 1: 1, 2: 2}, {1: 0, 0: 1})
+    """
+    plate_map = {int(pid): int(k) for pid, k in zip(plate_ids, stack_position)}
+
+    def key(c):
+        a, b = (plate_map[int(x)] for x in c["plates"])
+        return (min(a, b), max(a, b), int(c["id"]))
+
+    ordered = sorted(creases, key=key)
+    return plate_map, {int(c["id"]): k for k, c in enumerate(ordered)}
 
 
 def fabrication_data(
@@ -47,23 +84,29 @@ def fabrication_data(
     stack = thick.flat_stack()
     flat = thick.cut_patterns()
     structure = model.deploy()
+    # ids that follow the stack (plate k at stack position k, crease k the k-th from the
+    # bottom); the model's ids are kept in the metadata
+    plate_map, crease_map = workshop_ids(model.plate_ids, thick.stack_position, structure.creases)
     creases = []
     for c in structure.creases:
         creases.append(
             {
-                "id": c["id"],
-                "plates": list(c["plates"]),
+                "id": crease_map[int(c["id"])],
+                "plates": [plate_map[int(x)] for x in c["plates"]],
                 "vertices": c["vertices"],
                 "kind": c["kind"],
                 "fold_angle": 2.0 * float(np.mean(c["alpha"])),
             }
         )
+    creases.sort(key=lambda c: c["id"])
+    model_plates = sorted(plate_map, key=plate_map.get)
+    model_creases = sorted(crease_map, key=crease_map.get)
     return FabricationData(
         name=model.design.name,
         alpha=float(design.alpha),
         thickness=thick.thickness,
         material=thick.material.name,
-        plate_ids=list(model.plate_ids),
+        plate_ids=[plate_map[int(pid)] for pid in model.plate_ids],
         faces=model.faces,
         flat=flat,
         deployed_mid=design.solids.mean(axis=1),
@@ -72,5 +115,10 @@ def fabrication_data(
         creases=creases,
         stack_position=list(thick.stack_position),
         hinge_width=width,
-        metadata={"pairing": thick.pairing(), "grain": thick.grain},
+        metadata={
+            "pairing": [thick.pairing()[m] for m in model_creases],
+            "grain": thick.grain,
+            "model_plate_ids": model_plates,
+            "model_crease_ids": model_creases,
+        },
     )

@@ -8,7 +8,9 @@ Plate files (:func:`write_plate_dxf`) have four layers:
     the plate's crease polylines (open LWPOLYLINE; XDATA ``COMPAS_CCU``: crease id and the
     other plate id), on the outline: the edges the hinge strips are glued along;
 ``RULING_SCORE``
-    every interior ruling as a LINE (score lines);
+    every interior ruling as a LINE (score lines); with ``score_rulings=False`` (the
+    ``[fabrication]`` default, plywood that must bend) the same lines are on ``RULING``, a
+    reference layer that is not machined;
 ``LABEL``
     TEXT: plate id, stack position, crease ids with their neighbouring plates, and a face-up
     mark ("UP" and a small triangle pointing up the text), inside the plate.
@@ -44,6 +46,8 @@ __all__ = [
 
 #: Plate file layers and their ACI colours.
 PLATE_LAYERS = {"CUT": 1, "CREASE": 5, "RULING_SCORE": 3, "LABEL": 7}
+#: The reference layer of the rulings when they are not scored.
+RULING_REFERENCE = "RULING"
 #: Hinge file layers and their ACI colours.
 HINGE_LAYERS = {"HINGE_CUT": 1, "HINGE_CREASE": 5, "LABEL": 7}
 APPID = "COMPAS_CCU"
@@ -165,7 +169,7 @@ def _label_lines(data, i: int) -> list:
     return lines
 
 
-def write_plate_dxf(data, i: int, path) -> Path:
+def write_plate_dxf(data, i: int, path, *, score_rulings: bool = True) -> Path:
     """Write the cut file of plate ``i`` (array index) in millimetres.
 
     Parameters
@@ -175,6 +179,8 @@ def write_plate_dxf(data, i: int, path) -> Path:
         Array index of the plate (``data.plate_ids[i]`` is its id).
     path : str or Path
         Output ``.dxf`` file.
+    score_rulings : bool
+        Rulings on ``RULING_SCORE`` (scored); False: on the reference layer ``RULING``.
 
     Returns
     -------
@@ -193,7 +199,11 @@ def write_plate_dxf(data, i: int, path) -> Path:
         raise IndexError(f"plate index {i} out of range for {len(data.plate_ids)} plates")
     i = int(i)
     path = Path(path)
-    doc = _new_doc(PLATE_LAYERS)
+    ruling_layer = "RULING_SCORE" if score_rulings else RULING_REFERENCE
+    layers = dict(PLATE_LAYERS)
+    if not score_rulings:
+        layers = {(RULING_REFERENCE if k == "RULING_SCORE" else k): v for k, v in layers.items()}
+    doc = _new_doc(layers)
     doc.header["$PROJECTNAME"] = str(data.name)
     msp = doc.modelspace()
     flat = np.asarray(data.flat[i], dtype=float) * MM
@@ -237,7 +247,7 @@ def write_plate_dxf(data, i: int, path) -> Path:
         e.set_placement(tuple(pts[m] + 1.5 * hs * nrm), align=TextEntityAlignment.MIDDLE_CENTER)
 
     for a, b in plate_rulings(n)[1:-1]:
-        msp.add_line(tuple(flat[a]), tuple(flat[b]), dxfattribs={"layer": "RULING_SCORE"})
+        msp.add_line(tuple(flat[a]), tuple(flat[b]), dxfattribs={"layer": ruling_layer})
 
     pitch = [1.6 * r * h for _, r in lines]
     top = 0.5 * sum(pitch)
@@ -414,7 +424,8 @@ def read_plate_dxf(path) -> dict:
         ``outline`` : (m, 2) float, the ``CUT`` polyline (first vertex not repeated);
         ``creases`` : list of dict with ``id`` and ``other`` (crease id, other plate id, from
         XDATA; None if absent) and ``points`` (k, 2) float; ``rulings`` : list of (2, 2) float,
-        ``RULING_SCORE`` lines (start, end); ``labels`` : list of str, the ``LABEL`` texts;
+        ``RULING_SCORE`` (or ``RULING``) lines (start, end); ``labels`` : list of str, the
+        ``LABEL`` texts;
         ``units`` : int, ``$INSUNITS``. Coordinates are converted to metres from ``$INSUNITS``
         (millimetres if unset).
     """
@@ -441,7 +452,7 @@ def read_plate_dxf(path) -> dict:
                 ints = [v for code, v in e.get_xdata(APPID) if code in (1070, 1071)]
                 cid, other = (ints + [None, None])[:2]
             creases.append({"id": cid, "other": other, "points": points(e)})
-        elif layer == "RULING_SCORE" and kind == "LINE":
+        elif layer in ("RULING_SCORE", RULING_REFERENCE) and kind == "LINE":
             rulings.append(
                 np.array([tuple(e.dxf.start)[:2], tuple(e.dxf.end)[:2]], dtype=float) * k
             )

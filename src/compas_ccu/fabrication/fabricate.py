@@ -2,7 +2,10 @@
 
 Layout of ``OUT``::
 
-    plates/plate_<id>.dxf     one DXF per plate, millimetres: CUT, CREASE, RULING_SCORE, LABEL
+    plates/plate_<id>.dxf     one DXF per plate, millimetres: CUT, CREASE, RULING_SCORE (or
+                              RULING when not scored), LABEL
+    sheets/sheet_<k>.dxf      one DXF per sheet: every part nested, kerf-compensated toolpaths
+    bom.csv                   the bill of materials
     hinges.dxf                the textile hinge strips as cut patterns (mm)
     <name>.3dm                Rhino: plates, creases, rulings, solids, cut patterns, stack (m)
     solids.obj, solids.glb    the thick plates at the design state (OBJ doubles, glTF float32)
@@ -10,7 +13,10 @@ Layout of ``OUT``::
     <name>.fold               FOLD 1.2: folded form, cut patterns, flat-folded stack
     assembly.svg, assembly.pdf   plate numbering and stacking order
     fabrication.json          what was written and the checks (stack, corrections, collisions,
-                              bending)
+                              bending), the sheets, the bill of materials and the assembly steps
+
+Plate and crease ids follow the flat-folded stack (plate k at stack position k, crease k the
+k-th from the bottom); ``fabrication.json``'s ``model_ids`` maps them to the model's ids.
 """
 
 from __future__ import annotations
@@ -27,9 +33,15 @@ from compas_ccu.fabrication.hinges import hinge_strips
 from compas_ccu.fabrication.meshes import write_gltf, write_obj
 from compas_ccu.fabrication.rhino import write_3dm
 from compas_ccu.fabrication.sheet import write_assembly_sheet
+from compas_ccu.fabrication.workshop import (
+    WorkshopOptions,
+    plan_workshop,
+    write_bom_csv,
+    write_sheet_dxf,
+)
 from compas_ccu.thickness import ThickModel
 
-__all__ = ["fabricate"]
+__all__ = ["fabricate", "workshop_summary", "failed_checks"]
 
 #: Third-party modules the writers import (the ``fab`` and ``viz`` extras, and shapely).
 REQUIRED_MODULES = ("ezdxf", "rhino3dm", "trimesh", "shapely", "matplotlib")
@@ -44,6 +56,40 @@ def _require_modules() -> None:
         )
 
 
+def workshop_summary(summary: dict, data) -> dict:
+    """The thick model's summary with the model's plate and crease ids turned into the
+    workshop's (:func:`compas_ccu.fabrication.workshop_ids`)."""
+    plates = {m: k for k, m in enumerate(data.metadata["model_plate_ids"])}
+    creases = data.metadata["model_crease_ids"]
+    out = json.loads(json.dumps(summary))
+    out["stack_order"] = [plates[int(m)] for m in summary["stack_order"]]
+    for key in ("pairing", "offset_planarity_design", "correction_design"):
+        if isinstance(out.get(key), list) and len(out[key]) == len(creases):
+            out[key] = [summary[key][m] for m in creases]
+    worst = out.get("bending", {}).get("worst")
+    if worst and worst.get("plate") is not None:
+        worst["plate"] = plates[int(worst["plate"])]
+    for key in ("first", "closest"):
+        record = out.get("collisions", {}).get(key)
+        if record and "plates" in record:
+            record["plates"] = [plates[int(m)] for m in record["plates"]]
+    return out
+
+
+def failed_checks(manifest: dict) -> list:
+    """The checks of a ``fabrication.json`` manifest that failed, in words (empty: all pass)."""
+    failed = []
+    if manifest.get("bending", {}).get("exceeded"):
+        b = manifest["bending"]
+        failed.append(
+            f"bending utilisation {b['max_utilisation']:.3g} > 1 (plate {b['worst']['plate']}): "
+            "the plates would break"
+        )
+    if manifest.get("collisions", {}).get("interpenetration"):
+        failed.append("the thick plates interpenetrate (written with --allow-collisions)")
+    return failed
+
+
 def fabricate(
     model,
     out,
@@ -53,6 +99,7 @@ def fabricate(
     grain=None,
     hinge_width=None,
     allow_collisions: bool = False,
+    workshop: WorkshopOptions | None = None,
 ) -> dict:
     """Write the fabrication files of ``model`` at its design state into ``out``.
 
@@ -70,18 +117,24 @@ def fabricate(
     allow_collisions : bool
         Write the files even if the thick plates interpenetrate on the way from the flat stack
         to the design state.
+    workshop : WorkshopOptions, optional
+        Sheets, cutter, nesting and prices; default: the design's ``[fabrication]`` section.
 
     Returns
     -------
     dict
-        The manifest written to ``fabrication.json``.
+        The manifest written to ``fabrication.json``: its ``workshop`` (sheets, utilisation,
+        splits, the hinge roll), ``bom`` (the bill of materials, as in ``bom.csv``) and
+        ``assembly`` (the steps in stack order) are what the report reads;
+        :func:`failed_checks` lists the failed checks.
 
     Raises
     ------
     SelfIntersectionError
         The thick plates interpenetrate along the path (unless ``allow_collisions``).
     GeometryError, MaterialError
-        Impossible thickness, hinge width or material.
+        Impossible thickness, hinge width or material; a part that fits no sheet in stock
+        (named).
     ModuleNotFoundError
         A writer's module (the ``fab`` / ``viz`` extras) is missing.
     """
@@ -99,20 +152,36 @@ def fabricate(
             crease=None,
         )
     data = fabrication_data(model, thick=thick, hinge_width=hinge_width)
+    summary = workshop_summary(summary, data)
     strips = hinge_strips(data)  # refuses a hinge width too large for a crease's curvature
+    if workshop is None:
+        workshop = WorkshopOptions.from_section(model.design.fabrication)
+    plan = plan_workshop(
+        data,
+        strips,
+        workshop,
+        density=float(thick.material.density),
+        pairing=summary.get("pairing"),
+    )  # refuses a part that fits no sheet, naming it
     fold = fold_json(fold_document(data))
     stem = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in data.name) or "design"
     plates = [f"plates/plate_{pid}.dxf" for pid in data.plate_ids]
-    names = plates + [
-        "hinges.dxf",
-        f"{stem}.3dm",
-        "solids.obj",
-        "solids.glb",
-        "stack.obj",
-        f"{stem}.fold",
-        "assembly.svg",
-        "assembly.pdf",
-    ]
+    sheets = [f"sheets/sheet_{k + 1}.dxf" for k in range(len(plan.sheets))]
+    names = (
+        plates
+        + sheets
+        + [
+            "bom.csv",
+            "hinges.dxf",
+            f"{stem}.3dm",
+            "solids.obj",
+            "solids.glb",
+            "stack.obj",
+            f"{stem}.fold",
+            "assembly.svg",
+            "assembly.pdf",
+        ]
+    )
     manifest = {
         "format": "ccu.fabrication",
         "version": 1,
@@ -123,15 +192,28 @@ def fabricate(
         "plates": len(data.plate_ids),
         "hinge_width": data.hinge_width,
         "hinge_strips": len(strips),
+        "model_ids": {
+            "plates": data.metadata["model_plate_ids"],
+            "creases": data.metadata["model_crease_ids"],
+        },
         **summary,
     }
+    work = plan.summary()
+    manifest["bom"] = work.pop("bom")
+    manifest["assembly"] = work.pop("assembly")
+    manifest["workshop"] = work
+    manifest["failed_checks"] = failed_checks(manifest)
     text = json.dumps(manifest, indent=1, allow_nan=False)
 
     # --- every check passed: write
     out = Path(out)
     (out / "plates").mkdir(parents=True, exist_ok=True)
+    (out / "sheets").mkdir(exist_ok=True)
     for i, name in enumerate(plates):
-        write_plate_dxf(data, i, out / name)
+        write_plate_dxf(data, i, out / name, score_rulings=workshop.score_rulings)
+    for k, name in enumerate(sheets):
+        write_sheet_dxf(plan, k, out / name, name=data.name)
+    write_bom_csv(plan, out / "bom.csv")
     write_hinge_dxf(strips, out / "hinges.dxf", name=data.name)
     write_3dm(data, out / f"{stem}.3dm")
     write_obj(data, out / "solids.obj", state="deployed")

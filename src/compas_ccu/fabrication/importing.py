@@ -10,8 +10,9 @@ or drawn by hand to the same convention (docs/import.md), is read back:
     LINEs. XDATA ``COMPAS_CCU`` (crease id, other plate id) pairs the plates; without it the
     plates are paired by their creases' lengths;
 ``RULING_SCORE``
-    every interior ruling as a LINE from the crease to the other side of the plate. The two end
-    rulings are the outline's edges at the crease's ends.
+    every interior ruling as a LINE from the crease to the other side of the plate (or on the
+    reference layer ``RULING``, where ``ccu fabricate`` puts them when they are not scored).
+    The two end rulings are the outline's edges at the crease's ends.
 
 The crease vertices are the crease's end points and the rulings' feet on it, in order along it;
 the ruling ends are the rulings' far end points. :func:`import_design` turns one crease and its
@@ -168,6 +169,8 @@ def read_plate_drawing(path, *, units: str | None = None) -> PlateDrawing:
     by_layer: dict = {}
     for e in doc.modelspace():
         by_layer.setdefault(e.dxf.layer.upper(), []).append(e)
+    if not by_layer.get("RULING_SCORE") and by_layer.get("RULING"):
+        by_layer["RULING_SCORE"] = by_layer["RULING"]  # rulings drawn but not scored
     for layer in REQUIRED_LAYERS:
         if not by_layer.get(layer):
             raise DesignError(
@@ -685,6 +688,21 @@ def import_design(
     return document, report
 
 
+def _model_ids(folder) -> tuple:
+    """Workshop id -> model id of the plates and creases (``fabrication.json``'s
+    ``model_ids``; the identity without it)."""
+    folder = Path(folder)
+    for place in (folder / "fabrication.json", folder.parent / "fabrication.json"):
+        if place.is_file():
+            ids = json.loads(place.read_text(encoding="utf-8")).get("model_ids") or {}
+            plates, creases = ids.get("plates"), ids.get("creases")
+            return (
+                (lambda k: k) if plates is None else (lambda k, m=plates: m[int(k)]),
+                (lambda k: k) if creases is None else (lambda k, m=creases: m[int(k)]),
+            )
+    return (lambda k: k), (lambda k: k)
+
+
 def round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> dict:
     """Fabricate -> import -> deploy: the imported crease pair against the model's two plates.
 
@@ -704,14 +722,15 @@ def round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> d
     alpha = model.alpha_design
     new = CCUModel(Design(document)).deploy(alpha)
     old = model.deploy(alpha)
-    cid = report["crease_id"]
+    plate_id, crease_id = _model_ids(folder)  # the files' ids follow the stack
+    cid = crease_id(report["crease_id"])
     record = next((c for c in old.creases if c["id"] == cid), None)
     if record is None:
         raise DesignError(f"the model has no crease {cid!r} (the plate files' XDATA)")
     n = model.segments
     old_xyz = np.asarray(old.deployed)
     new_xyz = np.asarray(new.deployed)
-    a_id, b_id = report["plate_ids"]
+    a_id, b_id = (plate_id(k) for k in report["plate_ids"])
     side = {pid: k for k, pid in enumerate(record["plates"])}
     rows_old, rows_new = [], []
     for k_new, pid in ((0, a_id), (1, b_id)):
@@ -1265,9 +1284,10 @@ def structure_round_trip_error(model, folder, *, crease=None, as_drawn: bool = F
     new = imported.mechanism.deploy(alpha)
     old = model.mechanism.deploy(alpha)
     old_ids = list(model.geometry.plate_ids)
+    plate_id, _ = _model_ids(folder)
     a, b = [], []
     for i, pid in enumerate(imported.plate_ids):
-        j = old_ids.index(pid)
+        j = old_ids.index(plate_id(pid))
         a += [new.near[0, i], new.far[0, i]]
         b += [old.near[0, j], old.far[0, j]]
     a, b = np.concatenate(a), np.concatenate(b)

@@ -179,7 +179,7 @@ def _draw_patterns(ax, data, order) -> None:
     ax.text(x0 + 0.5 * bar, y0 + 0.3 * pad, f"{bar:g} m", ha="center", va="bottom", fontsize=8)
     ax.set_title(
         "Cut patterns seen from above (cut face up as drawn), in stack order; "
-        "creases coloured by kind, thin lines: ruling score lines",
+        "creases coloured by kind, thin lines: rulings",
         fontsize=11,
         loc="left",
     )
@@ -308,22 +308,30 @@ def _legend(ax, data) -> None:
         )
         for k in kinds
     ]
-    handles.append(Line2D([], [], color=C.RULING_COLOR, linewidth=1.0, label="ruling score line"))
+    handles.append(Line2D([], [], color=C.RULING_COLOR, linewidth=1.0, label="ruling"))
     ax.legend(handles=handles, loc="lower left", fontsize=9, frameon=False)
 
 
 def _assembly_text(data, order) -> str:
     t = float(data.thickness) * 1000.0
     w = float(data.hinge_width) * 1000.0
-    ids = [f"P{data.plate_ids[i]}" for i in order]
-    creases = ", ".join(f"c{c['id']}: P{c['plates'][0]}-P{c['plates'][1]}" for c in data.creases)
+    pairing = list(data.metadata.get("pairing") or [])
+    laid, sequence = set(), []
+    for i in order:  # each plate, then the hinge strips joining it to the plates below
+        pid = int(data.plate_ids[i])
+        glue = [
+            f"c{c['id']}" + (f" {pairing[c['id']][:3]}" if int(c["id"]) < len(pairing) else "")
+            for c in data.creases
+            if pid in c["plates"] and set(c["plates"]) - {pid} <= laid
+        ]
+        sequence.append(f"P{pid}" + (f"+{'+'.join(glue)}" if glue else ""))
+        laid.add(pid)
     steps = [
-        f"1. Cut every plate ({len(order)} x {data.material}, {t:g} mm) face up as drawn: the "
-        "'UP' mark and labels read correctly from above. Score the RULING_SCORE lines.",
-        f"2. Stack the plates bottom to top in this order, each face up, outlines aligned: "
-        f"{', '.join(ids)} (stack 1 = bottom).",
-        f"3. Glue the hinge strip ({w:g} mm wide, centred on the crease) for crease c between "
-        f"plates a and b: {creases}.",
+        f"1. Cut every plate ({len(order)} x {data.material}, {t:g} mm) face up as drawn "
+        "('UP' reads from above). Rulings: reference only, scored only if on a score layer.",
+        "2. Lay the plates bottom to top, face up, outlines aligned; as each is laid glue the "
+        f"hinge strip ({w:g} mm, centred) of crease c to it and the plate below (int / ext: "
+        f"intrados / extrados faces): {', '.join(sequence)}.",
     ]
     return "\n".join(
         textwrap.fill(s, 56, subsequent_indent="    ", break_on_hyphens=False) for s in steps

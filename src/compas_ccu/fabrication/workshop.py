@@ -1,0 +1,1026 @@
+"""The workshop: plates split to fit the sheets, parts nested onto sheets, the bill of materials
+and the assembly sequence.
+
+:func:`plan_workshop` turns a :class:`~compas_ccu.fabrication.data.FabricationData` and the
+design's ``[fabrication]`` section (:class:`WorkshopOptions`) into a :class:`WorkshopPlan`:
+
+1. every plate is checked against the sheets in stock in the orientations the grain allows; a
+   plate that fits no sheet is split along rulings (straight lines on the plate, so the joint
+   does not fight the bending), as few parts as the sheets allow, and every cut gets two splice
+   plates (one on each face) with their fasteners;
+2. every part (plate parts and splice plates) is nested onto sheets with spyrrow (the Python
+   bindings of sparrow, a true-shape strip-packing solver): per sheet, the remaining parts are
+   strip-packed into the sheet's usable width, the parts that lie wholly within its usable
+   length stay on it, and smaller parts are tried in the space left; the hinge strips are
+   strip-packed onto the textile roll the same way (the roll's used length);
+3. the bill of materials (areas, masses, sheets, textile, glue line, fasteners, cost) and the
+   assembly sequence in stack order.
+
+:func:`write_sheet_dxf` writes one sheet's DXF with kerf-compensated toolpaths. Units: metres
+and degrees here, millimetres in the DXF files.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import warnings
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from compas_ccu.errors import CCUWarning, GeometryError, MissingExtraError
+from compas_ccu.fabrication.dxf import APPID, MM, _new_doc, _save, _xy, label_frame
+
+__all__ = [
+    "WorkshopOptions",
+    "Part",
+    "WorkshopPlan",
+    "plan_workshop",
+    "split_plate",
+    "write_sheet_dxf",
+    "write_bom_csv",
+    "SHEET_LAYERS",
+]
+
+#: Sheet file layers and their ACI colours: the toolpaths (cutter centre lines), the score
+#: lines, the engraved labels, and for reference only the parts' true outlines and the sheet.
+SHEET_LAYERS = {
+    "OUTER_CUT": 1,
+    "INNER_CUT": 6,
+    "SCORE": 3,
+    "LABEL": 7,
+    "PART_OUTLINE": 8,
+    "SHEET": 9,
+}
+
+
+@dataclass(frozen=True)
+class WorkshopOptions:
+    """The ``[fabrication]`` section in metres (see docs/design-files.md).
+
+    >>> WorkshopOptions().spacing
+    0.016
+    """
+
+    sheets: tuple = ((2.5, 1.25),)
+    kerf: float | None = None
+    tool_diameter: float = 0.006
+    bridge: float = 0.01
+    margin: float = 0.01
+    grain: str = "along"
+    splice_width: float = 0.15
+    fasteners_per_splice: int = 8
+    roll_width: float = 1.4
+    score_rulings: bool = False
+    nesting: str = "spyrrow"
+    nesting_time: float = 1.0
+    currency: str = "EUR"
+    sheet_price: float = 60.0
+    textile_price: float = 12.0
+    glue_price: float = 0.3
+    fastener_price: float = 0.05
+
+    @classmethod
+    def from_section(cls, section, **overrides) -> WorkshopOptions:
+        """From a design's ``[fabrication]`` section (``design.fabrication``) and overrides."""
+        values = {k: v for k, v in section.to_dict().items() if v is not None}
+        values.update({k: v for k, v in overrides.items() if v is not None})
+        values["sheets"] = tuple(tuple(float(x) for x in s) for s in values["sheets"])
+        return cls(**values)
+
+    @property
+    def cut(self) -> float:
+        """The kerf, m (the tool diameter unless set)."""
+        return self.tool_diameter if self.kerf is None else float(self.kerf)
+
+    @property
+    def spacing(self) -> float:
+        """Least distance between two parts' true outlines: kerf + bridge, m."""
+        return round(self.cut + self.bridge, 12)
+
+    @property
+    def inset(self) -> float:
+        """Least distance from a sheet edge to a part's true outline: margin + kerf, m."""
+        return self.margin + self.cut
+
+    def usable(self, s: int) -> tuple:
+        """(length, width) of sheet size ``s`` the parts' true outlines may occupy, m."""
+        length, width = self.sheets[s]
+        return length - 2.0 * self.inset, width - 2.0 * self.inset
+
+
+@dataclass
+class Part:
+    """One piece cut from a sheet.
+
+    Attributes
+    ----------
+    name : str
+        Label: ``P3`` (a whole plate), ``P3.1`` (part 1 of a split plate), ``S3.1U`` /
+        ``S3.1D`` (the splice plates of plate 3's cut 1, upper and lower face).
+    kind : str
+        ``"plate"`` or ``"splice"``.
+    plate : int
+        The plate id it belongs to.
+    outline : (m, 2) float
+        True outline, m, in the plate's cut-pattern frame.
+    grain : float
+        Face-grain direction in that frame, degrees.
+    score : list of (2, 2) float
+        Interior rulings (score lines), m, same frame.
+    marks : list of (k, 2) float
+        Where the splice plates go (engraved outlines), m, same frame.
+    label : list of str
+        Lines of the engraved label.
+    sheet : int
+        Index of its sheet in :attr:`WorkshopPlan.sheets` (-1 before nesting).
+    rotation : float
+        Rotation about the frame's origin, degrees, then ``translation`` (m): its place on the
+        sheet.
+    """
+
+    name: str
+    kind: str
+    plate: int
+    outline: np.ndarray
+    grain: float
+    score: list = field(default_factory=list)
+    marks: list = field(default_factory=list)
+    label: list = field(default_factory=list)
+    sheet: int = -1
+    rotation: float = 0.0
+    translation: tuple = (0.0, 0.0)
+
+    @property
+    def area(self) -> float:
+        """Area of the true outline, m²."""
+        x, y = self.outline[:, 0], self.outline[:, 1]
+        return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+
+    def placed(self, points) -> np.ndarray:
+        """``points`` (k, 2) of the part's frame moved to the sheet, m."""
+        a = math.radians(self.rotation)
+        r = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+        return np.asarray(points, dtype=float) @ r.T + np.asarray(self.translation)
+
+
+@dataclass
+class WorkshopPlan:
+    """The parts, the sheets they are nested on, the hinge roll, the BOM and the assembly.
+
+    Attributes
+    ----------
+    options : WorkshopOptions
+    parts : list of Part
+    sheets : list of dict
+        Per sheet: ``size`` [length, width] m, ``parts`` (names), ``utilisation`` (parts'
+        area / sheet area).
+    splits : dict
+        Plate id -> the rulings its cuts follow (empty if it fits whole).
+    roll : dict
+        The hinge strips on the textile roll: ``width``, ``length`` (m used), ``strips``.
+    bom : dict
+        The bill of materials (:meth:`bom_rows` for its table).
+    assembly : list of dict
+        The assembly steps in order.
+    """
+
+    options: WorkshopOptions
+    parts: list
+    sheets: list
+    splits: dict
+    roll: dict
+    bom: dict = field(default_factory=dict)
+    assembly: list = field(default_factory=list)
+
+    @property
+    def utilisation(self) -> float:
+        """Area of every part over the area of every sheet used."""
+        used = sum(s["size"][0] * s["size"][1] for s in self.sheets)
+        return sum(p.area for p in self.parts) / used if used else 0.0
+
+    def summary(self) -> dict:
+        """Strict-JSON summary for ``fabrication.json`` (key ``workshop``)."""
+        o = self.options
+        return {
+            "sheets_in_stock": [list(s) for s in o.sheets],
+            "kerf": o.cut,
+            "tool_diameter": o.tool_diameter,
+            "bridge": o.bridge,
+            "margin": o.margin,
+            "grain": o.grain,
+            "score_rulings": o.score_rulings,
+            "nesting": o.nesting,
+            "sheet_count": len(self.sheets),
+            "utilisation": self.utilisation,
+            "sheets": self.sheets,
+            "splits": {str(k): v for k, v in self.splits.items()},
+            "roll": self.roll,
+            "bom": self.bom,
+            "assembly": self.assembly,
+        }
+
+
+# --------------------------------------------------------------------------- fitting, splitting
+
+
+def _orientations(options: WorkshopOptions, grain: float):
+    """Rotations (degrees) a part of face grain ``grain`` may take on a sheet; None: any."""
+    if options.grain == "free":
+        return None
+    base = -grain if options.grain == "along" else 90.0 - grain
+    return [base % 360.0, (base + 180.0) % 360.0]
+
+
+def _fit_angles(options: WorkshopOptions, grain: float) -> np.ndarray:
+    angles = _orientations(options, grain)
+    return np.arange(0.0, 180.0, 1.0) if angles is None else np.asarray(angles[:1])
+
+
+def fitting_size(points, options: WorkshopOptions, grain: float):
+    """Index of the first sheet size ``points`` (a part outline, m) fits on, or None.
+
+    The part fits if, turned by an angle the grain allows, its bounding box lies within the
+    sheet's usable area (:meth:`WorkshopOptions.usable`).
+    """
+    pts = np.asarray(points, dtype=float)
+    a = np.radians(_fit_angles(options, grain))
+    c, s = np.cos(a)[:, None], np.sin(a)[:, None]
+    x = c * pts[:, 0] - s * pts[:, 1]
+    y = s * pts[:, 0] + c * pts[:, 1]
+    dx, dy = np.ptp(x, axis=1), np.ptp(y, axis=1)
+    for k in range(len(options.sheets)):
+        length, width = options.usable(k)
+        # the nesting keeps parts a spacing apart from each other, and its own margin
+        length, width = length - options.spacing, width - options.spacing
+        if np.any((dx <= length) & (dy <= width)):
+            return k
+    return None
+
+
+def _sub_outline(flat: np.ndarray, n: int, j0: int, j1: int) -> np.ndarray:
+    """The outline of the quads ``j0 .. j1 - 1`` of a plate (near row, far row back)."""
+    near = flat[j0 : j1 + 1]
+    far = flat[n + 1 + j0 : n + 2 + j1][::-1]
+    return np.concatenate([near, far])
+
+
+def split_plate(flat, options: WorkshopOptions, grain: float, *, name: str = "plate") -> list:
+    """The rulings a plate is cut along so that every part fits a sheet.
+
+    Parameters
+    ----------
+    flat : (2n + 2, 2) float
+        The plate's cut pattern, m (near row ``0 .. n``, far row ``n + 1 .. 2n + 1``; ruling
+        ``j`` joins ``j`` and ``n + 1 + j``).
+    options : WorkshopOptions
+    grain : float
+        Face-grain direction in the cut pattern, degrees.
+    name : str
+        Plate name for the error message.
+
+    Returns
+    -------
+    list of int
+        Interior rulings to cut along, in order (empty if the plate fits whole). As few parts
+        as a greedy cover needs, then the cuts moved towards equal arc lengths where the parts
+        still fit.
+
+    Raises
+    ------
+    GeometryError
+        A single quad (between two neighbouring rulings) fits no sheet, e.g. a plate wider
+        than every sheet.
+
+    Examples
+    --------
+    >>> square = np.array([[0, 0], [1, 0], [2, 0], [3, 0], [0, 1], [1, 1], [2, 1], [3, 1]])
+    >>> split_plate(square * 1.0, WorkshopOptions(), 0.0)  # 3 m long: two parts, 1 + 2 m
+    [1]
+    """
+    flat = np.asarray(flat, dtype=float)
+    n = flat.shape[0] // 2 - 1
+
+    def fits(a, b):
+        return fitting_size(_sub_outline(flat, n, a, b), options, grain) is not None
+
+    if fits(0, n):
+        return []
+    cuts, start = [], 0
+    while start < n:
+        end = start + 1
+        if not fits(start, end):
+            sizes = ", ".join(f"{a * 1000:g} x {b * 1000:g} mm" for a, b in options.sheets)
+            raise GeometryError(
+                f"{name}: the quad between rulings {start} and {start + 1} fits no sheet in stock "
+                f"({sizes}, less margin and kerf, grain {options.grain!r}); a part must lie "
+                "between two rulings, so the plate cannot be split to fit"
+            )
+        while end < n and fits(start, end + 1):
+            end += 1
+        if end < n:
+            cuts.append(end)
+        start = end
+    # even out: cuts at equal arc length along the crease, where every part still fits
+    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(flat[: n + 1], axis=0), axis=1))]
+    k = len(cuts) + 1
+    even = [int(np.argmin(np.abs(arc - arc[-1] * q / k))) for q in range(1, k)]
+    bounds = [0, *even, n]
+    if len(set(bounds)) == len(bounds) and all(fits(a, b) for a, b in zip(bounds, bounds[1:])):
+        return even
+    return cuts
+
+
+def _rulings_between(flat, n: int, j0: int, j1: int) -> list:
+    return [np.array([flat[j], flat[n + 1 + j]]) for j in range(j0 + 1, j1)]
+
+
+def _splices(flat, n: int, j: int, options: WorkshopOptions, hinge_width: float) -> np.ndarray:
+    """The splice plate rectangle across the cut along ruling ``j``: (4, 2) m."""
+    a, b = flat[j], flat[n + 1 + j]
+    length = float(np.linalg.norm(b - a))
+    u = (b - a) / length
+    v = np.array([-u[1], u[0]])
+    inset = min(hinge_width, 0.25 * length)  # clear of the hinge strips along the creases
+    p, q = a + inset * u, b - inset * u
+    h = 0.5 * options.splice_width
+    return np.array([p - h * v, q - h * v, q + h * v, p + h * v])
+
+
+def make_parts(data, options: WorkshopOptions) -> tuple:
+    """The plate parts and splice plates of every plate: ``(parts, splits)``."""
+    n = data.segments
+    grain = float(data.metadata.get("grain", 0.0) or 0.0)
+    parts, splits = [], {}
+    for i, pid in enumerate(data.plate_ids):
+        flat = np.asarray(data.flat[i], dtype=float)
+        cuts = split_plate(flat, options, grain, name=f"plate {pid}")
+        splits[int(pid)] = cuts
+        bounds = [0, *cuts, n]
+        k = len(bounds) - 1
+        stack = int(data.stack_position[i])
+        creases = [f"C{cid}-P{other}" for cid, other, _ in data.plate_creases(i)]
+        splice_rects = [_splices(flat, n, j, options, data.hinge_width) for j in cuts]
+        for q, (a, b) in enumerate(zip(bounds, bounds[1:])):
+            name = f"P{pid}" if k == 1 else f"P{pid}.{q + 1}"
+            label = [name + ("" if k == 1 else f" of {k}"), f"stack {stack + 1}", *creases, "UP"]
+            marks = [r for j, r in zip(cuts, splice_rects) if j in (a, b)]
+            parts.append(
+                Part(
+                    name=name,
+                    kind="plate",
+                    plate=int(pid),
+                    outline=_sub_outline(flat, n, a, b),
+                    grain=grain,
+                    score=_rulings_between(flat, n, a, b),
+                    marks=marks,
+                    label=label,
+                )
+            )
+        for q, rect in enumerate(splice_rects):
+            for face in ("U", "D"):
+                name = f"S{pid}.{q + 1}{face}"
+                side = "upper" if face == "U" else "lower"
+                parts.append(
+                    Part(
+                        name=name,
+                        kind="splice",
+                        plate=int(pid),
+                        outline=rect,
+                        grain=grain,
+                        label=[name, f"P{pid}.{q + 1}/{q + 2} {side}"],
+                    )
+                )
+    return parts, splits
+
+
+# --------------------------------------------------------------------------------- nesting
+
+
+def _spyrrow():
+    try:
+        import spyrrow
+    except ImportError as exc:  # pragma: no cover - the fab extra installs it
+        raise MissingExtraError(
+            "nesting the parts onto sheets needs spyrrow: pip install 'compas_ccu[fab]' (or "
+            "[fabrication] nesting = 'shelf', bounding boxes in rows)"
+        ) from exc
+    return spyrrow
+
+
+def _strip_pack(shapes: dict, orientations: dict, height: float, gap: float, seconds: float):
+    """spyrrow strip packing of ``shapes`` (name -> (m, 2) mm, centred) in a strip ``height``
+    high: name -> (rotation deg, (tx, ty) mm), and the strip length used (mm)."""
+    sp = _spyrrow()
+    items = [
+        sp.Item(
+            name,
+            [tuple(p) for p in pts.tolist()],
+            demand=1,
+            allowed_orientations=orientations[name],
+        )
+        for name, pts in shapes.items()
+    ]
+    # sparrow keeps the separation from the strip's edges too: widen the strip by it on both
+    # sides and move the result back, so the parts may reach the usable area's edges
+    pad = float(gap) if gap > 0 else 0.0
+    instance = sp.StripPackingInstance("ccu", strip_height=float(height) + 2.0 * pad, items=items)
+    config = sp.StripPackingConfig(
+        early_termination=True,
+        total_computation_time=max(1, int(round(seconds))),
+        min_items_separation=float(gap) if gap > 0 else None,
+        seed=0,
+        num_workers=1,
+    )
+    try:
+        solution = instance.solve(config)
+    except (KeyboardInterrupt, SystemExit):  # pragma: no cover
+        raise
+    except BaseException as exc:  # sparrow panics (a PanicException) on a part that cannot fit
+        raise GeometryError(
+            f"the nesting (spyrrow) failed on the parts {', '.join(sorted(shapes))} in a strip "
+            f"{height:g} mm wide: {exc}"
+        ) from None
+    out = {
+        p.id: (float(p.rotation), (float(p.translation[0]) - pad, float(p.translation[1]) - pad))
+        for p in solution.placed_items
+    }
+    return out, float(solution.width) - 2.0 * pad
+
+
+def _moved(pts: np.ndarray, rotation: float, translation) -> np.ndarray:
+    a = math.radians(rotation)
+    r = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+    return pts @ r.T + np.asarray(translation)
+
+
+def _pack_sheet(shapes, orientations, length, width, gap, seconds):
+    """The parts of ``shapes`` (mm) that go on one sheet of usable ``length`` x ``width`` mm,
+    with their placement: name -> (rotation, translation, placed points)."""
+    names = sorted(shapes, key=lambda k: -_area(shapes[k]))
+    # the candidates: the largest parts, about CANDIDATES sheets' worth of area (a strip a
+    # little longer than the sheet, so that its first sheet length is packed densely)
+    chosen, total = [], 0.0
+    for name in names:
+        if total > CANDIDATES * length * width:
+            break
+        chosen.append(name)
+        total += _area(shapes[name])
+    candidates = {k: shapes[k] for k in chosen}
+    place, _ = _strip_pack(candidates, orientations, width, gap, seconds)
+    on = {}
+    for name, (rot, t) in place.items():
+        pts = _moved(shapes[name], rot, t)
+        if pts[:, 0].max() <= length + 1e-6 and pts[:, 0].min() >= -1e-6:
+            on[name] = (rot, t, pts)
+    if not on:  # the strip put nothing wholly within one sheet: the largest part alone
+        first = names[0]
+        place, _ = _strip_pack({first: shapes[first]}, orientations, width, gap, seconds)
+        rot, t = place[first]
+        pts = _moved(shapes[first], rot, t)
+        on[first] = (rot, t - np.array([pts[:, 0].min(), 0.0]), pts - [pts[:, 0].min(), 0.0])
+    # fill: the largest parts left that could fit in the free area, one at a time
+    free = length * width - sum(_area(shapes[k]) for k in on)
+    tries = 0
+    for name in names:
+        if name in on or _area(shapes[name]) > 0.9 * free or tries >= FILL_ATTEMPTS:
+            continue
+        tries += 1
+        trial = {k: shapes[k] for k in [*on, name]}
+        place, used = _strip_pack(trial, orientations, width, gap, seconds)
+        if used <= length + 1e-6 and len(place) == len(trial):
+            on = {}
+            for k, (rot, t) in place.items():
+                pts = _moved(shapes[k], rot, t)
+                on[k] = (rot, t, pts)
+            free = length * width - sum(_area(shapes[k]) for k in on)
+    # the strip may start past x = 0: shift the sheet's parts to its start
+    x0 = min(v[2][:, 0].min() for v in on.values())
+    y0 = min(v[2][:, 1].min() for v in on.values())
+    return {
+        k: (rot, (t[0] - x0, t[1] - min(y0, 0.0)), pts - [x0, min(y0, 0.0)])
+        for k, (rot, t, pts) in on.items()
+    }
+
+
+def _area(pts: np.ndarray) -> float:
+    x, y = pts[:, 0], pts[:, 1]
+    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+
+
+def _shelf_sheet(shapes, orientations, length, width, gap):
+    """Shelf packing by bounding boxes (the fallback without spyrrow): the parts of ``shapes``
+    (mm) that go on one sheet, name -> (rotation, translation, placed points)."""
+    boxes = {}
+    for name, pts in shapes.items():
+        angles = orientations[name]
+        angles = np.arange(0.0, 180.0, 1.0) if angles is None else np.asarray(angles[:1])
+        best = None
+        for a in angles:
+            q = _moved(pts, float(a), (0.0, 0.0))
+            lo, hi = q.min(axis=0), q.max(axis=0)
+            size = hi - lo
+            if size[0] <= length and size[1] <= width and (best is None or size[1] < best[2][1]):
+                best = (float(a), lo, size)
+        boxes[name] = best
+    order = sorted(shapes, key=lambda k: -boxes[k][2][1])
+    on, x, y, shelf = {}, 0.0, 0.0, 0.0
+    for name in order:
+        a, lo, size = boxes[name]
+        if x + size[0] > length:  # next shelf
+            x, y, shelf = 0.0, y + shelf + gap, 0.0
+        if y + size[1] > width:
+            continue
+        t = (x - lo[0], y - lo[1])
+        on[name] = (a, t, _moved(shapes[name], a, t))
+        x += size[0] + gap
+        shelf = max(shelf, size[1])
+    return on
+
+
+def nest_parts(parts: list, options: WorkshopOptions) -> list:
+    """Nest ``parts`` onto sheets (sets their ``sheet``, ``rotation``, ``translation``).
+
+    Returns
+    -------
+    list of dict
+        Per sheet: ``size`` [length, width] m, ``parts`` (names), ``utilisation``.
+    """
+    groups: dict = {}
+    for p in parts:
+        k = fitting_size(p.outline, options, p.grain)
+        if k is None:
+            raise GeometryError(
+                f"part {p.name} ({np.ptp(p.outline, axis=0).round(3).tolist()} m) fits no sheet "
+                f"in stock {[list(s) for s in options.sheets]} m"
+            )
+        groups.setdefault(k, []).append(p)
+    sheets, centres = [], {}
+    for k in sorted(groups):
+        length, width = (v * MM for v in options.usable(k))
+        left = {p.name: p for p in groups[k]}
+        centres.update({p.name: p.outline.mean(axis=0) for p in groups[k]})
+        while left:
+            shapes = {m: (p.outline - centres[m]) * MM for m, p in left.items()}
+            orient = {m: _orientations(options, p.grain) for m, p in left.items()}
+            if options.nesting == "shelf":
+                on = _shelf_sheet(shapes, orient, length, width, options.spacing * MM)
+            else:
+                on = _pack_sheet(
+                    shapes, orient, length, width, options.spacing * MM, options.nesting_time
+                )
+            if not on:  # pragma: no cover - every part fits a sheet alone (fitting_size)
+                raise GeometryError(f"no part of {sorted(left)} could be placed on a sheet")
+            index = len(sheets)
+            names = []
+            for m, (rot, t, _) in sorted(on.items()):
+                p = left.pop(m)
+                a = math.radians(rot)
+                r = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+                # sheet (m) = R (x - c) + t / 1000 + inset  =  R x + (t / 1000 + inset - R c)
+                shift = np.asarray(t) / MM + options.inset - r @ centres[m]
+                p.sheet, p.rotation, p.translation = index, float(rot), tuple(shift.tolist())
+                names.append(m)
+            sheets.append({"size": list(options.sheets[k]), "parts": names})
+        if options.nesting != "shelf":
+            _merge_sheets(sheets, parts, centres, options, k, length, width)
+    for index, sheet in enumerate(sheets):
+        for p in parts:
+            if p.name in sheet["parts"]:
+                p.sheet = index
+        size = sheet["size"]
+        area = sum(p.area for p in parts if p.sheet == index)
+        sheet["utilisation"] = area / (size[0] * size[1])
+    return sheets
+
+
+#: Parts a sheet's first packing considers, in sheets' worth of area (the largest parts first).
+CANDIDATES = 2.0
+#: Packings :func:`nest_parts` spends at most on emptying sheets (merging pairs of sheets,
+#: moving the emptiest sheet's parts onto the others).
+MERGE_ATTEMPTS = 8
+#: Parts :func:`nest_parts` tries to add to a sheet's free space at most.
+FILL_ATTEMPTS = 2
+
+
+def _merge_sheets(sheets, parts, centres, options, k, length, width) -> None:
+    """Empty the emptiest sheets of size ``k``: merge pairs of sheets whose parts fit on one,
+    then move the parts of the emptiest sheet onto the others, where they fit."""
+    by_name = {p.name: p for p in parts}
+    capacity = length * width / MM**2
+    budget = [MERGE_ATTEMPTS]
+
+    def area(names):
+        return sum(by_name[m].area for m in names)
+
+    def repack(names) -> bool:
+        """Place ``names`` on one sheet if they fit (one packing of the budget)."""
+        if budget[0] <= 0 or area(names) > 0.9 * capacity:
+            return False
+        budget[0] -= 1
+        shapes = {m: (by_name[m].outline - centres[m]) * MM for m in names}
+        orient = {m: _orientations(options, by_name[m].grain) for m in names}
+        place, used = _strip_pack(shapes, orient, width, options.spacing * MM, options.nesting_time)
+        if used > length + 1e-6 or len(place) != len(names):
+            return False
+        x0 = min(_moved(shapes[m], *place[m])[:, 0].min() for m in names)
+        for m in names:
+            rot, t = place[m]
+            a = math.radians(rot)
+            r = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+            shift = (np.asarray(t) - [x0, 0.0]) / MM + options.inset - r @ centres[m]
+            by_name[m].rotation, by_name[m].translation = float(rot), tuple(shift.tolist())
+        return True
+
+    def mine():
+        out = [s for s in sheets if s["size"] == list(options.sheets[k])]
+        return sorted(out, key=lambda s: area(s["parts"]))
+
+    merged = True
+    while merged and budget[0] > 0:  # pairs of sheets onto one
+        merged = False
+        ours = mine()
+        for a in range(len(ours)):
+            for b in range(a + 1, len(ours)):
+                names = ours[a]["parts"] + ours[b]["parts"]
+                if area(names) <= 0.85 * capacity and repack(names):
+                    ours[a]["parts"] = sorted(names)
+                    sheets.remove(ours[b])
+                    merged = True
+                    break
+            if merged or budget[0] <= 0:
+                break
+    ours = mine()
+    if len(ours) > 1:  # the emptiest sheet's parts onto the others, the freest first
+        last = ours[0]
+        for m in sorted(last["parts"], key=lambda n: -by_name[n].area):
+            for target in sorted(ours[1:], key=lambda s: area(s["parts"]))[:2]:
+                names = target["parts"] + [m]
+                if repack(names):
+                    target["parts"] = sorted(names)
+                    last["parts"].remove(m)
+                    break
+        if not last["parts"]:
+            sheets.remove(last)
+
+
+def nest_roll(strips, options: WorkshopOptions) -> dict:
+    """The hinge strips strip-packed on the textile roll, each along the roll (0 or 180 deg
+    after turning its chord along it): ``width``, ``length`` (m used), ``strips`` (per crease:
+    length of its centre line, m)."""
+    if not strips:
+        return {"width": options.roll_width, "length": 0.0, "strips": {}}
+    shapes, orient, lengths = {}, {}, {}
+    for s in strips:
+        c = np.asarray(s.centre, dtype=float)
+        d = c[-1] - c[0]
+        a = -math.atan2(d[1], d[0])
+        r = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+        pts = (np.asarray(s.outline, dtype=float) - c.mean(axis=0)) @ r.T
+        name = f"C{s.crease_id}"
+        if np.ptp(pts[:, 1]) > options.roll_width - 2.0 * options.margin:
+            raise GeometryError(
+                f"hinge strip {name} is {np.ptp(pts[:, 1]):.3f} m wide across the roll, wider "
+                f"than the roll ({options.roll_width:g} m less margins)"
+            )
+        shapes[name] = pts * MM
+        orient[name] = [0.0, 180.0]
+        lengths[name] = float(np.linalg.norm(np.diff(c, axis=0), axis=1).sum())
+    height = (options.roll_width - 2.0 * options.margin) * MM
+    if options.nesting == "shelf":
+        on = _shelf_sheet(shapes, orient, 1e12, height, options.spacing * MM)
+        used = max(float(v[2][:, 0].max()) for v in on.values())
+        return {
+            "width": options.roll_width,
+            "length": used / MM + 2.0 * options.margin,
+            "strips": lengths,
+        }
+    _, used = _strip_pack(shapes, orient, height, options.spacing * MM, 3 * options.nesting_time)
+    return {
+        "width": options.roll_width,
+        "length": used / MM + 2.0 * options.margin,
+        "strips": lengths,
+    }
+
+
+# ----------------------------------------------------------------------------- BOM, assembly
+
+
+def bill_of_materials(data, parts, sheets, roll, options: WorkshopOptions, density: float) -> dict:
+    """Rows and totals of the bill of materials (strict-JSON values)."""
+    t = float(data.thickness)
+    rows = []
+    for p in parts:
+        rows.append(
+            {
+                "item": p.name,
+                "kind": p.kind,
+                "plate": p.plate,
+                "sheet": p.sheet + 1,
+                "area_m2": p.area,
+                "mass_kg": p.area * t * density,
+                "quantity": 1,
+            }
+        )
+    hinge_lengths = roll["strips"]
+    glue_hinges = 2.0 * sum(hinge_lengths.values())  # each strip glued to both plates
+    splices = [p for p in parts if p.kind == "splice"]
+    glue_splices = sum(
+        float(np.linalg.norm(np.diff(np.r_[p.outline, p.outline[:1]], axis=0), axis=1).sum())
+        for p in splices
+    )
+    fasteners = len(splices) * options.fasteners_per_splice
+    mass = sum(r["mass_kg"] for r in rows)
+    textile = float(roll["length"])
+    glue = glue_hinges + glue_splices
+    costs = {
+        "sheets": len(sheets) * options.sheet_price,
+        "textile": textile * options.textile_price,
+        "glue": glue * options.glue_price,
+        "fasteners": fasteners * options.fastener_price,
+    }
+    for c, length in sorted(hinge_lengths.items(), key=lambda kv: int(kv[0][1:])):
+        rows.append(
+            {
+                "item": f"hinge {c}",
+                "kind": "hinge",
+                "plate": None,
+                "sheet": None,
+                "area_m2": length * data.hinge_width,
+                "mass_kg": None,
+                "quantity": 1,
+            }
+        )
+    return {
+        "rows": rows,
+        "plates": sum(1 for p in parts if p.kind == "plate"),
+        "splices": len(splices),
+        "sheets": len(sheets),
+        "sheet_area_m2": sum(s["size"][0] * s["size"][1] for s in sheets),
+        "parts_area_m2": sum(p.area for p in parts),
+        "mass_kg": mass,
+        "density_kg_m3": density,
+        "textile_roll_width_m": float(roll["width"]),
+        "textile_length_m": textile,
+        "hinge_length_m": sum(hinge_lengths.values()),
+        "glue_line_m": glue,
+        "glue_line_hinges_m": glue_hinges,
+        "glue_line_splices_m": glue_splices,
+        "fasteners": fasteners,
+        "currency": options.currency,
+        "cost": costs,
+        "cost_total": sum(costs.values()),
+        "anchors": anchors(data),
+    }
+
+
+def anchors(data) -> list:
+    """Per plate: the feet (mid-points of the end rulings) where the actuators or the tie of the
+    deployment are fixed, in the cut pattern (m) and in the world at the design state (m), and
+    the tie length between them at the design state (m)."""
+    n = data.segments
+    out = []
+    for i, pid in enumerate(data.plate_ids):
+        flat = np.asarray(data.flat[i], dtype=float)
+        xyz = np.asarray(data.deployed_mid[i], dtype=float)
+        ends = [(0, n + 1), (n, 2 * n + 1)]
+        f = [0.5 * (flat[a] + flat[b]) for a, b in ends]
+        w = [0.5 * (xyz[a] + xyz[b]) for a, b in ends]
+        out.append(
+            {
+                "plate": int(pid),
+                "flat": [v.tolist() for v in f],
+                "world": [v.tolist() for v in w],
+                "tie_length": float(np.linalg.norm(w[1] - w[0])),
+            }
+        )
+    return out
+
+
+def assembly_steps(data, splits: dict, pairing=None) -> list:
+    """The assembly in stack order: splice split plates, then stack bottom to top, gluing the
+    hinge strip of every crease as its second plate is laid."""
+    order = sorted(range(len(data.plate_ids)), key=lambda i: int(data.stack_position[i]))
+    steps = []
+    for i in order:
+        pid = int(data.plate_ids[i])
+        cuts = splits.get(pid, [])
+        if cuts:
+            steps.append(
+                {
+                    "action": "splice",
+                    "plate": pid,
+                    "text": f"Join the {len(cuts) + 1} parts of P{pid} on a flat table, UP face "
+                    "up: "
+                    + "; ".join(
+                        f"splice plates S{pid}.{q + 1}D under and S{pid}.{q + 1}U over the cut "
+                        f"P{pid}.{q + 1}/{q + 2} (glue and screw)"
+                        for q in range(len(cuts))
+                    ),
+                }
+            )
+    laid = set()
+    by_id = {int(c["id"]): c for c in data.creases}
+    for k, i in enumerate(order):
+        pid = int(data.plate_ids[i])
+        step = {
+            "action": "lay",
+            "plate": pid,
+            "stack": k + 1,
+            "text": f"Lay P{pid} UP face up"
+            + ("" if k == 0 else f" on P{int(data.plate_ids[order[k - 1]])}")
+            + f" (stack {k + 1} of {len(order)})",
+        }
+        steps.append(step)
+        for cid in sorted(by_id):
+            a, b = (int(x) for x in by_id[cid]["plates"])
+            if pid in (a, b) and ({a, b} - {pid}) <= laid:
+                faces = pairing[cid] if pairing is not None and cid < len(pairing) else None
+                lo, hi = sorted((a, b), key=lambda x: data.stack_position[data.index(x)])
+                steps.append(
+                    {
+                        "action": "glue",
+                        "crease": cid,
+                        "plates": [lo, hi],
+                        "faces": faces,
+                        "text": f"Glue hinge strip C{cid} joining P{lo} and P{hi} along their "
+                        f"crease" + (f" ({faces} faces)" if faces else ""),
+                    }
+                )
+        laid.add(pid)
+    for n, s in enumerate(steps):
+        s["step"] = n + 1
+    return steps
+
+
+def plan_workshop(data, strips, options: WorkshopOptions, *, density: float, pairing=None):
+    """Split, nest, count and order: the :class:`WorkshopPlan` of a design.
+
+    Parameters
+    ----------
+    data : FabricationData
+    strips : list of compas_ccu.fabrication.hinges.HingeStrip
+    options : WorkshopOptions
+    density : float
+        Plate material density, kg/m³ (masses).
+    pairing : list of str, optional
+        Per crease id: the faces its hinge joins (``ThickModel.pairing``).
+
+    Returns
+    -------
+    WorkshopPlan
+
+    Raises
+    ------
+    GeometryError
+        A part fits no sheet (e.g. a plate wider than every sheet), or a hinge strip is wider
+        than the roll.
+    """
+    if options.nesting == "spyrrow" and importlib.util.find_spec("spyrrow") is None:
+        warnings.warn(
+            "spyrrow is not installed (pip install 'compas_ccu[fab]'; it has no wheel for "
+            "Python 3.9): the parts are nested by shelves of bounding boxes, which wastes sheets",
+            CCUWarning,
+            stacklevel=2,
+        )
+        options = replace(options, nesting="shelf")
+    parts, splits = make_parts(data, options)
+    sheets = nest_parts(parts, options)
+    roll = nest_roll(strips, options)
+    plan = WorkshopPlan(options=options, parts=parts, sheets=sheets, splits=splits, roll=roll)
+    plan.bom = bill_of_materials(data, parts, sheets, roll, options, density)
+    plan.assembly = assembly_steps(data, splits, pairing)
+    return plan
+
+
+# --------------------------------------------------------------------------------- writers
+
+
+def _ring(poly) -> np.ndarray:
+    return np.asarray(poly.exterior.coords, dtype=float)[:-1]
+
+
+def write_sheet_dxf(plan: WorkshopPlan, s: int, path, *, name: str = "design") -> Path:
+    """Write sheet ``s`` of ``plan`` in millimetres.
+
+    Layers: ``OUTER_CUT`` (every part's toolpath: its outline offset by kerf / 2 outwards,
+    round corners), ``INNER_CUT`` (holes; none yet), ``SCORE`` (interior rulings when
+    ``score_rulings``), ``LABEL`` (engraved part names and splice positions), and for
+    reference ``PART_OUTLINE`` (true outlines) and ``SHEET`` (the sheet's edge). Every toolpath
+    carries XDATA ``COMPAS_CCU``: "part", its name, rotation (deg) and translation (mm).
+    """
+    from ezdxf.enums import TextEntityAlignment
+    from shapely import Polygon
+
+    o = plan.options
+    sheet = plan.sheets[s]
+    doc = _new_doc(SHEET_LAYERS)
+    doc.header["$PROJECTNAME"] = str(name)
+    msp = doc.modelspace()
+    length, width = (v * MM for v in sheet["size"])
+    msp.add_lwpolyline(
+        [(0.0, 0.0), (length, 0.0), (length, width), (0.0, width)],
+        format="xy",
+        close=True,
+        dxfattribs={"layer": "SHEET"},
+    )
+    for p in plan.parts:
+        if p.sheet != s:
+            continue
+        outline = p.placed(p.outline) * MM
+        poly = Polygon(outline)
+        path_poly = poly.buffer(0.5 * o.cut * MM, join_style="round", quad_segs=8)
+        e = msp.add_lwpolyline(
+            _xy(_ring(path_poly)), format="xy", close=True, dxfattribs={"layer": "OUTER_CUT"}
+        )
+        e.set_xdata(
+            APPID,
+            [
+                (1000, "part"),
+                (1000, p.name),
+                (1040, p.rotation),
+                (1040, p.translation[0] * MM),
+                (1040, p.translation[1] * MM),
+            ],
+        )
+        msp.add_lwpolyline(
+            _xy(outline), format="xy", close=True, dxfattribs={"layer": "PART_OUTLINE"}
+        )
+        if o.score_rulings:
+            for line in p.score:
+                a, b = p.placed(line) * MM
+                msp.add_line(tuple(a), tuple(b), dxfattribs={"layer": "SCORE"})
+        for rect in p.marks:  # the splice plate's place, clipped to the part
+            mark = Polygon(p.placed(rect) * MM).intersection(poly)
+            if mark.geom_type == "Polygon" and not mark.is_empty:
+                msp.add_lwpolyline(
+                    _xy(_ring(mark)), format="xy", close=True, dxfattribs={"layer": "LABEL"}
+                )
+        anchor, u, h = label_frame(
+            outline, lines=len(p.label) + 1, chars=max(len(t) for t in p.label)
+        )
+        v = np.array([-u[1], u[0]])
+        rotation = math.degrees(math.atan2(u[1], u[0]))
+        top = 0.5 * 1.6 * h * (len(p.label) - 1)
+        for k, text in enumerate(p.label):
+            t = msp.add_text(
+                text,
+                height=h * (1.4 if k == 0 else 1.0),
+                rotation=rotation,
+                dxfattribs={"layer": "LABEL"},
+            )
+            t.set_placement(
+                tuple(anchor + (top - 1.6 * h * k) * v), align=TextEntityAlignment.MIDDLE_CENTER
+            )
+    title = msp.add_text(
+        f"{name}: sheet {s + 1} of {len(plan.sheets)}, {length:g} x {width:g} mm, kerf "
+        f"{o.cut * MM:g} mm, utilisation {100 * sheet['utilisation']:.1f} %",
+        height=0.012 * width,
+        dxfattribs={"layer": "LABEL"},
+    )
+    title.set_placement((0.0, width + 0.01 * width), align=TextEntityAlignment.BOTTOM_LEFT)
+    _save(doc, Path(path))
+    return Path(path)
+
+
+BOM_COLUMNS = ("item", "kind", "plate", "sheet", "area_m2", "mass_kg", "quantity")
+
+
+def write_bom_csv(plan: WorkshopPlan, path) -> Path:
+    """The bill of materials as CSV: one row per part and hinge strip, then the totals."""
+    import csv
+
+    b = plan.bom
+    path = Path(path)
+    with path.open("w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(BOM_COLUMNS)
+        for r in b["rows"]:
+            w.writerow(
+                [
+                    "" if r[c] is None else (f"{r[c]:.6g}" if isinstance(r[c], float) else r[c])
+                    for c in BOM_COLUMNS
+                ]
+            )
+        cur = b["currency"]
+        totals = [
+            ("sheets", b["sheets"], "", b["cost"]["sheets"]),
+            ("parts area", f"{b['parts_area_m2']:.4f}", "m2", ""),
+            ("mass", f"{b['mass_kg']:.2f}", "kg", ""),
+            (
+                f"textile (roll {b['textile_roll_width_m']:g} m)",
+                f"{b['textile_length_m']:.3f}",
+                "m",
+                b["cost"]["textile"],
+            ),
+            ("glue line", f"{b['glue_line_m']:.3f}", "m", b["cost"]["glue"]),
+            ("fasteners", b["fasteners"], "", b["cost"]["fasteners"]),
+            ("total", "", "", b["cost_total"]),
+        ]
+        w.writerow([])
+        w.writerow(["total", "quantity", "unit", f"cost {cur}"])
+        for label, q, unit, cost in totals:
+            w.writerow([label, q, unit, "" if cost == "" else f"{cost:.2f}"])
+    return path
