@@ -194,7 +194,7 @@ def hinge_strips(data, *, width: float | None = None) -> list:
     >>> data = fabrication_data(load_model("examples/vault.toml"), hinge_width=0.05)
     >>> strips = hinge_strips(data)
     >>> [(s.crease_id, s.plates) for s in strips][:2]
-    [(0, (5, 6)), (1, (6, 7))]
+    [(0, (1, 0)), (1, (2, 1))]
     >>> strips[0].centre.shape, strips[0].outline.shape
     ((65, 2), (130, 2))
     """

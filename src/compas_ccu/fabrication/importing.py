@@ -1237,7 +1237,7 @@ def import_structure(
     >>> structure = import_structure(out)
     >>> undone = structure.report["thickness_correction"]
     >>> structure.plate_ids, undone["thickness"], undone["iterations"], undone["leading"]
-    ([0, 1], 0.008, 1, 'crease 0')
+    ([1, 0], 0.008, 1, 'crease 0')
     """
     folder = Path(folder)
     manifest, plates, pairs, pair, patterns = _select(folder, crease=crease, units=units)
