@@ -442,3 +442,22 @@ def test_crowded_slider_marks_keep_the_more_telling_label():
     assert [m[0] for m in marks] == [0.0, 30.0, 77.0, 79.2, 81.99]  # every tick stays
     assert [m[1] for m in marks] == ["0", "design", "collision", "", ""]
     assert slider_marks(model, None, 81.99)[-2:] == [(79.2, "overlap"), (81.99, "")]
+
+
+@pytest.mark.slow
+def test_the_exported_report_records_the_design_as_edited(session, folders):
+    """The studio's report export is an engineering record of the design as edited: its text
+    and hash, and the fabrication folder exported with it."""
+    import hashlib
+
+    pytest.importorskip("ezdxf")
+    _, out = folders
+    session.edit("crease", "rise", 0.9)
+    text = session.text()
+    written = export(session.model, out, alpha=30.0, what=("fabrication", "report"),
+                     design_text=text)  # fmt: skip
+    report = written["report"]
+    assert (report / "design" / "vault.toml").read_text("utf-8") == text
+    page = (report / "index.html").read_text("utf-8")
+    assert hashlib.sha256(text.encode("utf-8")).hexdigest() in page
+    assert (report / "fabrication" / "fabrication.json").is_file()

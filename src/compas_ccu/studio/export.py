@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
 from compas_ccu.fabrication.fabricate import fabricate
@@ -21,7 +22,8 @@ def export(model, out, *, alpha: float, what=EXPORTS, design_text: str | None = 
     * ``structure``: structure.json, structure.obj, structure.compas.json at ``alpha`` (as
       ``ccu deploy --alpha``), plus ``design.toml`` (the design as edited);
     * ``fabrication``: the workshop files at the design state (as ``ccu fabricate``);
-    * ``report``: the report (as ``ccu report``).
+    * ``report``: the report (as ``ccu report``), with the design as edited (its text and
+      hash) and the fabrication folder when that is exported too.
 
     Each folder is written as one transaction (:func:`compas_ccu.outputs.staged_folder`): a
     failure leaves the previous export as it was.
@@ -50,7 +52,13 @@ def export(model, out, *, alpha: float, what=EXPORTS, design_text: str | None = 
             fabricate(model, stage)
         written["fabrication"] = root / "fabrication"
     if "report" in what:
-        with staged_folder(root / "report") as stage:
-            write_report(model, stage)
+        with staged_folder(root / "report") as stage, tempfile.TemporaryDirectory() as tmp:
+            design_file = None  # the design as edited: the report's record and its hash
+            if design_text is not None:
+                design_file = Path(tmp) / f"{model.design.name}.toml"
+                design_file.write_text(design_text, "utf-8")
+            write_report(
+                model, stage, design_file=design_file, fabrication=written.get("fabrication")
+            )
         written["report"] = root / "report"
     return written
