@@ -25,6 +25,7 @@ from compas_ccu.fabrication.workshop import (  # noqa: E402
     fitting_size,
     nest_parts,
     plan_workshop,
+    splice_bending,
     split_plate,
     write_bom_csv,
     write_sheet_dxf,
@@ -171,6 +172,60 @@ def test_vault_bill_of_materials(vault_plan, vault_fab_data, tmp_path):
     assert rows[-1][0] == "total" and float(rows[-1][3]) == pytest.approx(b["cost_total"], abs=0.01)
 
 
+def test_splice_bending_is_the_plates_times_the_three_layers(vault_model, vault_fab_data):
+    """Glued on both faces, the splice plates bend with the plate: stress x (t + 2 t_s) / t."""
+    from compas_ccu.thickness import ThickModel
+
+    bend = ThickModel(vault_model, thickness=0.008, material="plywood").bending()
+    u = bend.utilisation.max(axis=0)  # (p, 2n + 2), design basis
+    strips = hinge_strips(vault_fab_data)
+    for ts, factor, sheets_t in ((None, 3.0, {0.008}), (0.003, 1.75, {0.008, 0.003})):
+        o = WorkshopOptions(nesting="shelf", splice_thickness=ts)
+        plan = plan_workshop(
+            vault_fab_data, strips, o, density=500.0, utilisation=u,
+            strength_factor=bend.factors.strength_factor,
+        )  # fmt: skip
+        check = plan.splice_bending
+        assert check["factor"] == pytest.approx(factor, rel=1e-15)
+        assert len(check["cuts"]) == 10 and {c["ruling"] for c in check["cuts"]} == {32}
+        # the vault's plates bend uniformly: 1.118 at the cut as everywhere
+        for c in check["cuts"]:
+            assert c["plate_utilisation"] == pytest.approx(1.1183, abs=2e-4)
+            assert c["utilisation"] == pytest.approx(factor * c["plate_utilisation"], rel=1e-15)
+            assert c["utilisation_characteristic"] == pytest.approx(0.5 * c["utilisation"])
+        assert check["exceeded"] and check["max_utilisation"] == pytest.approx(
+            1.1183 * factor, 1e-3
+        )
+        # thinner splice plates go on sheets of their own thickness; masses follow
+        assert {s["thickness"] for s in plan.sheets} == sheets_t
+        for s in plan.sheets:
+            assert {p.thickness for p in plan.parts if p.name in s["parts"]} == {s["thickness"]}
+        b = plan.bom
+        expected = sum(p.area * (0.008 if p.kind == "plate" else ts or 0.008) for p in plan.parts)
+        assert b["mass_kg"] == pytest.approx(500.0 * expected, rel=1e-12)
+        assert plan.summary()["splice_bending"] is check
+
+
+def test_splice_bending_takes_the_worst_vertex_under_the_splice_only():
+    """Width 0.15 m across a ruling: vertices 0.075 m either side count, 0.1 m away do not."""
+    from types import SimpleNamespace
+
+    x = np.array([0.0, 0.9, 1.0, 1.074, 1.1, 2.0])
+    flat = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + 1.0]]
+    data = SimpleNamespace(thickness=0.01, segments=5, plate_ids=[4], flat=[flat])
+    u = np.full((1, 12), 0.2)
+    u[0, 3] = 0.5  # 0.074 m from the cut: under the splice
+    u[0, 4 + 6] = 0.9  # 0.1 m from the cut: beside it
+    o = WorkshopOptions(splice_thickness=0.005)
+    check = splice_bending(data, {4: [2]}, u, o, strength_factor=0.5)
+    assert check["cuts"] == [
+        {"plate": 4, "ruling": 2, "plate_utilisation": 0.5, "utilisation": 1.0,
+         "utilisation_characteristic": 0.5}
+    ]  # fmt: skip
+    assert not check["exceeded"]  # 1.0 is at the limit, not above it
+    assert splice_bending(data, {}, u, o)["max_utilisation"] == 0.0  # nothing split
+
+
 def test_vault_sheet_dxf_toolpaths_are_kerf_compensated(vault_plan, tmp_path):
     from shapely import Polygon
 
@@ -269,6 +324,10 @@ def test_fabricate_exits_3_on_exceeded_bending_unless_allowed(tmp_path, capsys):
     assert main(args) == 3
     err = capsys.readouterr().err
     assert "check failed: bending utilisation 1.12 > 1" in err
+    assert (
+        "splice plates: bending utilisation 3.35 > 1 (1.68 characteristic: they would break) "
+        "where plate" in err
+    )
     manifest = json.loads((out / "fabrication.json").read_text())  # written for inspection
     assert manifest["failed_checks"] and manifest["bending"]["exceeded"]
     assert manifest["model_ids"]["creases"] == [8, 7, 6, 5, 4, 0, 1, 2, 3]

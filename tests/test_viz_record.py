@@ -108,6 +108,22 @@ def test_the_pdf_has_the_rows_as_text_and_breaks_pages(tmp_path, vault_model):
     assert "line 149" in text and f"page 1 of {len(reader.pages)}" in text
 
 
+def test_a_pdf_table_wider_than_the_page_wraps_its_cells_and_loses_no_number(tmp_path):
+    """The load-case table has seven columns of up to 60 characters: each cell wraps within its
+    column (it was cut to the column width, dropping the end feet's reactions)."""
+    pypdf = pytest.importorskip("pypdf")
+    columns = [f"column {j} with a long title" for j in range(7)]
+    rows = [
+        [f"{1000 * i + j} / {j}.25 | end {7000 + i} / 8{j}" for j in range(7)] for i in range(3)
+    ]
+    path = write_pdf(tmp_path / "t.pdf", [("table", columns, rows)])
+    text = " ".join(pypdf.PdfReader(str(path)).pages[0].extract_text().split())
+    for row in rows:
+        for cell in row:
+            for number in cell.replace("/", " ").replace("|", " ").split():
+                assert number in text, (number, cell)
+
+
 def test_the_pdf_refuses_an_unknown_block(tmp_path):
     with pytest.raises(OptionError, match="unknown PDF block 'chart'"):
         write_pdf(tmp_path / "r.pdf", [("chart", 1)])
@@ -146,3 +162,33 @@ def test_a_manifest_without_tables_is_said_so_on_the_page(tmp_path):
     assert "design cone · 2 plates" in page
     assert "lists no sheets and no bill of materials" in page
     assert _fabrication_section(None, tmp_path) == ""
+
+
+def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, vault_model):
+    """A real folder: the workshop's sheets, the BOM's rows and totals, the failed checks."""
+    from compas_ccu.fabrication.fabricate import fabricate
+    from compas_ccu.fabrication.workshop import WorkshopOptions
+    from compas_ccu.viz.report import _fabrication_section
+
+    options = WorkshopOptions(nesting="shelf", splice_thickness=0.003)
+    manifest = fabricate(vault_model, tmp_path / "fab", workshop=options)
+    f = read_fabrication(tmp_path / "fab", design=vault_model.design.name)
+    assert f["problems"] == []
+    work = manifest["workshop"]
+    assert f["utilisation"] == work["utilisation"] and len(f["sheets"]) == work["sheet_count"]
+    assert [s["thickness_mm"] for s in f["sheets"]].count(3.0) == 1  # the splice plates' sheet
+    assert f["sheets"][-1]["parts"] == 20 and f["sheets"][0]["size_mm"] == "2500 x 1250"
+    assert len(f["bom"]) == 20 + 20 + 9  # plate parts, splice plates, hinge strips
+    rows = dict(f["workshop_rows"])
+    assert f"{manifest['bom']['mass_kg']:.1f} kg" in rows["bill of materials"]
+    assert "160 fasteners" in rows["bill of materials"]
+    assert rows["cost estimate"].startswith(f"{manifest['bom']['cost_total']:.0f} EUR (sheets ")
+    assert rows["sheets"].startswith(
+        f"{work['sheet_count']} of 2500 x 1250 mm (20 of 8 mm, 1 of 3 mm)"
+    )
+    assert rows["splice bending"].startswith("** utilisation 1.96 (characteristic 0.979) at P7 ruling 32")
+    assert f["failed_checks"] == manifest["failed_checks"] and len(f["failed_checks"]) == 2
+    assert "splice plates: bending utilisation 1.96 > 1" in f["failed_checks"][1]
+    page = _fabrication_section(f, tmp_path)
+    assert '<p class="bad">check failed: splice plates: bending utilisation 1.96' in page
+    assert "<th>splice bending</th>" in page and "Sheets (fabrication.json: sheets)" in page

@@ -17,7 +17,11 @@ pytest.importorskip("matplotlib")
 from compas_ccu import __version__  # noqa: E402
 from compas_ccu.cli import main  # noqa: E402
 from compas_ccu.key_figures import key_figures  # noqa: E402
-from compas_ccu.key_figures.text import figure_rows  # noqa: E402
+from compas_ccu.key_figures.text import (  # noqa: E402
+    figure_rows,  # noqa: E402
+    load_case_lines,
+    load_case_table,
+)
 from compas_ccu.outputs import MANIFEST
 from compas_ccu.viz.report import FIGURES, structural_section  # noqa: E402
 from conftest import EXAMPLES  # noqa: E402
@@ -188,6 +192,22 @@ def test_structural_section_shows_every_case_and_marks_the_failed_ones():
     assert "<td class=num>—</td>" in html  # no buckling factor: a dash, not a number
     assert '<img src="figures/fe_load_cases.png"' in html
     assert structural_section({"checks": {"deflection_max_m": 0.001}}) == ""  # an old file
+
+
+def test_console_and_report_show_the_same_load_case_cells():
+    """One definition (key_figures.text.load_case_table): the report does not format its own."""
+    checks = _load_case_checks()
+    page = structural_section({"checks": checks, "engine": "kratos"})
+    console = "\n".join(load_case_lines(checks))
+    heading, rows, governing = load_case_table(checks)
+    assert len(rows) == 2 and [ok for _, ok in rows] == [False, True]
+    for cells, _ in rows:
+        for cell in cells[2:]:
+            assert f"<td class=num>{html.escape(cell)}</td>" in page
+            assert cell in console
+    assert f"governing: {governing}" in page and console.endswith(f"governing: {governing}")
+    assert heading in console and html.escape(heading) in page
+    assert console.count("EXCEEDED") == 1
 
 
 # -- the engineering record, the PDF, the fabrication section ------------------------------

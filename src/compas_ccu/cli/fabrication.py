@@ -13,6 +13,7 @@ from compas_ccu.errors import OptionError
 from compas_ccu.fabrication.fabricate import fabricate as write_fabrication
 from compas_ccu.fabrication.importing import design_toml, import_design
 from compas_ccu.fabrication.workshop import WorkshopOptions
+from compas_ccu.key_figures.text import rows_lines, workshop_rows
 from compas_ccu.model import CCUModel
 
 __all__ = ["COMMANDS"]
@@ -62,32 +63,9 @@ def fabricate(args) -> int:
 
 
 def workshop_lines(manifest: dict) -> list:
-    """The sheets, the bill of materials and the assembly of a ``fabrication.json`` as text."""
-    w, b = manifest["workshop"], manifest["bom"]
-    sizes = ", ".join(f"{x * 1e3:g} x {y * 1e3:g}" for x, y in w["sheets_in_stock"])
-    split = {k: v for k, v in w["splits"].items() if v}
-    lines = [
-        f"sheets            {w['sheet_count']} of {sizes} mm, utilisation "
-        f"{100 * w['utilisation']:.1f} % (kerf {w['kerf'] * 1e3:g} mm, bridge "
-        f"{w['bridge'] * 1e3:g} mm, grain {w['grain']})",
-        "split plates      "
-        + (
-            ", ".join(f"P{k} at rulings {v}" for k, v in split.items())
-            + f"; {b['splices']} splice plates"
-            if split
-            else "none: every plate fits a sheet"
-        ),
-        f"bill of materials {b['plates']} plate parts + {b['splices']} splices, "
-        f"{b['parts_area_m2']:.2f} m2, {b['mass_kg']:.1f} kg; textile {b['textile_length_m']:.2f} "
-        f"m of a {b['textile_roll_width_m']:g} m roll; glue line {b['glue_line_m']:.1f} m; "
-        f"{b['fasteners']} fasteners",
-        f"cost estimate     {b['cost_total']:.0f} {b['currency']} (sheets "
-        f"{b['cost']['sheets']:.0f}, textile {b['cost']['textile']:.0f}, glue "
-        f"{b['cost']['glue']:.0f}, fasteners {b['cost']['fasteners']:.0f})",
-        f"assembly          {len(manifest['assembly'])} steps in stack order (fabrication.json "
-        "assembly, assembly.pdf)",
-    ]
-    return lines
+    """The sheets, the bill of materials and the assembly of a ``fabrication.json`` as text
+    (:func:`compas_ccu.key_figures.text.workshop_rows`)."""
+    return rows_lines(workshop_rows(manifest))
 
 
 def import_plates(args) -> int:

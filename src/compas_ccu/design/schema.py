@@ -656,6 +656,16 @@ SCHEMA: dict = {
             check=lambda v: 0.0 < v <= 2.0,
             check_doc="> 0 and <= 2",
         ),
+        "splice_thickness": Key(
+            "float",
+            "Thickness of the splice plates, m; default the plates' thickness. Glued across a "
+            "cut, the splice plates bend with the plate: the three layers' outer fibres lie "
+            "(t + 2 t_s) / 2 from the middle, so the bending utilisation there is the plate's "
+            "times (t + 2 t_s) / t (checked by `ccu fabricate`). Thinner splice plates are "
+            "nested on sheets of their own thickness.",
+            check=lambda v: 0.0 < v <= 0.1,
+            check_doc="> 0 and <= 0.1",
+        ),
         "fasteners_per_splice": Key(
             "int",
             "Screws through every splice plate (bill of materials), besides the glue.",
@@ -758,7 +768,8 @@ _UNITS = {
     "hinges": {"rotational_stiffness": "N", "translational_stiffness": "N/m²"},
     "fabrication": {
         "sheets": "m", "kerf": "m", "tool_diameter": "m", "bridge": "m", "margin": "m",
-        "splice_width": "m", "fasteners_per_splice": "1", "roll_width": "m", "nesting_time": "s",
+        "splice_width": "m", "splice_thickness": "m", "fasteners_per_splice": "1",
+        "roll_width": "m", "nesting_time": "s",
         "sheet_price": "currency", "textile_price": "currency/m", "glue_price": "currency/m",
         "fastener_price": "currency",
     },

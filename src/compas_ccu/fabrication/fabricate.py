@@ -40,6 +40,7 @@ from compas_ccu.fabrication.workshop import (
     write_sheet_dxf,
 )
 from compas_ccu.thickness import ThickModel
+from compas_ccu.thickness.bending import bending_verdict
 
 __all__ = ["fabricate", "workshop_summary", "failed_checks"]
 
@@ -81,9 +82,27 @@ def failed_checks(manifest: dict) -> list:
     failed = []
     if manifest.get("bending", {}).get("exceeded"):
         b = manifest["bending"]
+        verdict = bending_verdict(True, b.get("basis", {}))
         failed.append(
             f"bending utilisation {b['max_utilisation']:.3g} > 1 (plate {b['worst']['plate']}): "
-            "the plates would break"
+            + verdict.split(": ", 1)[1]
+        )
+    splices = (manifest.get("workshop") or {}).get("splice_bending") or {}
+    if splices.get("exceeded"):
+        worst = max(splices["cuts"], key=lambda c: c["utilisation"])
+        broken = worst["utilisation_characteristic"] > 1.0
+        failed.append(
+            f"splice plates: bending utilisation {worst['utilisation']:.3g} > 1"
+            + (
+                f" ({worst['utilisation_characteristic']:.3g} characteristic: they would break)"
+                if broken
+                else ""
+            )
+            + f" where plate "
+            f"{worst['plate']} is cut along ruling {worst['ruling']} (the plate's "
+            f"{worst['plate_utilisation']:.3g} x {splices['factor']:.3g} for splices "
+            f"{splices['splice_thickness'] * 1000:.3g} mm thick glued on both faces): use "
+            "thinner splice plates ([fabrication] splice_thickness) or larger sheets"
         )
     if manifest.get("collisions", {}).get("interpenetration"):
         failed.append("the thick plates interpenetrate (written with --allow-collisions)")
@@ -156,12 +175,15 @@ def fabricate(
     strips = hinge_strips(data)  # refuses a hinge width too large for a crease's curvature
     if workshop is None:
         workshop = WorkshopOptions.from_section(model.design.fabrication)
+    bend = thick.bending()
     plan = plan_workshop(
         data,
         strips,
         workshop,
         density=float(thick.material.density),
         pairing=summary.get("pairing"),
+        utilisation=bend.utilisation.max(axis=0),
+        strength_factor=bend.factors.strength_factor,
     )  # refuses a part that fits no sheet, naming it
     fold = fold_json(fold_document(data))
     stem = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in data.name) or "design"

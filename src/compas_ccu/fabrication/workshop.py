@@ -39,6 +39,7 @@ __all__ = [
     "WorkshopPlan",
     "plan_workshop",
     "split_plate",
+    "splice_bending",
     "write_sheet_dxf",
     "write_bom_csv",
     "SHEET_LAYERS",
@@ -71,6 +72,7 @@ class WorkshopOptions:
     margin: float = 0.01
     grain: str = "along"
     splice_width: float = 0.15
+    splice_thickness: float | None = None
     fasteners_per_splice: int = 8
     roll_width: float = 1.4
     score_rulings: bool = False
@@ -139,6 +141,8 @@ class Part:
     rotation : float
         Rotation about the frame's origin, degrees, then ``translation`` (m): its place on the
         sheet.
+    thickness : float
+        m: the sheets it is nested on have this thickness.
     """
 
     name: str
@@ -152,6 +156,7 @@ class Part:
     sheet: int = -1
     rotation: float = 0.0
     translation: tuple = (0.0, 0.0)
+    thickness: float = 0.0
 
     @property
     def area(self) -> float:
@@ -185,6 +190,9 @@ class WorkshopPlan:
         The bill of materials (:meth:`bom_rows` for its table).
     assembly : list of dict
         The assembly steps in order.
+    splice_bending : dict or None
+        The bending check of the spliced cuts (:func:`splice_bending`); None without the
+        plates' bending utilisation.
     """
 
     options: WorkshopOptions
@@ -194,6 +202,7 @@ class WorkshopPlan:
     roll: dict
     bom: dict = field(default_factory=dict)
     assembly: list = field(default_factory=list)
+    splice_bending: dict | None = None
 
     @property
     def utilisation(self) -> float:
@@ -218,9 +227,16 @@ class WorkshopPlan:
             "sheets": self.sheets,
             "splits": {str(k): v for k, v in self.splits.items()},
             "roll": self.roll,
+            "splice_thickness": self.parts_thickness("splice"),
+            "splice_bending": self.splice_bending,
             "bom": self.bom,
             "assembly": self.assembly,
         }
+
+    def parts_thickness(self, kind: str):
+        """The thickness of the parts of ``kind`` (m), None if there are none."""
+        values = {p.thickness for p in self.parts if p.kind == kind}
+        return max(values) if values else None
 
 
 # --------------------------------------------------------------------------- fitting, splitting
@@ -353,6 +369,8 @@ def make_parts(data, options: WorkshopOptions) -> tuple:
     """The plate parts and splice plates of every plate: ``(parts, splits)``."""
     n = data.segments
     grain = float(data.metadata.get("grain", 0.0) or 0.0)
+    t = float(data.thickness)
+    t_splice = t if options.splice_thickness is None else float(options.splice_thickness)
     parts, splits = [], {}
     for i, pid in enumerate(data.plate_ids):
         flat = np.asarray(data.flat[i], dtype=float)
@@ -377,6 +395,7 @@ def make_parts(data, options: WorkshopOptions) -> tuple:
                     score=_rulings_between(flat, n, a, b),
                     marks=marks,
                     label=label,
+                    thickness=t,
                 )
             )
         for q, rect in enumerate(splice_rects):
@@ -391,9 +410,89 @@ def make_parts(data, options: WorkshopOptions) -> tuple:
                         outline=rect,
                         grain=grain,
                         label=[name, f"P{pid}.{q + 1}/{q + 2} {side}"],
+                        thickness=t_splice,
                     )
                 )
     return parts, splits
+
+
+def splice_bending(
+    data, splits: dict, utilisation, options: WorkshopOptions, *, strength_factor: float = 1.0
+) -> dict:
+    """The bending check of the plates where the splice plates are glued across a cut.
+
+    A splice plate glued to both faces bends with the plate: the three layers take the
+    plate's curvature κ together and their outer fibres lie ``(t + 2 t_s) / 2`` from the
+    middle, so the bending stress there is ``E κ (t + 2 t_s) / 2``, the plate's times
+    ``(t + 2 t_s) / t`` (same material; the layers do not slide on each other). The plate's
+    utilisation is taken at every vertex within ``splice_width / 2`` of the cut's ruling.
+
+    Parameters
+    ----------
+    data : FabricationData
+    splits : dict
+        Plate id -> the rulings its cuts follow (:func:`make_parts`).
+    utilisation : (p, 2n + 2) float
+        The plates' bending utilisation at every vertex (the largest along the deployment
+        path, design strengths), plates in ``data`` order.
+    options : WorkshopOptions
+    strength_factor : float
+        Design over characteristic strength (k_mod / γ_M; 1 for characteristic strengths):
+        the characteristic utilisation is ``utilisation · strength_factor``.
+
+    Returns
+    -------
+    dict
+        ``factor`` (t + 2 t_s) / t, ``thickness`` and ``splice_thickness`` (m), ``cuts`` (per
+        cut: ``plate``, ``ruling``, ``plate_utilisation``, ``utilisation``,
+        ``utilisation_characteristic``), ``max_utilisation`` and
+        ``max_utilisation_characteristic`` (0 without cuts) and ``exceeded``.
+
+    Examples
+    --------
+    A plate at utilisation 0.5 spliced with plates of its own thickness: 0.5 · 3 = 1.5.
+
+    >>> import numpy as np
+    >>> from types import SimpleNamespace
+    >>> flat = np.array([[0.0, 0], [1, 0], [2, 0], [0, 1], [1, 1], [2, 1]])
+    >>> data = SimpleNamespace(thickness=0.008, segments=2, plate_ids=[0], flat=[flat])
+    >>> check = splice_bending(data, {0: [1]}, np.full((1, 6), 0.5), WorkshopOptions())
+    >>> check["factor"], check["max_utilisation"], check["exceeded"]
+    (3.0, 1.5, True)
+    """
+    t = float(data.thickness)
+    ts = t if options.splice_thickness is None else float(options.splice_thickness)
+    factor = (t + 2.0 * ts) / t
+    u = np.asarray(utilisation, dtype=float)
+    n = data.segments
+    cuts = []
+    for i, pid in enumerate(data.plate_ids):
+        flat = np.asarray(data.flat[i], dtype=float)[:, :2]
+        for j in splits.get(int(pid), []):
+            a, b = flat[j], flat[n + 1 + j]
+            d = (b - a) / np.linalg.norm(b - a)
+            off = np.abs((flat - a) @ np.array([-d[1], d[0]]))
+            band = off <= 0.5 * options.splice_width + 1e-12
+            plate_u = float(u[i, band].max())
+            cuts.append(
+                {
+                    "plate": int(pid),
+                    "ruling": int(j),
+                    "plate_utilisation": plate_u,
+                    "utilisation": plate_u * factor,
+                    "utilisation_characteristic": plate_u * factor * strength_factor,
+                }
+            )
+    worst = max((c["utilisation"] for c in cuts), default=0.0)
+    return {
+        "factor": factor,
+        "thickness": t,
+        "splice_thickness": ts,
+        "cuts": cuts,
+        "max_utilisation": worst,
+        "max_utilisation_characteristic": worst * strength_factor,
+        "exceeded": bool(worst > 1.0),
+    }
 
 
 # --------------------------------------------------------------------------------- nesting
@@ -543,10 +642,13 @@ def _shelf_sheet(shapes, orientations, length, width, gap):
 def nest_parts(parts: list, options: WorkshopOptions) -> list:
     """Nest ``parts`` onto sheets (sets their ``sheet``, ``rotation``, ``translation``).
 
+    Parts of different thickness go on different sheets (the plates and thinner splice plates).
+
     Returns
     -------
     list of dict
-        Per sheet: ``size`` [length, width] m, ``parts`` (names), ``utilisation``.
+        Per sheet: ``size`` [length, width] m, ``thickness`` m, ``parts`` (names),
+        ``utilisation``.
     """
     groups: dict = {}
     for p in parts:
@@ -556,12 +658,13 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
                 f"part {p.name} ({np.ptp(p.outline, axis=0).round(3).tolist()} m) fits no sheet "
                 f"in stock {[list(s) for s in options.sheets]} m"
             )
-        groups.setdefault(k, []).append(p)
+        groups.setdefault((-round(p.thickness, 9), k), []).append(p)
     sheets, centres = [], {}
-    for k in sorted(groups):
+    for group in sorted(groups):
+        thickness, k = -group[0], group[1]
         length, width = (v * MM for v in options.usable(k))
-        left = {p.name: p for p in groups[k]}
-        centres.update({p.name: p.outline.mean(axis=0) for p in groups[k]})
+        left = {p.name: p for p in groups[group]}
+        centres.update({p.name: p.outline.mean(axis=0) for p in groups[group]})
         while left:
             shapes = {m: (p.outline - centres[m]) * MM for m, p in left.items()}
             orient = {m: _orientations(options, p.grain) for m, p in left.items()}
@@ -583,9 +686,9 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
                 shift = np.asarray(t) / MM + options.inset - r @ centres[m]
                 p.sheet, p.rotation, p.translation = index, float(rot), tuple(shift.tolist())
                 names.append(m)
-            sheets.append({"size": list(options.sheets[k]), "parts": names})
+            sheets.append({"size": list(options.sheets[k]), "thickness": thickness, "parts": names})
         if options.nesting != "shelf":
-            _merge_sheets(sheets, parts, centres, options, k, length, width)
+            _merge_sheets(sheets, parts, centres, options, k, thickness, length, width)
     for index, sheet in enumerate(sheets):
         for p in parts:
             if p.name in sheet["parts"]:
@@ -605,9 +708,10 @@ MERGE_ATTEMPTS = 8
 FILL_ATTEMPTS = 2
 
 
-def _merge_sheets(sheets, parts, centres, options, k, length, width) -> None:
-    """Empty the emptiest sheets of size ``k``: merge pairs of sheets whose parts fit on one,
-    then move the parts of the emptiest sheet onto the others, where they fit."""
+def _merge_sheets(sheets, parts, centres, options, k, thickness, length, width) -> None:
+    """Empty the emptiest sheets of size ``k`` and ``thickness``: merge pairs of sheets whose
+    parts fit on one, then move the parts of the emptiest sheet onto the others, where they
+    fit."""
     by_name = {p.name: p for p in parts}
     capacity = length * width / MM**2
     budget = [MERGE_ATTEMPTS]
@@ -635,7 +739,11 @@ def _merge_sheets(sheets, parts, centres, options, k, length, width) -> None:
         return True
 
     def mine():
-        out = [s for s in sheets if s["size"] == list(options.sheets[k])]
+        out = [
+            s
+            for s in sheets
+            if s["size"] == list(options.sheets[k]) and s["thickness"] == thickness
+        ]
         return sorted(out, key=lambda s: area(s["parts"]))
 
     merged = True
@@ -710,7 +818,6 @@ def nest_roll(strips, options: WorkshopOptions) -> dict:
 
 def bill_of_materials(data, parts, sheets, roll, options: WorkshopOptions, density: float) -> dict:
     """Rows and totals of the bill of materials (strict-JSON values)."""
-    t = float(data.thickness)
     rows = []
     for p in parts:
         rows.append(
@@ -720,7 +827,8 @@ def bill_of_materials(data, parts, sheets, roll, options: WorkshopOptions, densi
                 "plate": p.plate,
                 "sheet": p.sheet + 1,
                 "area_m2": p.area,
-                "mass_kg": p.area * t * density,
+                "thickness_m": p.thickness,
+                "mass_kg": p.area * p.thickness * density,
                 "quantity": 1,
             }
         )
@@ -749,6 +857,7 @@ def bill_of_materials(data, parts, sheets, roll, options: WorkshopOptions, densi
                 "plate": None,
                 "sheet": None,
                 "area_m2": length * data.hinge_width,
+                "thickness_m": None,
                 "mass_kg": None,
                 "quantity": 1,
             }
@@ -855,7 +964,16 @@ def assembly_steps(data, splits: dict, pairing=None) -> list:
     return steps
 
 
-def plan_workshop(data, strips, options: WorkshopOptions, *, density: float, pairing=None):
+def plan_workshop(
+    data,
+    strips,
+    options: WorkshopOptions,
+    *,
+    density: float,
+    pairing=None,
+    utilisation=None,
+    strength_factor: float = 1.0,
+):
     """Split, nest, count and order: the :class:`WorkshopPlan` of a design.
 
     Parameters
@@ -867,6 +985,11 @@ def plan_workshop(data, strips, options: WorkshopOptions, *, density: float, pai
         Plate material density, kg/m³ (masses).
     pairing : list of str, optional
         Per crease id: the faces its hinge joins (``ThickModel.pairing``).
+    utilisation : (p, 2n + 2) float, optional
+        The plates' bending utilisation per vertex (:func:`splice_bending`); without it the
+        splices are not checked.
+    strength_factor : float
+        Design over characteristic strength of ``utilisation`` (:func:`splice_bending`).
 
     Returns
     -------
@@ -892,6 +1015,10 @@ def plan_workshop(data, strips, options: WorkshopOptions, *, density: float, pai
     plan = WorkshopPlan(options=options, parts=parts, sheets=sheets, splits=splits, roll=roll)
     plan.bom = bill_of_materials(data, parts, sheets, roll, options, density)
     plan.assembly = assembly_steps(data, splits, pairing)
+    if utilisation is not None:
+        plan.splice_bending = splice_bending(
+            data, splits, utilisation, options, strength_factor=strength_factor
+        )
     return plan
 
 
@@ -975,7 +1102,8 @@ def write_sheet_dxf(plan: WorkshopPlan, s: int, path, *, name: str = "design") -
                 tuple(anchor + (top - 1.6 * h * k) * v), align=TextEntityAlignment.MIDDLE_CENTER
             )
     title = msp.add_text(
-        f"{name}: sheet {s + 1} of {len(plan.sheets)}, {length:g} x {width:g} mm, kerf "
+        f"{name}: sheet {s + 1} of {len(plan.sheets)}, {length:g} x {width:g} x "
+        f"{sheet.get('thickness', 0.0) * MM:g} mm, kerf "
         f"{o.cut * MM:g} mm, utilisation {100 * sheet['utilisation']:.1f} %",
         height=0.012 * width,
         dxfattribs={"layer": "LABEL"},
@@ -985,7 +1113,7 @@ def write_sheet_dxf(plan: WorkshopPlan, s: int, path, *, name: str = "design") -
     return Path(path)
 
 
-BOM_COLUMNS = ("item", "kind", "plate", "sheet", "area_m2", "mass_kg", "quantity")
+BOM_COLUMNS = ("item", "kind", "plate", "sheet", "area_m2", "thickness_m", "mass_kg", "quantity")
 
 
 def write_bom_csv(plan: WorkshopPlan, path) -> Path:

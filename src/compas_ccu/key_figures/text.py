@@ -27,6 +27,9 @@ __all__ = [
     "material_rows",
     "basis_text",
     "load_case_lines",
+    "load_case_table",
+    "workshop_rows",
+    "LOAD_CASE_COLUMNS",
     "value_text",
     "rows_lines",
     "row_failed",
@@ -218,37 +221,103 @@ def basis_text(basis: dict) -> str:
     )
 
 
-def load_case_lines(checks: dict) -> list:
-    """The load-case table of ``ccu validate`` (the ``checks`` of ``validation.json``)."""
+#: Column titles of the load-case table (:func:`load_case_table`), console and report alike.
+LOAD_CASE_COLUMNS = (
+    "case",
+    "actions (characteristic)",
+    "deflection (/limit)",
+    "utilisation (k_mod, f_d)",
+    "buckling factor",
+    "reactions V / H, N (start | end)",
+    "hinge N/m: tension / shear / mean",
+)
+
+
+def _actions_text(actions) -> str:
+    return ", ".join(
+        f"{a['name']} {a['value_N_per_m2']:.0f} N/m² ({a['where']}"
+        + (", half span" if a["half_span"] else "")
+        + f", γ {a['gamma']:g})"
+        for a in actions
+    )
+
+
+def load_case_table(checks: dict) -> tuple:
+    """The load cases of a validation as text cells: one definition for console and report.
+
+    Parameters
+    ----------
+    checks : dict
+        The ``checks`` of ``validation.json`` (with ``cases``).
+
+    Returns
+    -------
+    heading : str
+        Feet, deflection limit and design basis.
+    rows : list of (list of str, bool)
+        Per case, the cells under :data:`LOAD_CASE_COLUMNS` and whether it passes
+        (deflection and utilisation).
+    governing : str
+
+    Examples
+    --------
+    >>> case = dict(name="snow", actions=[], deflection_max_m=0.002, deflection_ratio=0.4,
+    ...     deflection_ok=True, utilisation_max=0.5, utilisation_ok=True, basis={"k_mod": 0.9},
+    ...     strength_MPa=22.5, buckling_factor=None, hinges_uls={}, reactions_uls=dict(
+    ...     start_vertical_N=1.0, start_horizontal_N=2.0, end_vertical_N=1.0,
+    ...     end_horizontal_N=2.0))
+    >>> checks = {"cases": [case], "deflection_limit_m": 0.005,
+    ...     "governing": {"deflection": "snow", "utilisation": "snow"}}
+    >>> heading, rows, governing = load_case_table(checks)
+    >>> rows[0][0][2:5], rows[0][1]
+    (['2.00 mm (0.40)', '0.50 (k_mod 0.9, 22.5 MPa)', '—'], True)
+    """
     c = checks
     sup = c.get("supports", {})
     kind = sup.get("type", "pinned") + (" with a tie" if sup.get("tie") else "")
-    lines = [
-        f"load cases (feet {kind}; deflection limit {c['deflection_limit_m'] * 1e3:.2f} mm; "
-        "ULS stresses with the active bending, over k_mod f_k / gamma_M):",
-        f"  {'case':<13}{'deflection':>12}{'util.':>7}{'k_mod':>7}{'buckling':>10}"
-        f"{'reactions V / H, N (start | end)':>36}{'hinge N/m: tension | shear | mean':>36}",
-    ]
+    heading = (
+        f"feet {kind}; deflection limit {c['deflection_limit_m'] * 1e3:.2f} mm; ULS stresses "
+        "with the active bending, over k_mod f_k / gamma_M of each case's load duration"
+    )
+    rows = []
     for k in c["cases"]:
         r, hg = k["reactions_uls"], k["hinges_uls"]
         b = k["buckling_factor"]
-        flag = "" if k["deflection_ok"] and k["utilisation_ok"] else "  EXCEEDED"
-        lines.append(
-            f"  {k['name']:<13}{k['deflection_max_m'] * 1e3:>9.2f} mm"
-            f"{k['utilisation_max']:>7.2f}{k['basis']['k_mod']:>7.2f}"
-            f"{'—' if b is None else format(b, '.3g'):>10}"
-            f"{r['start_vertical_N']:>10.0f} /{r['start_horizontal_N']:>6.0f} |"
-            f"{r['end_vertical_N']:>8.0f} /{r['end_horizontal_N']:>6.0f}"
-            + (f" tie {r['tie_N']:.0f}" if r.get("tie_N") else "")
-            + f"{hg.get('tension_max_N_per_m', 0.0):>14.0f} |"
-            f"{hg.get('out_of_plane_max_N_per_m', 0.0):>6.0f} |"
-            f"{hg.get('line_mean_N_per_m', 0.0):>6.0f}{flag}"
-        )
+        cells = [
+            k["name"],
+            _actions_text(k["actions"]),
+            f"{k['deflection_max_m'] * 1e3:.2f} mm ({k['deflection_ratio']:.2f})",
+            f"{k['utilisation_max']:.2f} (k_mod {k['basis']['k_mod']:g}, "
+            f"{k['strength_MPa']:.3g} MPa)",
+            "—" if b is None else format(b, ".3g"),
+            f"{r['start_vertical_N']:.0f} / {r['start_horizontal_N']:.0f} | "
+            f"{r['end_vertical_N']:.0f} / {r['end_horizontal_N']:.0f}"
+            + (f"; tie {r['tie_N']:.0f}" if r.get("tie_N") else ""),
+            f"{hg.get('tension_max_N_per_m', 0.0):.0f} / "
+            f"{hg.get('out_of_plane_max_N_per_m', 0.0):.0f} / "
+            f"{hg.get('line_mean_N_per_m', 0.0):.0f}",
+        ]
+        rows.append((cells, bool(k["deflection_ok"] and k["utilisation_ok"])))
     g = c["governing"]
-    lines.append(
-        f"governing: deflection {g['deflection']}, utilisation {g['utilisation']}"
-        + (f", buckling {g['buckling']}" if g.get("buckling") else "")
+    governing = f"deflection {g['deflection']}, utilisation {g['utilisation']}" + (
+        f", buckling {g['buckling']}" if g.get("buckling") else ""
     )
+    return heading, rows, governing
+
+
+def load_case_lines(checks: dict) -> list:
+    """The load-case table of ``ccu validate`` as console lines (:func:`load_case_table`;
+    the actions column is left out: each case's actions are in the design file)."""
+    heading, rows, governing = load_case_table(checks)
+    keep = [0, 2, 3, 4, 5, 6]
+    titles = [LOAD_CASE_COLUMNS[i] for i in keep]
+    table = [[cells[i] for i in keep] + ["" if ok else "EXCEEDED"] for cells, ok in rows]
+    widths = [max(len(t), *(len(r[j]) for r in table)) for j, t in enumerate(titles)]
+    lines = [f"load cases ({heading}):"]
+    lines.append("  " + "  ".join(t.ljust(w) for t, w in zip(titles, widths)).rstrip())
+    for r in table:
+        lines.append("  " + "  ".join(v.ljust(w) for v, w in zip(r, widths + [0])).rstrip())
+    lines.append(f"governing: {governing}")
     return lines
 
 
@@ -372,3 +441,91 @@ def value_text(name: str, value) -> str:
 
 
 _UNITS = {f.name: f.unit for f in FIGURES}
+
+
+def workshop_rows(manifest: dict) -> list:
+    """Rows on the workshop of a ``fabrication.json`` (``ccu fabricate``; the report).
+
+    Sheets and their utilisation, the split plates, the splices' bending check (marked as
+    failed above 1), the bill of materials' totals, the cost estimate and the assembly.
+
+    Examples
+    --------
+    >>> work = {"sheets_in_stock": [[2.5, 1.25]], "sheet_count": 1, "utilisation": 0.5,
+    ...     "kerf": 0.006, "bridge": 0.01, "grain": "along", "splits": {"0": []},
+    ...     "sheets": [{"thickness": 0.008}]}
+    >>> bom = {"plates": 2, "splices": 0, "parts_area_m2": 1.0, "mass_kg": 4.0,
+    ...     "textile_length_m": 1.5, "textile_roll_width_m": 1.4, "glue_line_m": 6.0,
+    ...     "fasteners": 0, "cost_total": 100.0, "currency": "EUR", "cost": {"sheets": 60.0}}
+    >>> rows = workshop_rows({"workshop": work, "bom": bom, "assembly": [1, 2]})
+    >>> rows[0][1]
+    '1 of 2500 x 1250 mm, 8 mm thick; utilisation 50.0 % (kerf 6 mm, bridge 10 mm, grain along)'
+    >>> rows[1]
+    ('split plates', 'none: every plate fits a sheet')
+    """
+    w, b = manifest["workshop"], manifest["bom"]
+    sizes = ", ".join(f"{x * 1e3:g} x {y * 1e3:g}" for x, y in w["sheets_in_stock"])
+    counts: dict = {}
+    for sheet in w.get("sheets", []):
+        t = sheet.get("thickness")
+        counts[t] = counts.get(t, 0) + 1
+    if len(counts) == 1 and None not in counts:
+        thick = f", {next(iter(counts)) * 1e3:g} mm thick"
+    elif counts:
+        thick = (
+            " ("
+            + ", ".join(
+                f"{n} of {t * 1e3:g} mm"
+                for t, n in sorted(counts.items(), key=lambda kv: -(kv[0] or 0))
+            )
+            + ")"
+        )
+    else:
+        thick = ""
+    split = {k: v for k, v in w["splits"].items() if v}
+    rows = [
+        (
+            "sheets",
+            f"{w['sheet_count']} of {sizes} mm{thick}; utilisation {100 * w['utilisation']:.1f} % "
+            f"(kerf {w['kerf'] * 1e3:g} mm, bridge {w['bridge'] * 1e3:g} mm, grain {w['grain']})",
+        ),
+        (
+            "split plates",
+            ", ".join(f"P{k} at rulings {v}" for k, v in split.items())
+            + f"; {b['splices']} splice plates"
+            if split
+            else "none: every plate fits a sheet",
+        ),
+    ]
+    check = w.get("splice_bending")
+    if check and check.get("cuts"):
+        worst = max(check["cuts"], key=lambda c: c["utilisation"])
+        text = (
+            f"utilisation {worst['utilisation']:.3g} (characteristic "
+            f"{worst['utilisation_characteristic']:.3g}) at P{worst['plate']} ruling "
+            f"{worst['ruling']}: the plate's {worst['plate_utilisation']:.3g} x "
+            f"{check['factor']:.3g} (splices {check['splice_thickness'] * 1e3:g} mm glued on "
+            f"both faces of {check['thickness'] * 1e3:g} mm)"
+        )
+        rows.append(("splice bending", f"** {text} **" if check["exceeded"] else text))
+    rows += [
+        (
+            "bill of materials",
+            f"{b['plates']} plate parts + {b['splices']} splices, {b['parts_area_m2']:.2f} m², "
+            f"{b['mass_kg']:.1f} kg; textile {b['textile_length_m']:.2f} m of a "
+            f"{b['textile_roll_width_m']:g} m roll; glue line {b['glue_line_m']:.1f} m; "
+            f"{b['fasteners']} fasteners",
+        ),
+        (
+            "cost estimate",
+            f"{b['cost_total']:.0f} {b['currency']} ("
+            + ", ".join(f"{k} {v:.0f}" for k, v in b["cost"].items())
+            + ")",
+        ),
+        (
+            "assembly",
+            f"{len(manifest['assembly'])} steps in stack order (fabrication.json assembly, "
+            "assembly.pdf)",
+        ),
+    ]
+    return rows

@@ -193,11 +193,16 @@ class _Layout:
             min(w, limit) if sum(widths) + 2 * len(widths) > self.columns else w for w in widths
         ]
         for k, r in enumerate(cells):
-            text = "  ".join(
-                (r[j] if j < len(r) else "")[: widths[j]].ljust(widths[j])
+            # a cell wider than its column wraps onto more lines; nothing is cut off
+            parts = [
+                self._wrap(r[j] if j < len(r) else "", widths[j]) or [""]
                 for j in range(len(widths))
-            )
-            self._line(text.rstrip(), weight="bold" if k == 0 else "normal")
+            ]
+            for i in range(max(len(p) for p in parts)):
+                text = "  ".join(
+                    (p[i] if i < len(p) else "").strip().ljust(w) for p, w in zip(parts, widths)
+                )
+                self._line(text.rstrip(), weight="bold" if k == 0 else "normal")
         self.y += _LINE * 0.5
 
     def _image(self, path, caption=""):

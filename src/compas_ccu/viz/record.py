@@ -6,9 +6,11 @@ fabrication folder: every file, the sheets and the bill of materials).
 (:mod:`compas_ccu.viz.report`) renders it as HTML and PDF.
 
 The fabrication folder is read tolerantly: every file is listed; ``fabrication.json`` (written by
-``ccu fabricate``) is read if it is there and parses; the tables ``bom`` and ``sheets`` (each a
-list of objects, at the top level or under ``nesting``) and the number ``utilisation`` are shown
-if present, and ``design_sha256`` is compared with the design file's hash.
+``ccu fabricate``) is read if it is there and parses: its ``workshop`` (the sheets, their
+utilisation), ``bom`` (the bill of materials: its rows and totals) and ``failed_checks`` are
+shown; other writers' tables ``bom`` and ``sheets`` (lists of objects, at the top level or under
+``nesting``) and a number ``utilisation`` are shown as they are; ``design_sha256`` is compared
+with the design file's hash.
 """
 
 from __future__ import annotations
@@ -22,14 +24,23 @@ from pathlib import Path
 
 from compas_ccu import __version__
 from compas_ccu.errors import CCUError, OptionError
-from compas_ccu.key_figures.text import material_rows
+from compas_ccu.key_figures.text import material_rows, workshop_rows
 from compas_ccu.outputs import MANIFEST
 from compas_ccu.thickness import ThickModel
 
 __all__ = ["design_record", "read_fabrication", "table_columns", "cell_text", "FABRICATION_KEYS"]
 
 #: Keys of ``fabrication.json`` the report reads (all optional).
-FABRICATION_KEYS = ("design", "design_sha256", "bom", "sheets", "nesting", "utilisation")
+FABRICATION_KEYS = (
+    "design",
+    "design_sha256",
+    "workshop",
+    "bom",
+    "failed_checks",
+    "sheets",
+    "nesting",
+    "utilisation",
+)
 
 
 def design_record(model, design_file=None, *, now=None) -> dict:
@@ -118,8 +129,9 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
     dict
         ``folder`` (Path), ``files`` (relative POSIX paths of every file, sorted),
         ``manifest`` (the parsed ``fabrication.json`` or None), ``problems`` (list of str: what
-        could not be read), ``bom`` and ``sheets`` (lists of dicts or None), ``utilisation``
-        (float or None).
+        could not be read), ``bom`` and ``sheets`` (lists of dicts or None), ``workshop_rows``
+        (list of (label, text): :func:`compas_ccu.key_figures.text.workshop_rows`),
+        ``utilisation`` (float or None), ``failed_checks`` (list of str).
 
     Raises
     ------
@@ -151,8 +163,10 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
         "manifest": None,
         "problems": [],
         "bom": None,
+        "workshop_rows": [],
         "sheets": None,
         "utilisation": None,
+        "failed_checks": [],
     }
     path = folder / "fabrication.json"
     if not path.is_file():
@@ -178,6 +192,19 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
             f"(design_sha256 {manifest.get('design_sha256')!r}, the file's is {sha256!r})"
         )
     nesting = manifest.get("nesting") if isinstance(manifest.get("nesting"), dict) else {}
+    workshop = manifest.get("workshop") if isinstance(manifest.get("workshop"), dict) else {}
+    if isinstance(workshop.get("sheets"), list):  # ccu fabricate
+        nesting = {**nesting, **_workshop_tables(workshop)}
+    bom = manifest.get("bom")
+    if isinstance(bom, dict) and isinstance(bom.get("rows"), list):  # ccu fabricate
+        try:
+            out["workshop_rows"] = workshop_rows(manifest)
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            out["problems"].append(f"fabrication.json: the workshop summary is incomplete ({exc})")
+        manifest = {**manifest, "bom": bom["rows"]}
+    checks = manifest.get("failed_checks")
+    if isinstance(checks, list):
+        out["failed_checks"] = [str(c) for c in checks]
     for key in ("bom", "sheets"):
         table = manifest.get(key, nesting.get(key))
         if table is None:
@@ -190,6 +217,28 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
     if isinstance(u, (int, float)) and not isinstance(u, bool) and math.isfinite(u):
         out["utilisation"] = float(u)
     return out
+
+
+def _workshop_tables(workshop: dict) -> dict:
+    """The sheets table and utilisation of ``ccu fabricate``'s ``workshop`` summary."""
+    rows = []
+    for k, sheet in enumerate(workshop["sheets"], start=1):
+        if not isinstance(sheet, dict):
+            return {}
+        size = sheet.get("size") or [None, None]
+        t = sheet.get("thickness")
+        u = sheet.get("utilisation")
+        rows.append(
+            {
+                "sheet": k,
+                "size_mm": " x ".join(f"{1000 * v:g}" for v in size if v is not None),
+                "thickness_mm": None if t is None else round(1000 * t, 6),
+                "parts": len(sheet.get("parts") or []),
+                "utilisation": None if u is None else f"{100 * u:.1f} %",
+                "part_names": sheet.get("parts"),
+            }
+        )
+    return {"sheets": rows, "utilisation": workshop.get("utilisation")}
 
 
 def table_columns(rows) -> list:

@@ -23,8 +23,9 @@ from compas_ccu.io import write_compas_json, write_obj, write_path_table, write_
 from compas_ccu.key_figures import FIGURES as KEY_FIGURES
 from compas_ccu.key_figures import KeyFigures, key_figures
 from compas_ccu.key_figures.text import (
+    LOAD_CASE_COLUMNS,
     figure_rows,
-    load_case_lines,
+    load_case_table,
     row_failed,
     thickness_rows,
     validation_rows,
@@ -326,7 +327,7 @@ _CSS = """
 body { font: 15px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; color: #222;
        margin: 0 auto; max-width: 1180px; padding: 1.2em 1.5em 3em; }
 h1 { margin-bottom: 0.1em; } h2 { margin-top: 1.8em; border-bottom: 1px solid #ddd; }
-tr.bad th, tr.bad td { color: #b00020; }
+tr.bad th, tr.bad td, p.bad { color: #b00020; }
 pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; font-size: 0.85em; }
 table.rows th { white-space: nowrap; }
 .sub { color: #666; margin-top: 0; }
@@ -441,6 +442,9 @@ def _fabrication_section(fab: dict | None, root: Path) -> str:
             facts.append("units " + ", ".join(f"{k} {v}" for k, v in m["units"].items()))
         lines.append(f"<p>{e(' · '.join(facts))}</p>")
     lines += [f'<p class="skip">{e(p)}</p>' for p in fab["problems"]]
+    lines += [f'<p class="bad">check failed: {e(c)}</p>' for c in fab.get("failed_checks", [])]
+    if fab.get("workshop_rows"):
+        lines.append(f"<h3>Workshop</h3>{_rows_table(fab['workshop_rows'])}")
     if m and not fab["bom"] and not fab["sheets"]:
         lines.append(
             '<p class="sub">fabrication.json lists no sheets and no bill of materials (its keys '
@@ -452,6 +456,7 @@ def _fabrication_section(fab: dict | None, root: Path) -> str:
             "<tr>" + "".join(f"<td class=num>{e(c)}</td>" for c in r) + "</tr>" for r in rows
         )
         lines.append(f"<h3>{e(title)}</h3><table><tr>{head}</tr>{body}</table>")
+
     files = "\n".join(
         f'<tr><td><a href="{_rel(p, root)}">{e(_rel(p, root))}</a></td>'
         f"<td class=num>{_size(p)}</td></tr>"
@@ -587,7 +592,16 @@ def _pdf_blocks(k: KeyFigures, report: Report, checks, figures, validation, show
         blocks += [
             ("heading", "Structural checks (FE, load cases)"),
             ("paragraph", f"{validation.get('engine', '')} {validation.get('mode', '')}"),
-            ("lines", load_case_lines(c)),
+        ]
+        heading, table, governing = load_case_table(c)
+        blocks += [
+            ("paragraph", heading),
+            (
+                "table",
+                list(LOAD_CASE_COLUMNS),
+                [cells if ok else [f"** {cells[0]} **", *cells[1:]] for cells, ok in table],
+            ),
+            ("paragraph", f"governing: {governing}"),
         ]
         blocks += [
             ("image", p, "Deflection under the characteristic loads of every case") for p in shown
@@ -596,10 +610,15 @@ def _pdf_blocks(k: KeyFigures, report: Report, checks, figures, validation, show
     if fab is not None:
         blocks += [("heading", "Fabrication"), ("paragraph", f"From {fab['folder']}")]
         blocks += [("paragraph", p) for p in fab["problems"]]
+        if fab.get("failed_checks"):
+            blocks.append(("rows", [("check failed", f"** {c} **") for c in fab["failed_checks"]]))
+        if fab.get("workshop_rows"):
+            blocks.append(("rows", fab["workshop_rows"]))
         if fab["utilisation"] is not None:
             blocks.append(("paragraph", f"Sheet utilisation {fab['utilisation']:.1%}"))
         for title, columns, rows in _fabrication_tables(fab):
             blocks += [("paragraph", title), ("table", columns, rows)]
+
         blocks += [
             ("paragraph", "Files (in fabrication/ beside this report):"),
             ("lines", fab["files"]),
@@ -643,31 +662,13 @@ def structural_section(validation: dict, pictures=()) -> str:
     if not c or "cases" not in c:  # no checks, or a validation.json from before load cases
         return ""
     e = html.escape
-    sup = c.get("supports", {})
-    feet = sup.get("type", "pinned") + (" with a tie" if sup.get("tie") else "")
+    heading, table, governing = load_case_table(c)
     rows = []
-    for k in c["cases"]:
-        r, hg = k["reactions_uls"], k["hinges_uls"]
-        actions = ", ".join(
-            f"{a['name']} {a['value_N_per_m2']:.0f} N/m² ({a['where']}"
-            + (", half span" if a["half_span"] else "")
-            + f", γ {a['gamma']:g})"
-            for a in k["actions"]
-        )
-        b = k["buckling_factor"]
-        ok = k["deflection_ok"] and k["utilisation_ok"]
+    for cells, ok in table:
+        tds = "".join(f"<td class=num>{e(v)}</td>" for v in cells[2:])
         rows.append(
-            f"<tr{'' if ok else ' class=bad'}><th>{e(k['name'])}</th><td>{e(actions)}</td>"
-            f"<td class=num>{k['deflection_max_m'] * 1e3:.2f} mm ({k['deflection_ratio']:.2f})</td>"
-            f"<td class=num>{k['utilisation_max']:.2f} (k_mod {k['basis']['k_mod']:g}, "
-            f"{k['strength_MPa']:.3g} MPa)</td>"
-            f"<td class=num>{'—' if b is None else format(b, '.3g')}</td>"
-            f"<td class=num>{r['start_vertical_N']:.0f} / {r['start_horizontal_N']:.0f} | "
-            f"{r['end_vertical_N']:.0f} / {r['end_horizontal_N']:.0f}"
-            + (f"; tie {r['tie_N']:.0f}" if r.get("tie_N") else "")
-            + f"</td><td class=num>{hg.get('tension_max_N_per_m', 0):.0f} / "
-            f"{hg.get('out_of_plane_max_N_per_m', 0):.0f} / {hg.get('line_mean_N_per_m', 0):.0f}"
-            "</td></tr>"
+            f"<tr{'' if ok else ' class=bad'}><th>{e(cells[0])}</th><td>{e(cells[1])}</td>{tds}"
+            "</tr>"
         )
     figs = "".join(
         f'<figure><a href="{e(p)}"><img src="{e(p)}" alt="deflection of every load case">'
@@ -675,17 +676,13 @@ def structural_section(validation: dict, pictures=()) -> str:
         "scale; displacements magnified as printed)</figcaption></figure>"
         for p in pictures
     )
-    g = c["governing"]
     return (
         '<h2 id="structural">Structural checks (FE, load cases)</h2>'
-        f"<p>{e(validation.get('engine', ''))} · {e(validation.get('mode', ''))} · feet "
-        f"{e(feet)} · deflection limit {c['deflection_limit_m'] * 1e3:.2f} mm · ULS stresses "
-        "with the active-bending prestress over k_mod f_k / γ_M, the k_mod of each case's "
-        f"load duration · governing: deflection {e(str(g['deflection']))}, utilisation "
-        f"{e(str(g['utilisation']))}, buckling {e(str(g.get('buckling')))}</p>"
-        "<table><tr><th>case</th><th>actions (characteristic)</th><th>deflection "
-        "(/limit)</th><th>utilisation</th><th>buckling factor</th><th>reactions V / H, N "
-        "(start | end)</th><th>hinge N/m: tension / shear / mean</th></tr>"
+        f"<p>{e(validation.get('engine', ''))} · {e(validation.get('mode', ''))} · "
+        f"{e(heading)} · governing: {e(governing)}</p>"
+        "<table><tr>"
+        + "".join(f"<th>{e(t)}</th>" for t in LOAD_CASE_COLUMNS)
+        + "</tr>"
         + "".join(rows)
         + "</table>"
         + figs
