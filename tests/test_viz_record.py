@@ -186,7 +186,9 @@ def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, vault_
     assert rows["sheets"].startswith(
         f"{work['sheet_count']} of 2500 x 1250 mm (20 of 8 mm, 1 of 3 mm)"
     )
-    assert rows["splice bending"].startswith("** utilisation 1.96 (characteristic 0.979) at P7 ruling 32")
+    assert rows["splice bending"].startswith(
+        "** utilisation 1.96 (characteristic 0.979) at P7 ruling 32"
+    )
     assert f["failed_checks"] == manifest["failed_checks"] and len(f["failed_checks"]) == 2
     assert "splice plates: bending utilisation 1.96 > 1" in f["failed_checks"][1]
     page = _fabrication_section(f, tmp_path)

@@ -420,9 +420,16 @@ def draw_scene(
         joinstyle="round",
         capstyle="round",
     )
+    # a field painted on many sub-quads is embedded as one image in vector files (SVG, PDF),
+    # at the figure's dpi: 5.9 MB of polygons for the vault's curvature; text stays text
+    collection.set_rasterized(len(polys) > RASTER_ABOVE)
     ax.add_collection(collection)
     return mappable
 
+
+#: More polygons (quads, sub-quads and lines) than this in one view are rasterised in vector
+#: files (:func:`draw_scene`).
+RASTER_ABOVE = 6000
 
 #: Depths closer than this fraction of the scene size are a tie (coincident, stacked plates).
 _DEPTH_TIE = 1e-9
