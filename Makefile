@@ -12,7 +12,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-thickness bench-explore bench-optimize bench-relax bench-studio clean
+.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-studio clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -142,6 +142,9 @@ bench-studio: setup browser
 
 bench-fea: setup
 	$(BIN)/python benchmarks/bench_fea.py
+
+bench-fabricate: setup
+	$(BIN)/python benchmarks/bench_fabricate.py
 
 bench-thickness: setup
 	$(BIN)/python benchmarks/bench_thickness.py
