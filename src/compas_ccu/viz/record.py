@@ -168,12 +168,13 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
         "utilisation": None,
         "layout": None,
     }
-    try:
-        out["layout"] = read_sheets(folder)
-    except OptionError as exc:
-        out["problems"].append(f"{exc}; the viewer shows its own layout of the cut patterns")
-    else:
-        _same_design(out["layout"], folder, design, sha256)
+    if (folder / SHEETS_FILE).is_file():  # the nesting for the viewer (none: its own layout)
+        try:
+            out["layout"] = read_sheets(folder)
+        except OptionError as exc:
+            out["problems"].append(f"{exc}; the viewer shows its own layout of the cut patterns")
+        else:
+            _same_design(out["layout"], folder, design, sha256)
     path = folder / "fabrication.json"
     if not path.is_file():
         out["problems"].append("no fabrication.json in the folder: the files are listed only")

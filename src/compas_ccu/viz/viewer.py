@@ -291,7 +291,7 @@ def sheet_grid_layout(sizes, *, gap: float, structure=None) -> np.ndarray:
     cell = sizes.max(axis=0) + gap
     if structure is None:
         box = None
-        cx, y0 = 0.5 * cell[0], 0.0
+        cx, y0 = 0.0, 0.0
     else:
         box = np.asarray(structure, dtype=float)
         cx, y0 = 0.5 * (box[0] + box[2]), float(box[1])
@@ -299,7 +299,7 @@ def sheet_grid_layout(sizes, *, gap: float, structure=None) -> np.ndarray:
     span = 0 if box is None else int(math.ceil((box[2] - box[0]) / cell[0])) + 2
     best = None
     for columns in range(1, count + span + 1):
-        x0 = cx - 0.5 * columns * cell[0]
+        x0 = 0.0 if box is None else cx - 0.5 * columns * cell[0]
         corners, row = [], 0
         while len(corners) < count:
             ys = y0 + row * cell[1]
