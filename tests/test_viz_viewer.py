@@ -219,6 +219,21 @@ def _click_button(page, label: str) -> None:
     page.locator(f"#{VIEWER_DIV_ID} g.updatemenu-button", has_text=label).click()
 
 
+def _structure_pixels(page, name: str) -> int:
+    """Pixels that change when the structure (plates, creases, rulings) is hidden."""
+    shown = _shot(page, name)
+    for label in ("Plates", "Creases", "Rulings"):
+        _click_button(page, label)
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v !== true)")
+    _settle(page)
+    hidden = _shot(page, name + "-hidden")
+    for label in ("Plates", "Creases", "Rulings"):
+        _click_button(page, label)
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v === true)")
+    _settle(page)
+    return int((np.abs(shown.astype(int) - hidden.astype(int)).max(axis=2) > 24).sum())
+
+
 # -- the written file (no browser) ------------------------------------------------------------
 def test_html_is_self_contained(viewer_html):
     html = viewer_html.read_text(encoding="utf-8")
@@ -479,25 +494,11 @@ def test_cut_patterns_leave_the_structure_visible(vault22, tmp_path, chromium_br
         page.wait_for_function(ready, timeout=30_000)
         _settle(page)
 
-        def structure_pixels(name):
-            """Pixels that change when the structure (plates, creases, rulings) is hidden."""
-            shown = _shot(page, name)
-            for label in ("Plates", "Creases", "Rulings"):
-                _click_button(page, label)
-            page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v !== true)")
-            _settle(page)
-            hidden = _shot(page, name + "-hidden")
-            for label in ("Plates", "Creases", "Rulings"):
-                _click_button(page, label)
-            page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v === true)")
-            _settle(page)
-            return int((np.abs(shown.astype(int) - hidden.astype(int)).max(axis=2) > 24).sum())
-
-        alone = structure_pixels("22-alone")
+        alone = _structure_pixels(page, "22-alone")
         _click_button(page, "Cut patterns")
         page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
         _settle(page)
-        with_cut = structure_pixels("22-cut")
+        with_cut = _structure_pixels(page, "22-cut")
         # the patterns as plotted: x, y of the cut Mesh3d, one plate after the other
         xy = page.evaluate(
             f"() => {{const t = {GD}.data.find(t => t.legendgroup === 'cut'); return [t.x, t.y];}}"
@@ -618,7 +619,7 @@ def test_sheets_show_every_part_at_its_nested_place(plans, name, counts):
     )  # every crease runs along its two plates, so it is on every part of both
     assert sum(len(p.creases) for p in plan.parts) == on_parts
     labels = next(t for t in cut if t.name == "sheet numbers")
-    assert list(labels.text)[0].startswith("<b>sheet 1</b> · ")
+    assert list(labels.text)[0].startswith("sheet 1 · ")
     assert sorted(next(t for t in cut if t.name == "part names").text) == sorted(
         p.name for p in plan.parts
     )
@@ -671,3 +672,43 @@ def test_sheet_grid_layout_is_compact_and_clear_of_the_structure():
     alone = sheet_grid_layout(np.array([[2.5, 1.25]] * 12), gap=0.1)
     np.testing.assert_allclose(alone.min(axis=0), [0.05, 0.05], atol=1e-12)
     np.testing.assert_allclose(np.ptp(alone, axis=0), [5.2, 4.05], atol=1e-12)
+
+
+@pytest.mark.slow
+def test_sheets_toggle_shows_the_nesting_and_keeps_the_structure_visible(
+    vault22, tmp_path, chromium_browser
+):
+    """The 22-plate vault with its sheets (2.8 x 2.1 m: 11 sheets, 22 whole plates): the cut
+    patterns toggle shows the sheets, and the structure keeps a good part of its screen area."""
+    plan = _plan(vault22, sheets=((2.8, 2.1),))
+    path = write_viewer(vault22, tmp_path / "vault22-sheets.html", steps=2, sheets=plan)
+    ready = READY.replace(f"=== {STEPS + 1}", "=== 3")
+    page = chromium_browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
+    try:
+        page.goto(path.as_uri())
+        page.wait_for_function(ready, timeout=30_000)
+        _settle(page)
+        alone = _structure_pixels(page, "22-sheets-alone")
+        start = _shot(page, "22-sheets-start")
+        _click_button(page, "Cut patterns")
+        page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
+        _settle(page)
+        shown = _shot(page, "22-sheets-shown")
+        with_sheets = _structure_pixels(page, "22-sheets-cut")
+        plotted = page.evaluate(
+            f"""() => {GD}.data.filter(t => t.legendgroup === 'cut')
+                .map(t => [t.name, t.x, t.y, t.text || null])"""
+        )
+    finally:
+        page.close()
+    print(alone, with_sheets, _difference(shown, start))
+    assert _difference(shown, start) > MIN_CHANGE
+    assert alone > 50_000
+    assert with_sheets > 0.08 * alone, (with_sheets, alone)
+    by_name = {name: (x, y, text) for name, x, y, text in plotted}
+    x, y, _ = by_name["sheet edges"]
+    rects = _split({"x": _array(x), "y": _array(y), "z": np.zeros(len(_array(x)))})
+    assert len(rects) == len(plan.sheets) == 11
+    labels = by_name["sheet numbers"][2]
+    assert [t.split(" · ")[0] for t in labels] == [f"sheet {k + 1}" for k in range(11)]
+    assert sorted(by_name["part names"][2]) == sorted(p.name for p in plan.parts)

@@ -548,18 +548,18 @@ def _sheet_traces(doc: dict, corners: np.ndarray, z: float, kinds: list, tones: 
             hoverinfo="skip",
         )
     )
-    labels = [
-        at([0.0, float(sheet["size"][1])], k)[0] for k, sheet in enumerate(sheets)
-    ]  # the back-left corner of every sheet (the text inside the sheet)
+    # at the front-left corner of every sheet (the nearest to the default camera, so that the
+    # sheet behind the text on the screen does not hide it), lifted over the parts' lines
+    labels = [at([0.0, 0.0], k, 10.0 * dz)[0] for k in range(len(sheets))]
     traces.append(
         go.Scatter3d(
             **_xyz64(np.asarray(labels).reshape(-1, 3)),
             mode="text",
             text=[
-                f"<b>sheet {k + 1}</b> · {100 * float(sheet.get('utilisation', 0.0)):.0f} %"
+                f"sheet {k + 1} · {100 * float(sheet.get('utilisation', 0.0)):.0f} %"
                 for k, sheet in enumerate(sheets)
             ],
-            textposition="bottom right",
+            textposition="top right",
             textfont={"size": 11, "color": _BOARD_EDGE},
             name="sheet numbers",
             legendgroup="cut",
