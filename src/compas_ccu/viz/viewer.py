@@ -811,7 +811,9 @@ def viewer_figure(
     Traces, in order: plates (Mesh3d, two triangles per quad, alternating plate tones), plate
     edges (free boundaries and plate ends, thin dark lines), one crease trace per kind present
     (wide, coloured and labelled by kind), rulings (at most 32 per plate), then the cut patterns
-    (fill, outlines, creases by kind, rulings, plate ids). Every trace carries ``legendgroup``
+    (fill, outlines, creases by kind, rulings, plate ids; with ``sheets``: the parts' fill,
+    boards, sheet edges, part outlines, creases by kind, score lines and splice marks if any,
+    part names, sheet numbers). Every trace carries ``legendgroup``
     ``"plates"``, ``"creases"``, ``"rulings"`` or ``"cut"``; the animation frames update the
     coordinates of the structure's traces only. *Play* runs the whole path from α = 0.
 
