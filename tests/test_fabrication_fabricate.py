@@ -197,3 +197,65 @@ def test_collision_text_with_pairs_but_no_clearance():
     )
     summary.update(min_clearance=0.008, closest={"plates": [0, 2], "alpha": 0.0})
     assert collision_text(summary) == "none; min clearance 8 mm (plates 0/2 at alpha 0 deg)"
+
+
+def test_sheets_json_records_the_nesting_of_the_sheet_dxfs(fabricated):
+    """sheets.json: every part placed on its sheet exactly as the sheet DXF's true outline and
+    XDATA have it, and the design file's hash (the viewer's guard against another design)."""
+    import hashlib
+
+    import ezdxf
+
+    out, manifest = fabricated
+    doc = json.loads((out / "sheets.json").read_text(encoding="utf-8"))
+    sha = hashlib.sha256((EXAMPLES / "vault.toml").read_bytes()).hexdigest()
+    assert manifest["design_sha256"] == doc["design_sha256"] == sha
+    assert doc["format"] == "ccu.sheets" and doc["design"] == "vault" and doc["units"] == "m"
+    assert "sheets.json" in manifest["files"]
+    assert [s["parts"] for s in doc["sheets"]] == [
+        s["parts"] for s in manifest["workshop"]["sheets"]
+    ]
+    assert len(doc["parts"]) == manifest["bom"]["plates"] + manifest["bom"]["splices"] == 40
+    assert doc["model_plate_ids"] == manifest["model_ids"]["plates"]
+    by_sheet = {}
+    for part in doc["parts"]:
+        by_sheet.setdefault(part["sheet"], []).append(part)
+    for k, parts in by_sheet.items():
+        msp = ezdxf.readfile(out / f"sheets/sheet_{k + 1}.dxf").modelspace()
+        true = msp.query("LWPOLYLINE[layer=='PART_OUTLINE']")
+        outlines = [np.asarray(e.get_points("xy")) for e in true]
+        paths = msp.query("LWPOLYLINE[layer=='OUTER_CUT']")
+        xdata = [e.get_xdata("COMPAS_CCU") for e in paths]
+        assert len(outlines) == len(parts)
+        for part, outline, tags in zip(parts, outlines, xdata):
+            # the DXF in mm, sheets.json in m: the same placement (doubles, to rounding)
+            assert np.abs(np.asarray(part["outline"]) * 1000.0 - outline).max() < 1e-9
+            assert tags[1].value == part["name"] and tags[2].value == part["rotation"]
+            shift = np.multiply(part["translation"], 1000.0)
+            assert np.allclose([t.value for t in tags[3:5]], shift, rtol=0, atol=1e-9)
+    # a plate part carries its creases by kind; the splices their place is engraved on it
+    p0 = next(p for p in doc["parts"] if p["name"] == "P0.1")
+    assert [c["kind"] for c in p0["creases"]] == ["synclastic"]  # c0, the bottom crease
+    assert len(p0["marks"]) == 1 and p0["label"][0] == "P0.1 of 2"
+
+
+def test_view_shows_the_sheets_of_a_fabrication_folder(fabricated, tmp_path, capsys):
+    out, manifest = fabricated
+    view = tmp_path / "view"
+    assert main(["view", VAULT, "--out", str(view), "--steps", "1", "--fabrication", str(out)]) == 0
+    count = manifest["workshop"]["sheet_count"]
+    said = capsys.readouterr().out
+    assert f"the cut patterns are the {count} sheets of {out} (40 parts)" in said
+    html = (view / "viewer.html").read_text(encoding="utf-8")
+    assert f"cut patterns: {count} sheets, 40 parts" in html
+    # refused: a folder without sheets.json, another design, another version of the file
+    capsys.readouterr()
+    assert main(["view", VAULT, "--out", str(view), "--fabrication", str(tmp_path)]) == 2
+    assert f"--fabrication {str(tmp_path)!r} has no sheets.json" in capsys.readouterr().err
+    cone = str(EXAMPLES / "cone.toml")
+    assert main(["view", cone, "--out", str(view), "--fabrication", str(out)]) == 2
+    assert "holds the fabrication of design 'vault', not of 'cone'" in capsys.readouterr().err
+    edited = tmp_path / "vault.toml"
+    edited.write_text((EXAMPLES / "vault.toml").read_text(encoding="utf-8") + "\n# edited\n")
+    assert main(["view", str(edited), "--out", str(view), "--fabrication", str(out)]) == 2
+    assert "was written from another version of the design file" in capsys.readouterr().err

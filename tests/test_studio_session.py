@@ -461,3 +461,9 @@ def test_the_exported_report_records_the_design_as_edited(session, folders):
     page = (report / "index.html").read_text("utf-8")
     assert hashlib.sha256(text.encode("utf-8")).hexdigest() in page
     assert (report / "fabrication" / "fabrication.json").is_file()
+    # the fabrication carries the same hash, so the report's viewer shows its sheets
+    sha = hashlib.sha256(text.encode("utf-8")).hexdigest()
+    manifest = json.loads((written["fabrication"] / "fabrication.json").read_text("utf-8"))
+    assert manifest["design_sha256"] == sha
+    sheets = manifest["workshop"]["sheet_count"]
+    assert f"cut patterns: {sheets} sheets, 40 parts" in (report / "viewer.html").read_text("utf-8")

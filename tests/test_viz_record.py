@@ -14,7 +14,7 @@ pytest.importorskip("matplotlib")
 from compas_ccu.errors import OptionError  # noqa: E402
 from compas_ccu.key_figures.text import figure_rows, rows_lines, validation_rows  # noqa: E402
 from compas_ccu.viz.pdf import write_pdf  # noqa: E402
-from compas_ccu.viz.record import design_record, read_fabrication  # noqa: E402
+from compas_ccu.viz.record import design_record, read_fabrication, read_sheets  # noqa: E402
 from conftest import EXAMPLES  # noqa: E402
 
 
@@ -86,6 +86,35 @@ def test_the_fabrication_reader_reads_the_tables_where_they_are(tmp_path):
         read_fabrication(tmp_path, design="x")
     with pytest.raises(OptionError, match="must be a folder .* got '.*nothing'"):
         read_fabrication(tmp_path / "nothing")
+
+
+def test_the_sheets_reader_refuses_what_is_no_nesting_of_this_design(tmp_path):
+    with pytest.raises(OptionError, match=r"'.*' has no sheets.json \(the nesting .* again"):
+        read_sheets(tmp_path)
+    with pytest.raises(OptionError, match="must be a folder .* got '.*nothing'"):
+        read_sheets(tmp_path / "nothing")
+    path = tmp_path / "sheets.json"
+    for text, message in [
+        ("{not json", "sheets.json cannot be read"),
+        ('{"format": "ccu.fold"}', "sheets.json is not a 'ccu.sheets' nesting"),
+        ('{"format": "ccu.sheets", "sheets": []}', "sheets.json has no parts list"),
+    ]:
+        path.write_text(text)
+        with pytest.raises(OptionError, match=message):
+            read_sheets(tmp_path)
+        # the report's reader names the problem and goes on (the viewer: its own layout)
+        f = read_fabrication(tmp_path)
+        assert f["layout"] is None
+        assert any(message in p and "its own layout" in p for p in f["problems"])
+    doc = {"format": "ccu.sheets", "design": "cone", "design_sha256": "ab" * 32}
+    path.write_text(json.dumps({**doc, "sheets": [], "parts": []}))
+    assert read_sheets(tmp_path, design="cone", sha256="ab" * 32)["design"] == "cone"
+    assert read_fabrication(tmp_path, design="cone")["layout"]["parts"] == []
+    for reader in (read_sheets, read_fabrication):
+        with pytest.raises(OptionError, match="holds the fabrication of design 'cone', not of 'x'"):
+            reader(tmp_path, design="x")
+        with pytest.raises(OptionError, match="written from another version of the design file"):
+            reader(tmp_path, design="cone", sha256="cd" * 32)
 
 
 def test_the_pdf_has_the_rows_as_text_and_breaks_pages(tmp_path, vault_model):

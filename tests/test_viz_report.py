@@ -23,7 +23,7 @@ from compas_ccu.key_figures.text import (  # noqa: E402
     load_case_table,
 )
 from compas_ccu.outputs import MANIFEST
-from compas_ccu.viz.report import FIGURES, structural_section  # noqa: E402
+from compas_ccu.viz.report import FIGURES, structural_section, write_report  # noqa: E402
 from conftest import EXAMPLES  # noqa: E402
 from imagecheck import assert_picture, load_rgb  # noqa: E402
 
@@ -386,3 +386,27 @@ def test_the_last_validation_of_the_file_joins_the_checks_and_the_pdf(tmp_path, 
     with design.open("a", encoding="utf-8") as f:
         f.write("# changed\n")
     assert _last_validation(str(design)) == (None, [])
+
+
+def test_the_viewer_of_the_report_shows_the_sheets_of_the_fabrication(tmp_path, cone_model):
+    from compas_ccu.fabrication import fabrication_data
+    from compas_ccu.fabrication.hinges import hinge_strips
+    from compas_ccu.fabrication.workshop import WorkshopOptions, plan_workshop
+
+    data = fabrication_data(cone_model)
+    plan = plan_workshop(data, hinge_strips(data), WorkshopOptions(nesting="shelf"), density=600.0)
+    layout = plan.layout()
+    fab = _fabrication_folder(tmp_path / "fab", design="cone")
+    (fab / "sheets.json").write_text(json.dumps(layout), encoding="utf-8")
+    count = f"cut patterns: {len(plan.sheets)} sheets, {len(plan.parts)} parts"
+    out = tmp_path / "report"
+    report = write_report(cone_model, out, steps=1, frames=2, fabrication=fab, pdf=False)
+    assert count in (out / "viewer.html").read_text(encoding="utf-8")
+    assert "viewer sheets" not in report.skipped
+    # a nesting of other plates: the viewer falls back to its own layout, and says so
+    layout["model_plate_ids"] = [7, 8]
+    (fab / "sheets.json").write_text(json.dumps(layout), encoding="utf-8")
+    report = write_report(cone_model, out, steps=1, frames=2, fabrication=fab, pdf=False)
+    assert "the nesting is of 2 plates [7, 8]" in report.skipped["viewer sheets"]
+    html = (out / "viewer.html").read_text(encoding="utf-8")
+    assert count not in html and '"name":"cut patterns"' in html

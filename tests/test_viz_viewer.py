@@ -36,10 +36,22 @@ import numpy as np
 import pytest
 
 from browser import CHROMIUM_ARGS, chromium
+from compas_ccu.design.presets import preset_text
+from compas_ccu.errors import OptionError
+from compas_ccu.fabrication import fabrication_data
+from compas_ccu.fabrication.hinges import hinge_strips
+from compas_ccu.fabrication.workshop import WorkshopOptions, plan_workshop
 from compas_ccu.key_figures import state_figures
 from compas_ccu.model import load_model
 from compas_ccu.viz.colors import KIND_COLORS
-from compas_ccu.viz.viewer import VIEWER_DIV_ID, cut_pattern_layout, viewer_figure, write_viewer
+from compas_ccu.viz.viewer import (
+    VIEWER_DIV_ID,
+    cut_pattern_layout,
+    sheet_document,
+    sheet_grid_layout,
+    viewer_figure,
+    write_viewer,
+)
 from conftest import EXAMPLES
 
 STEPS = 12
@@ -205,6 +217,21 @@ def _slider_active(page) -> int:
 
 def _click_button(page, label: str) -> None:
     page.locator(f"#{VIEWER_DIV_ID} g.updatemenu-button", has_text=label).click()
+
+
+def _structure_pixels(page, name: str) -> int:
+    """Pixels that change when the structure (plates, creases, rulings) is hidden."""
+    shown = _shot(page, name)
+    for label in ("Plates", "Creases", "Rulings"):
+        _click_button(page, label)
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v !== true)")
+    _settle(page)
+    hidden = _shot(page, name + "-hidden")
+    for label in ("Plates", "Creases", "Rulings"):
+        _click_button(page, label)
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v === true)")
+    _settle(page)
+    return int((np.abs(shown.astype(int) - hidden.astype(int)).max(axis=2) > 24).sum())
 
 
 # -- the written file (no browser) ------------------------------------------------------------
@@ -467,25 +494,11 @@ def test_cut_patterns_leave_the_structure_visible(vault22, tmp_path, chromium_br
         page.wait_for_function(ready, timeout=30_000)
         _settle(page)
 
-        def structure_pixels(name):
-            """Pixels that change when the structure (plates, creases, rulings) is hidden."""
-            shown = _shot(page, name)
-            for label in ("Plates", "Creases", "Rulings"):
-                _click_button(page, label)
-            page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v !== true)")
-            _settle(page)
-            hidden = _shot(page, name + "-hidden")
-            for label in ("Plates", "Creases", "Rulings"):
-                _click_button(page, label)
-            page.wait_for_function(f"() => ({GROUP_VISIBLE})('plates').every(v => v === true)")
-            _settle(page)
-            return int((np.abs(shown.astype(int) - hidden.astype(int)).max(axis=2) > 24).sum())
-
-        alone = structure_pixels("22-alone")
+        alone = _structure_pixels(page, "22-alone")
         _click_button(page, "Cut patterns")
         page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
         _settle(page)
-        with_cut = structure_pixels("22-cut")
+        with_cut = _structure_pixels(page, "22-cut")
         # the patterns as plotted: x, y of the cut Mesh3d, one plate after the other
         xy = page.evaluate(
             f"() => {{const t = {GD}.data.find(t => t.legendgroup === 'cut'); return [t.x, t.y];}}"
@@ -500,3 +513,202 @@ def test_cut_patterns_leave_the_structure_visible(vault22, tmp_path, chromium_br
     n = vault22.segments
     pattern = np.stack([x, y], axis=1).reshape(22, 2 * n + 2, 2)
     assert _overlap(_outlines(pattern, n)) < 1e-9
+
+
+# -- the fabrication's sheets as the cut patterns -----------------------------------------------
+def _plan(model, **options):
+    """The workshop plan of a model, nested by shelves (fast: the tests are not about spyrrow)."""
+    data = fabrication_data(model)
+    opts = WorkshopOptions.from_section(model.design.fabrication, nesting="shelf", **options)
+    return plan_workshop(data, hinge_strips(data), opts, density=500.0)
+
+
+@pytest.fixture(scope="module")
+def dome22(tmp_path_factory):
+    """The dome preset with 22 plates (docs/fabrication.md's many-plate case)."""
+    text = preset_text("dome", name="dome22").replace("plates = 12 ", "plates = 22 ")
+    path = tmp_path_factory.mktemp("dome22") / "dome22.toml"
+    path.write_text(text, encoding="utf-8")
+    return load_model(path)
+
+
+@pytest.fixture(scope="module")
+def plans(vault_model, vault22, dome22):
+    """model name -> (model, plan): the default sheets, nested by shelves."""
+    return {m.design.name: (m, _plan(m)) for m in (vault_model, vault22, dome22)}
+
+
+def _split(trace) -> list:
+    """The polylines of a line trace (NaN rows separate them), as (k, 3) float64 arrays."""
+    xyz = np.stack([np.asarray(trace[a], dtype=float) for a in "xyz"], axis=1)
+    gaps = np.flatnonzero(np.isnan(xyz[:, 0]))
+    chunks = [c[~np.isnan(c[:, 0])] for c in np.split(xyz, gaps)]
+    return [c for c in chunks if len(c)]
+
+
+def _figure_sheets(fig, plan):
+    """(sheet corners (s, 2), sheet sizes (s, 2), per part its (m, 3) points) as plotted."""
+    cut = [t for t in fig.data if t.legendgroup == "cut"]
+    edges = next(t for t in cut if t.name == "sheet edges")
+    rects = _split(edges)
+    corners = np.array([r[0, :2] for r in rects])
+    sizes = np.array([np.ptp(r[:, :2], axis=0) for r in rects])
+    mesh = cut[0]  # the parts' fill, the first cut trace
+    xyz = np.stack([np.asarray(mesh[a], dtype=float) for a in "xyz"], axis=1)
+    bounds = np.cumsum([0] + [len(p.outline) for p in plan.parts])
+    return corners, sizes, [xyz[a:b] for a, b in zip(bounds, bounds[1:])]
+
+
+@pytest.mark.parametrize(
+    ("name", "counts"),
+    [("vault", (20, 40)), ("vault22", (44, 88)), ("dome22", (30, 88))],
+)
+def test_sheets_show_every_part_at_its_nested_place(plans, name, counts):
+    from shapely.geometry import Polygon, box
+
+    model, plan = plans[name]
+    assert (len(plan.sheets), len(plan.parts)) == counts
+    fig = viewer_figure(model, steps=1, sheets=plan)
+    cut = [t for t in fig.data if t.legendgroup == "cut"]
+    assert all(t.visible is False for t in cut)
+    assert cut[0].name == f"cut patterns: {counts[0]} sheets, {counts[1]} parts"
+    corners, sizes, parts = _figure_sheets(fig, plan)
+    assert len(corners) == len(plan.sheets) and len(parts) == len(plan.parts)
+    np.testing.assert_allclose(sizes, [s["size"] for s in plan.sheets], rtol=0, atol=1e-12)
+    inset = plan.options.inset
+    polys = []
+    for part, pts in zip(plan.parts, parts):
+        local = pts[:, :2] - corners[part.sheet]
+        # exactly the sheet DXF's placement (float64 in the page), inside the usable sheet
+        assert np.abs(local - part.placed(part.outline)).max() < 1e-12, part.name
+        length, width = plan.sheets[part.sheet]["size"]
+        assert local.min() >= inset - 1e-9, part.name
+        assert (local <= np.array([length, width]) - inset + 1e-9).all(), part.name
+        polys.append(Polygon(pts[:, :2]))
+    assert all(p.is_valid and p.area > 0 for p in polys)
+    # no two parts overlap: on one sheet they keep kerf + bridge apart, sheets are disjoint
+    for i in range(len(polys)):
+        for j in range(i):
+            gap = polys[i].distance(polys[j])
+            assert gap >= plan.options.spacing - 1e-9, (plan.parts[i].name, plan.parts[j].name)
+    rects = [box(*c, *(c + s)) for c, s in zip(corners, sizes)]
+    assert (
+        max(rects[i].intersection(rects[j]).area for i in range(len(rects)) for j in range(i)) == 0
+    )
+    # the sheets lie around the structure's plan (all states), never under it
+    plates = np.concatenate([np.stack([f.data[0].x, f.data[0].y], 1) for f in fig.frames])
+    plan_box = box(*plates.min(axis=0), *plates.max(axis=0))
+    assert all(not r.intersects(plan_box) for r in rects)
+    # compact: a grid about as deep as wide, not one long row
+    everything = np.r_[corners, corners + sizes, plates]
+    extent = np.ptp(everything, axis=0)
+    assert extent.max() < 1.6 * extent.min(), extent
+    # every crease edge of every part, in its kind's trace, on the part's outline
+    for kind in ("synclastic", "anticlastic"):
+        lines = _split(next(t for t in cut if t.name == f"sheets: {kind}"))
+        expected = [(p, c) for p in plan.parts for c in p.creases if c["kind"] == kind]
+        assert len(lines) == len(expected) > 0
+        for line, (part, c) in zip(lines, expected):
+            local = line[:, :2] - corners[part.sheet]
+            assert np.abs(local - part.placed(c["points"])).max() < 1e-12
+    # the plate parts carry their plates' creases, the splice plates none
+    assert all(not p.creases for p in plan.parts if p.kind == "splice")
+    workshop = {m: k for k, m in enumerate(plan.model_plate_ids)}
+    on_parts = sum(
+        len(plan.splits[workshop[pid]]) + 1 for c in model.deploy().creases for pid in c["plates"]
+    )  # every crease runs along its two plates, so it is on every part of both
+    assert sum(len(p.creases) for p in plan.parts) == on_parts
+    labels = next(t for t in cut if t.name == "sheet numbers")
+    assert list(labels.text)[0].startswith("sheet 1 · ")
+    assert sorted(next(t for t in cut if t.name == "part names").text) == sorted(
+        p.name for p in plan.parts
+    )
+
+
+def test_sheets_are_refused_for_another_design_or_other_plates(plans, vault_model, vault22):
+    _, vault_plan = plans["vault"]
+    with pytest.raises(OptionError, match="the nesting is of design 'vault', not of 'vault22'"):
+        viewer_figure(vault22, steps=1, sheets=vault_plan)
+    doc = vault_plan.layout()
+    doc["design"] = None  # a nesting without its design's name: the plates still must match
+    with pytest.raises(OptionError, match=r"the nesting is of 10 plates .*the model has 22"):
+        viewer_figure(vault22, steps=1, sheets=doc)
+    with pytest.raises(OptionError, match="give sheets or pattern_offsets, not both"):
+        viewer_figure(vault_model, steps=1, sheets=doc, pattern_offsets=np.zeros((10, 2)))
+    with pytest.raises(OptionError, match="has no parts list"):
+        sheet_document({"sheets": []})
+    with pytest.raises(OptionError, match="a workshop plan or its layout"):
+        sheet_document([1, 2])
+    bad = {**doc, "parts": [{**doc["parts"][0], "sheet": 99}]}
+    with pytest.raises(OptionError, match="part 'P0.1' is on sheet 99, but there are 20 sheets"):
+        sheet_document(bad, vault_model.plate_ids)
+    # the plan and its JSON document (sheets.json) draw the same figure
+    a = viewer_figure(vault_model, steps=1, sheets=vault_plan)
+    b = viewer_figure(vault_model, steps=1, sheets=json.loads(json.dumps(vault_plan.layout())))
+    for ta, tb in zip(a.data, b.data):
+        for axis in "xyz":
+            np.testing.assert_array_equal(np.asarray(ta[axis]), np.asarray(tb[axis]))
+
+
+def test_sheet_grid_layout_is_compact_and_clear_of_the_structure():
+    plan = (-1.4, -1.3, 1.4, 1.3)  # the structure's plan box, 2.8 x 2.6 m
+    for count, columns, beside, extent in ((12, 3, 0, (7.7, 8.05)), (20, 4, 4, (10.3, 8.05))):
+        sizes = np.array([[2.5, 1.25]] * count)
+        corners = sheet_grid_layout(sizes, gap=0.1, structure=plan)
+        # cells of 2.6 x 1.35 m from the structure's front (y = -1.3) backwards, centred on it
+        np.testing.assert_allclose(
+            np.ptp(corners, axis=0), [2.6 * (columns - 1), np.ptp(corners[:, 1])], atol=1e-12
+        )
+        assert np.allclose((corners[:, 1] + 1.3 - 0.05) / 1.35 % 1.0, 0.0, atol=1e-9)
+        lo = np.minimum(corners.min(axis=0), plan[:2])
+        hi = np.maximum((corners + sizes).max(axis=0), plan[2:])
+        np.testing.assert_allclose(hi - lo, extent, atol=1e-12)
+        # 20 sheets: four in the structure's rows, beside it (clear of its plan by a gap / 2)
+        side = corners[:, 1] < plan[3]
+        assert side.sum() == beside
+        assert ((corners[side, 0] >= 1.45) | (corners[side, 0] + 2.5 <= -1.45)).all()
+        assert (corners[~side, 1] >= plan[3] + 0.05 - 1e-12).all()
+    # without a structure: the grid alone from the origin, as square as the sheets allow
+    alone = sheet_grid_layout(np.array([[2.5, 1.25]] * 12), gap=0.1)
+    np.testing.assert_allclose(alone.min(axis=0), [0.05, 0.05], atol=1e-12)
+    np.testing.assert_allclose(np.ptp(alone, axis=0), [5.2, 4.05], atol=1e-12)
+
+
+@pytest.mark.slow
+def test_sheets_toggle_shows_the_nesting_and_keeps_the_structure_visible(
+    vault22, tmp_path, chromium_browser
+):
+    """The 22-plate vault with its sheets (2.8 x 2.1 m: 11 sheets, 22 whole plates): the cut
+    patterns toggle shows the sheets, and the structure keeps a good part of its screen area."""
+    plan = _plan(vault22, sheets=((2.8, 2.1),))
+    path = write_viewer(vault22, tmp_path / "vault22-sheets.html", steps=2, sheets=plan)
+    ready = READY.replace(f"=== {STEPS + 1}", "=== 3")
+    page = chromium_browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
+    try:
+        page.goto(path.as_uri())
+        page.wait_for_function(ready, timeout=30_000)
+        _settle(page)
+        alone = _structure_pixels(page, "22-sheets-alone")
+        start = _shot(page, "22-sheets-start")
+        _click_button(page, "Cut patterns")
+        page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
+        _settle(page)
+        shown = _shot(page, "22-sheets-shown")
+        with_sheets = _structure_pixels(page, "22-sheets-cut")
+        plotted = page.evaluate(
+            f"""() => {GD}.data.filter(t => t.legendgroup === 'cut')
+                .map(t => [t.name, t.x, t.y, t.text || null])"""
+        )
+    finally:
+        page.close()
+    print(alone, with_sheets, _difference(shown, start))
+    assert _difference(shown, start) > MIN_CHANGE
+    assert alone > 50_000
+    assert with_sheets > 0.08 * alone, (with_sheets, alone)
+    by_name = {name: (x, y, text) for name, x, y, text in plotted}
+    x, y, _ = by_name["sheet edges"]
+    rects = _split({"x": _array(x), "y": _array(y), "z": np.zeros(len(_array(x)))})
+    assert len(rects) == len(plan.sheets) == 11
+    labels = by_name["sheet numbers"][2]
+    assert [t.split(" · ")[0] for t in labels] == [f"sheet {k + 1}" for k in range(11)]
+    assert sorted(by_name["part names"][2]) == sorted(p.name for p in plan.parts)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import sys
 from pathlib import Path
 
@@ -43,6 +44,7 @@ def fabricate(args) -> int:
         hinge_width=args.hinge_width,
         allow_collisions=args.allow_collisions,
         workshop=workshop,
+        design_sha256=_file_sha256(args.design),
     )
     for line in thickness_lines(manifest):
         say(args, line)
@@ -60,6 +62,12 @@ def fabricate(args) -> int:
         )
         return 3
     return 0
+
+
+def _file_sha256(design) -> str | None:
+    """SHA-256 of the design file's bytes (as the report and ``ccu view`` hash it), or None."""
+    path = Path(design)
+    return hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else None
 
 
 def workshop_lines(manifest: dict) -> list:

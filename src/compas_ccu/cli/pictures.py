@@ -6,6 +6,7 @@ The viz modules are imported inside the commands, after the check for the extra,
 
 from __future__ import annotations
 
+import hashlib
 import json
 import sys
 from pathlib import Path
@@ -20,6 +21,7 @@ from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
 from compas_ccu.viz.patterns import plot_cut_patterns
 from compas_ccu.viz.planarity import plot_planarity
 from compas_ccu.viz.quadrants import plot_quadrants
+from compas_ccu.viz.record import read_sheets
 from compas_ccu.viz.render import camera
 from compas_ccu.viz.report import write_report
 from compas_ccu.viz.sequence import plot_deployment_sequence
@@ -133,10 +135,26 @@ def view(args) -> int:
     if args.view is not None:
         camera(args.view)  # a bad --view fails before any work
     model = load_model(args.design)
+    sheets = None
+    if args.fabrication is not None:  # read (and refused) before any work
+        design = Path(args.design)
+        sha = hashlib.sha256(design.read_bytes()).hexdigest() if design.is_file() else None
+        sheets = read_sheets(args.fabrication, design=model.design.name, sha256=sha)
     path = write_viewer(
-        model, Path(args.out) / "viewer.html", steps=args.steps, alpha=args.alpha, view=args.view
+        model,
+        Path(args.out) / "viewer.html",
+        steps=args.steps,
+        alpha=args.alpha,
+        view=args.view,
+        sheets=sheets,
     )
     say(args, f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB, works offline)")
+    if sheets is not None:
+        say(
+            args,
+            f"the cut patterns are the {len(sheets['sheets'])} sheets of {args.fabrication} "
+            f"({len(sheets['parts'])} parts)",
+        )
     return 0
 
 
@@ -281,7 +299,8 @@ COMMANDS = (
         "write the interactive 3D viewer page",
         "Write --out/viewer.html: one self-contained page (works offline) with "
         "orbit / zoom, a deployment slider and toggles for plates, creases, rulings and cut "
-        "patterns.",
+        "patterns (with --fabrication: the sheets of the workshop, every part at its nested "
+        "place).",
         (
             DESIGN,
             OUT,
@@ -290,6 +309,13 @@ COMMANDS = (
             ),
             option("--alpha", type=float, default=None, help="last state, degrees"),
             option("--view", default=None, help=VIEW_HELP + " (default: perspective)"),
+            option(
+                "--fabrication",
+                default=None,
+                metavar="FOLDER",
+                help="a folder written by 'ccu fabricate' for this design: the cut patterns "
+                "toggle shows its sheets (sheets.json) instead of the compact layout",
+            ),
             QUIET,
         ),
         view,

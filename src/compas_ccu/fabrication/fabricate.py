@@ -5,6 +5,7 @@ Layout of ``OUT``::
     plates/plate_<id>.dxf     one DXF per plate, millimetres: CUT, CREASE, RULING_SCORE (or
                               RULING when not scored), LABEL
     sheets/sheet_<k>.dxf      one DXF per sheet: every part nested, kerf-compensated toolpaths
+    sheets.json               the nesting: every part placed on its sheet (m), for the viewer
     bom.csv                   the bill of materials
     hinges.dxf                the textile hinge strips as cut patterns (mm)
     <name>.3dm                Rhino: plates, creases, rulings, solids, cut patterns, stack (m)
@@ -119,6 +120,7 @@ def fabricate(
     hinge_width=None,
     allow_collisions: bool = False,
     workshop: WorkshopOptions | None = None,
+    design_sha256: str | None = None,
 ) -> dict:
     """Write the fabrication files of ``model`` at its design state into ``out``.
 
@@ -138,6 +140,10 @@ def fabricate(
         to the design state.
     workshop : WorkshopOptions, optional
         Sheets, cutter, nesting and prices; default: the design's ``[fabrication]`` section.
+    design_sha256 : str, optional
+        SHA-256 of the design file the model was read from: recorded in ``fabrication.json``
+        and ``sheets.json``, so that the report and the viewer refuse this folder for another
+        version of the file.
 
     Returns
     -------
@@ -193,6 +199,7 @@ def fabricate(
         plates
         + sheets
         + [
+            "sheets.json",
             "bom.csv",
             "hinges.dxf",
             f"{stem}.3dm",
@@ -208,6 +215,7 @@ def fabricate(
         "format": "ccu.fabrication",
         "version": 1,
         "design": data.name,
+        **({} if design_sha256 is None else {"design_sha256": str(design_sha256)}),
         "alpha": data.alpha,
         "units": {"dxf": "mm", "3dm": "m", "obj": "m", "glb": "m", "fold": "m"},
         "files": names + ["fabrication.json"],
@@ -226,6 +234,10 @@ def fabricate(
     manifest["workshop"] = work
     manifest["failed_checks"] = failed_checks(manifest)
     text = json.dumps(manifest, indent=1, allow_nan=False)
+    layout = plan.layout()
+    if design_sha256 is not None:
+        layout["design_sha256"] = str(design_sha256)
+    layout_text = json.dumps(layout, separators=(",", ":"), allow_nan=False)
 
     # --- every check passed: write
     out = Path(out)
@@ -235,6 +247,7 @@ def fabricate(
         write_plate_dxf(data, i, out / name, score_rulings=workshop.score_rulings)
     for k, name in enumerate(sheets):
         write_sheet_dxf(plan, k, out / name, name=data.name)
+    (out / "sheets.json").write_text(layout_text, encoding="utf-8")
     write_bom_csv(plan, out / "bom.csv")
     write_hinge_dxf(strips, out / "hinges.dxf", name=data.name)
     write_3dm(data, out / f"{stem}.3dm")

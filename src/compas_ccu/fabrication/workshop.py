@@ -136,6 +136,9 @@ class Part:
         Where the splice plates go (engraved outlines), m, same frame.
     label : list of str
         Lines of the engraved label.
+    creases : list of dict
+        The crease edges on the part: ``crease`` (id), ``kind`` (as the crease records) and
+        ``points`` (k, 2) m, same frame (empty for a splice plate).
     sheet : int
         Index of its sheet in :attr:`WorkshopPlan.sheets` (-1 before nesting).
     rotation : float
@@ -153,6 +156,7 @@ class Part:
     score: list = field(default_factory=list)
     marks: list = field(default_factory=list)
     label: list = field(default_factory=list)
+    creases: list = field(default_factory=list)
     sheet: int = -1
     rotation: float = 0.0
     translation: tuple = (0.0, 0.0)
@@ -193,6 +197,10 @@ class WorkshopPlan:
     splice_bending : dict or None
         The bending check of the spliced cuts (:func:`splice_bending`); None without the
         plates' bending utilisation.
+    design : str or None
+        The design's name (:meth:`layout` records it).
+    model_plate_ids : list of int or None
+        The model's plate id of every workshop plate id (``fabrication.json`` ``model_ids``).
     """
 
     options: WorkshopOptions
@@ -203,6 +211,8 @@ class WorkshopPlan:
     bom: dict = field(default_factory=dict)
     assembly: list = field(default_factory=list)
     splice_bending: dict | None = None
+    design: str | None = None
+    model_plate_ids: list | None = None
 
     @property
     def utilisation(self) -> float:
@@ -237,6 +247,99 @@ class WorkshopPlan:
         """The thickness of the parts of ``kind`` (m), None if there are none."""
         values = {p.thickness for p in self.parts if p.kind == kind}
         return max(values) if values else None
+
+    def layout(self) -> dict:
+        """Strict-JSON nesting of the parts on the sheets, already placed (``sheets.json``).
+
+        Every coordinate is in its sheet's frame (m, the sheet's corner at the origin, its
+        length along x), exactly :meth:`Part.placed` of the part's frame: the placement the
+        sheet DXFs use. The viewer (:func:`compas_ccu.viz.viewer.viewer_figure` ``sheets=``)
+        draws it.
+
+        Returns
+        -------
+        dict
+            ``format`` ``"ccu.sheets"``, ``version`` 1, ``design``, ``units`` ``"m"``,
+            ``model_plate_ids`` (model plate id of every workshop plate id, or None),
+            ``score_rulings``, ``sheets`` (per sheet: ``size`` [length, width], ``utilisation``,
+            ``parts`` names) and ``parts`` (per part: ``name``, ``kind``, ``plate`` (workshop
+            id), ``sheet`` (index), ``rotation`` (deg), ``translation`` [x, y] (m),
+            ``outline`` (its near row, then its far row back: a strip of quads between
+            rulings), ``creases`` (``crease``, ``kind``, ``points``), ``score`` (the score
+            lines as the sheet DXF cuts them: empty unless ``score_rulings``), ``marks``
+            (where the splice plates go, clipped to the part) and ``label`` (the engraved
+            lines)).
+
+        Examples
+        --------
+        >>> from compas_ccu.model import load_model
+        >>> from compas_ccu.fabrication import fabrication_data
+        >>> from compas_ccu.fabrication.hinges import hinge_strips
+        >>> data = fabrication_data(load_model("examples/vault.toml"))
+        >>> plan = plan_workshop(data, hinge_strips(data), WorkshopOptions(nesting="shelf"),
+        ...                      density=500.0)
+        >>> doc = plan.layout()
+        >>> len(doc["sheets"]), len(doc["parts"]), doc["parts"][0]["name"]
+        (20, 40, 'P0.1')
+        """
+        from shapely import Polygon
+
+        def xy(points) -> list:
+            return np.asarray(points, dtype=float).tolist()
+
+        parts = []
+        for p in self.parts:
+            outline = p.placed(p.outline)
+            poly = Polygon(outline)
+            marks = []
+            for rect in p.marks:  # the splice plate's place, clipped to the part (as the DXF)
+                mark = Polygon(p.placed(rect)).intersection(poly)
+                if mark.geom_type == "Polygon" and not mark.is_empty:
+                    marks.append(xy(_ring(mark)))
+            parts.append(
+                {
+                    "name": p.name,
+                    "kind": p.kind,
+                    "plate": int(p.plate),
+                    "sheet": int(p.sheet),
+                    "rotation": float(p.rotation),
+                    "translation": [float(v) for v in p.translation],
+                    "outline": xy(outline),
+                    "creases": [
+                        {
+                            "crease": int(c["crease"]),
+                            "kind": str(c["kind"]),
+                            "points": xy(p.placed(c["points"])),
+                        }
+                        for c in p.creases
+                    ],
+                    "score": [xy(p.placed(line)) for line in p.score]
+                    if self.options.score_rulings
+                    else [],
+                    "marks": marks,
+                    "label": list(p.label),
+                }
+            )
+        return {
+            "format": "ccu.sheets",
+            "version": 1,
+            "design": self.design,
+            "units": "m",
+            "model_plate_ids": None
+            if self.model_plate_ids is None
+            else [int(v) for v in self.model_plate_ids],
+            "score_rulings": bool(self.options.score_rulings),
+            "sheets": [
+                {
+                    "size": [float(v) for v in s["size"]],
+                    "thickness": float(s.get("thickness", 0.0)),
+                    "utilisation": float(s["utilisation"]),
+                    "parts": list(s["parts"]),
+                }
+                for s in self.sheets
+            ],
+            "parts": parts,
+        }
 
 
 # --------------------------------------------------------------------------- fitting, splitting
@@ -365,6 +468,18 @@ def _splices(flat, n: int, j: int, options: WorkshopOptions, hinge_width: float)
     return np.array([p - h * v, q - h * v, q + h * v, p + h * v])
 
 
+def _part_creases(flat, n: int, j0: int, j1: int, on_plate, kinds: dict) -> list:
+    """The crease edges of a plate that lie on its part between rulings ``j0`` and ``j1``."""
+    out = []
+    for cid, _, verts in on_plate:
+        verts = [int(v) for v in verts]
+        base = 0 if max(verts) <= n else n + 1  # the near or the far row
+        inside = [v for v in verts if j0 <= v - base <= j1]
+        if len(inside) >= 2:
+            out.append({"crease": int(cid), "kind": kinds[int(cid)], "points": flat[inside]})
+    return out
+
+
 def make_parts(data, options: WorkshopOptions) -> tuple:
     """The plate parts and splice plates of every plate: ``(parts, splits)``."""
     n = data.segments
@@ -379,7 +494,9 @@ def make_parts(data, options: WorkshopOptions) -> tuple:
         bounds = [0, *cuts, n]
         k = len(bounds) - 1
         stack = int(data.stack_position[i])
-        creases = [f"C{cid}-P{other}" for cid, other, _ in data.plate_creases(i)]
+        on_plate = data.plate_creases(i)
+        creases = [f"C{cid}-P{other}" for cid, other, _ in on_plate]
+        kinds = {int(c["id"]): str(c.get("kind", "")) for c in data.creases}
         splice_rects = [_splices(flat, n, j, options, data.hinge_width) for j in cuts]
         for q, (a, b) in enumerate(zip(bounds, bounds[1:])):
             name = f"P{pid}" if k == 1 else f"P{pid}.{q + 1}"
@@ -396,6 +513,7 @@ def make_parts(data, options: WorkshopOptions) -> tuple:
                     marks=marks,
                     label=label,
                     thickness=t,
+                    creases=_part_creases(flat, n, a, b, on_plate, kinds),
                 )
             )
         for q, rect in enumerate(splice_rects):
@@ -1048,7 +1166,15 @@ def plan_workshop(
     parts, splits = make_parts(data, options)
     sheets = nest_parts(parts, options)
     roll = nest_roll(strips, options)
-    plan = WorkshopPlan(options=options, parts=parts, sheets=sheets, splits=splits, roll=roll)
+    plan = WorkshopPlan(
+        options=options,
+        parts=parts,
+        sheets=sheets,
+        splits=splits,
+        roll=roll,
+        design=data.name,
+        model_plate_ids=data.metadata.get("model_plate_ids"),
+    )
     plan.bom = bill_of_materials(data, parts, sheets, roll, options, density)
     plan.assembly = assembly_steps(data, splits, pairing)
     if utilisation is not None:

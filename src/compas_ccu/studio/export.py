@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import tempfile
 from pathlib import Path
 
@@ -49,14 +50,15 @@ def export(model, out, *, alpha: float, what=EXPORTS, design_text: str | None = 
         written["structure"] = root / "structure"
     if "fabrication" in what:
         with staged_folder(root / "fabrication") as stage:
-            fabricate(model, stage)
+            sha = None if design_text is None else hashlib.sha256(design_text.encode()).hexdigest()
+            fabricate(model, stage, design_sha256=sha)
         written["fabrication"] = root / "fabrication"
     if "report" in what:
         with staged_folder(root / "report") as stage, tempfile.TemporaryDirectory() as tmp:
             design_file = None  # the design as edited: the report's record and its hash
-            if design_text is not None:
+            if design_text is not None:  # its bytes as hashed for the fabrication above
                 design_file = Path(tmp) / f"{model.design.name}.toml"
-                design_file.write_text(design_text, "utf-8")
+                design_file.write_bytes(design_text.encode("utf-8"))
             write_report(
                 model, stage, design_file=design_file, fabrication=written.get("fabrication")
             )

@@ -10,7 +10,9 @@ The fabrication folder is read tolerantly: every file is listed; ``fabrication.j
 utilisation), ``bom`` (the bill of materials: its rows and totals) and ``failed_checks`` are
 shown; other writers' tables ``bom`` and ``sheets`` (lists of objects, at the top level or under
 ``nesting``) and a number ``utilisation`` are shown as they are; ``design_sha256`` is compared
-with the design file's hash.
+with the design file's hash. Its ``sheets.json``
+(the nesting: every part placed on its sheet) is what the viewer shows as the cut patterns
+(:func:`read_sheets`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,18 @@ from compas_ccu.key_figures.text import material_rows, workshop_rows
 from compas_ccu.outputs import MANIFEST
 from compas_ccu.thickness import ThickModel
 
-__all__ = ["design_record", "read_fabrication", "table_columns", "cell_text", "FABRICATION_KEYS"]
+__all__ = [
+    "design_record",
+    "read_fabrication",
+    "read_sheets",
+    "table_columns",
+    "cell_text",
+    "FABRICATION_KEYS",
+    "SHEETS_FILE",
+]
+
+#: The nesting file of a fabrication folder (``ccu fabricate``; format ``ccu.sheets``).
+SHEETS_FILE = "sheets.json"
 
 #: Keys of ``fabrication.json`` the report reads (all optional).
 FABRICATION_KEYS = (
@@ -131,7 +144,8 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
         ``manifest`` (the parsed ``fabrication.json`` or None), ``problems`` (list of str: what
         could not be read), ``bom`` and ``sheets`` (lists of dicts or None), ``workshop_rows``
         (list of (label, text): :func:`compas_ccu.key_figures.text.workshop_rows`),
-        ``utilisation`` (float or None), ``failed_checks`` (list of str).
+        ``utilisation`` (float or None), ``failed_checks`` (list of str), ``layout`` (the
+        parsed ``sheets.json`` for the viewer, or None).
 
     Raises
     ------
@@ -167,7 +181,15 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
         "sheets": None,
         "utilisation": None,
         "failed_checks": [],
+        "layout": None,
     }
+    if (folder / SHEETS_FILE).is_file():  # the nesting for the viewer (none: its own layout)
+        try:
+            out["layout"] = read_sheets(folder)
+        except OptionError as exc:
+            out["problems"].append(f"{exc}; the viewer shows its own layout of the cut patterns")
+        else:
+            _same_design(out["layout"], folder, design, sha256)
     path = folder / "fabrication.json"
     if not path.is_file():
         out["problems"].append("no fabrication.json in the folder: the files are listed only")
@@ -181,16 +203,7 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
         out["problems"].append(f"fabrication.json holds a {type(manifest).__name__}, not an object")
         return out
     out["manifest"] = manifest
-    if design is not None and manifest.get("design") not in (None, design):
-        raise OptionError(
-            f"--fabrication {str(folder)!r} holds the fabrication of design "
-            f"{manifest.get('design')!r}, not of {design!r}"
-        )
-    if sha256 is not None and manifest.get("design_sha256") not in (None, sha256):
-        raise OptionError(
-            f"--fabrication {str(folder)!r} was written from another version of the design file "
-            f"(design_sha256 {manifest.get('design_sha256')!r}, the file's is {sha256!r})"
-        )
+    _same_design(manifest, folder, design, sha256)
     nesting = manifest.get("nesting") if isinstance(manifest.get("nesting"), dict) else {}
     workshop = manifest.get("workshop") if isinstance(manifest.get("workshop"), dict) else {}
     if isinstance(workshop.get("sheets"), list):  # ccu fabricate
@@ -239,6 +252,86 @@ def _workshop_tables(workshop: dict) -> dict:
             }
         )
     return {"sheets": rows, "utilisation": workshop.get("utilisation")}
+
+
+def read_sheets(folder, *, design=None, sha256=None) -> dict:
+    """The nesting of a fabrication folder: its ``sheets.json``, parsed and checked.
+
+    Parameters
+    ----------
+    folder : str or Path
+        A folder written by ``ccu fabricate``.
+    design : str, optional
+        The design's name: the nesting of another design is refused.
+    sha256 : str, optional
+        The design file's hash: a nesting recorded with another ``design_sha256`` is refused
+        (one without that key is accepted).
+
+    Returns
+    -------
+    dict
+        ``sheets.json`` (``compas_ccu.fabrication.workshop.WorkshopPlan.layout``): ``sheets``,
+        ``parts`` (placed on their sheets, m), ``model_plate_ids``, ``design``; what
+        :func:`compas_ccu.viz.viewer.viewer_figure` takes as ``sheets``.
+
+    Raises
+    ------
+    OptionError
+        ``folder`` is not a folder, has no ``sheets.json`` (an older ``ccu fabricate``: write
+        it again), the file is no nesting (no ``sheets`` and ``parts`` lists), or is of another
+        design or another version of the design file; the message names the folder.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> read_sheets(tempfile.mkdtemp())  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.OptionError: --fabrication '...' has no sheets.json (the nesting ...
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise OptionError(
+            f"--fabrication must be a folder written by 'ccu fabricate', got {str(folder)!r}"
+        )
+    path = folder / SHEETS_FILE
+    if not path.is_file():
+        raise OptionError(
+            f"--fabrication {str(folder)!r} has no {SHEETS_FILE} (the nesting of the parts on "
+            "the sheets): it was written by an older 'ccu fabricate', or is no fabrication "
+            "folder; run 'ccu fabricate' again"
+        )
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise OptionError(
+            f"--fabrication {str(folder)!r}: {SHEETS_FILE} cannot be read: {exc}"
+        ) from None
+    if not isinstance(doc, dict) or doc.get("format") != "ccu.sheets":
+        raise OptionError(
+            f"--fabrication {str(folder)!r}: {SHEETS_FILE} is not a 'ccu.sheets' nesting"
+        )
+    missing = [k for k in ("sheets", "parts") if not isinstance(doc.get(k), list)]
+    if missing:
+        raise OptionError(
+            f"--fabrication {str(folder)!r}: {SHEETS_FILE} has no {' and no '.join(missing)} list"
+        )
+    _same_design(doc, folder, design, sha256)
+    return doc
+
+
+def _same_design(doc: dict, folder: Path, design, sha256) -> None:
+    """Refuse a ``fabrication.json`` or ``sheets.json`` of another design or file version."""
+    if design is not None and doc.get("design") not in (None, design):
+        raise OptionError(
+            f"--fabrication {str(folder)!r} holds the fabrication of design "
+            f"{doc.get('design')!r}, not of {design!r}"
+        )
+    if sha256 is not None and doc.get("design_sha256") not in (None, sha256):
+        raise OptionError(
+            f"--fabrication {str(folder)!r} was written from another version of the design file "
+            f"(design_sha256 {doc.get('design_sha256')!r}, the file's is {sha256!r})"
+        )
 
 
 def table_columns(rows) -> list:

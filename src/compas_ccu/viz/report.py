@@ -137,7 +137,8 @@ def write_report(
     fabrication : str or Path, optional
         A folder written by ``ccu fabricate`` for this design: copied into
         ``out/fabrication/``; the page links every file and shows its sheets and bill of
-        materials (:func:`compas_ccu.viz.record.read_fabrication`).
+        materials (:func:`compas_ccu.viz.record.read_fabrication`), and the viewer's cut
+        patterns are its sheets (its ``sheets.json``; without one, the viewer's own layout).
     pdf : bool
         Also write ``report.pdf``: the record, the key figures and checks, the FE and
         fabrication sections, the design file and every figure.
@@ -233,7 +234,15 @@ def write_report(
         report.files += write_animations(model, paths, frames=frames)  # one rendering
 
     def viewer():
-        report.files.append(write_viewer(model, out / "viewer.html", steps=steps))
+        layout = None if fab is None else fab.get("layout")
+        try:  # the fabrication's sheets as the cut patterns, when the folder has them
+            page = write_viewer(model, out / "viewer.html", steps=steps, sheets=layout)
+        except OptionError as exc:
+            if layout is None:
+                raise
+            report.skipped["viewer sheets"] = f"{exc}; the viewer shows its own layout"
+            page = write_viewer(model, out / "viewer.html", steps=steps)
+        report.files.append(page)
 
     tasks = [("design file", inputs), ("fabrication files", fabrication_files)]
     tasks += [("data files", data)]

@@ -2,7 +2,9 @@
 
 :func:`viewer_figure` builds a plotly figure of a model along its deployment path, from the
 flat-folded stack (α = 0) to a target angle: plates, creases coloured by kind, rulings and
-(hidden at first) the cut patterns laid out on the ground behind the structure. A slider (with
+(hidden at first) the cut patterns laid out on the ground behind the structure, or the sheets of
+the fabrication output with every part at its nested place (``sheets=``: a workshop plan or the
+``sheets.json`` that ``ccu fabricate`` writes). A slider (with
 Play / Pause) moves through the states; toggle buttons show and hide plates,
 creases, rulings and cut patterns. :func:`write_viewer` writes it as a single HTML file that works
 offline (plotly.js is bundled, nothing is loaded from the network).
@@ -39,7 +41,14 @@ from compas_ccu.viz.views import readout
 if TYPE_CHECKING:  # plotly is imported when a figure is built, not with this module
     import plotly.graph_objects as go
 
-__all__ = ["viewer_figure", "write_viewer", "cut_pattern_layout", "VIEWER_DIV_ID"]
+__all__ = [
+    "viewer_figure",
+    "write_viewer",
+    "cut_pattern_layout",
+    "sheet_grid_layout",
+    "sheet_document",
+    "VIEWER_DIV_ID",
+]
 
 VIEWER_DIV_ID = "ccu-viewer"
 """``id`` of the plot ``<div>`` in the page written by :func:`write_viewer`."""
@@ -53,6 +62,9 @@ _GRID = "#dedad2"
 _FONT = "#2b2b2b"
 _PATTERN_TAG = "cut pattern"
 _SLIDER_LABELS = 6  # slider steps labelled (about; the ends always)
+_BOARD = "#dfe3e6"  # the sheets (stock boards) under the nested parts
+_BOARD_EDGE = "#5d6468"
+_MARK_COLOR = "#7a6a52"  # where the splice plates go (engraved)
 
 _ON, _OFF = "☑", "☐"
 _TOGGLES = (
@@ -239,6 +251,328 @@ def cut_pattern_layout(flat: np.ndarray, n: int, *, gap: float, beside=None) -> 
     return best[1]
 
 
+def sheet_grid_layout(sizes, *, gap: float, structure=None) -> np.ndarray:
+    """(s, 2) corners that lay the sheets out in a grid around the structure's plan.
+
+    The sheets go into cells of one size (the largest sheet plus ``gap``), in rows from the
+    front of the structure (its lowest y) backwards and, in every row, from left to right; a
+    cell that would overlap the structure's plan (widened by half a gap) is skipped, so the
+    sheets fill the ground beside and behind the structure. The grid is centred on the
+    structure in x, and its number of columns is the one that makes the whole picture (the
+    structure and the sheets) most nearly square, the smallest larger side: the structure stays
+    large on the screen and the sheets neither make one long row nor one long column.
+
+    Parameters
+    ----------
+    sizes : (s, 2) float
+        Sheet length (x) and width (y), m, in sheet order.
+    gap : float
+        Clearance between sheets (and between the sheets and the structure), m.
+    structure : (float, float, float, float), optional
+        The structure's plan box ``(x0, y0, x1, y1)``; default none (a grid alone, from the
+        origin).
+
+    Returns
+    -------
+    (s, 2) float
+        Where each sheet's corner (its origin, the sheet DXF's (0, 0)) lies.
+
+    Examples
+    --------
+    >>> corners = sheet_grid_layout([[2.5, 1.25]] * 8, gap=0.1, structure=(0, 0, 2.7, 2.6))
+    >>> corners.shape, np.ptp(corners, axis=0).round(2).tolist()
+    ((8, 2), [5.2, 2.7])
+    """
+    sizes = np.asarray(sizes, dtype=float).reshape(-1, 2)
+    count = len(sizes)
+    if count == 0:
+        return np.zeros((0, 2))
+    gap = float(gap)
+    cell = sizes.max(axis=0) + gap
+    if structure is None:
+        box = None
+        cx, y0 = 0.0, 0.0
+    else:
+        box = np.asarray(structure, dtype=float)
+        cx, y0 = 0.5 * (box[0] + box[2]), float(box[1])
+        wide = box + np.array([-0.5, -0.5, 0.5, 0.5]) * gap
+    span = 0 if box is None else int(math.ceil((box[2] - box[0]) / cell[0])) + 2
+    best = None
+    for columns in range(1, count + span + 1):
+        x0 = 0.0 if box is None else cx - 0.5 * columns * cell[0]
+        corners, row = [], 0
+        while len(corners) < count:
+            ys = y0 + row * cell[1]
+            for c in range(columns):
+                xs = x0 + c * cell[0]
+                if box is not None and (
+                    xs < wide[2]
+                    and xs + cell[0] > wide[0]
+                    and ys < wide[3]
+                    and ys + cell[1] > wide[1]
+                ):
+                    continue  # the structure stands there
+                corners.append((xs + 0.5 * gap, ys + 0.5 * gap))
+                if len(corners) == count:
+                    break
+            row += 1
+            if row > count + span + 64:  # pragma: no cover - every row beyond the plan is free
+                break
+        corners = np.asarray(corners)
+        lo, hi = corners.min(axis=0), (corners + sizes).max(axis=0)
+        if box is not None:
+            lo, hi = np.minimum(lo, box[:2]), np.maximum(hi, box[2:])
+        side = float(max(hi - lo))
+        if best is None or side < best[0] - 1e-9:
+            best = (side, corners)
+    return best[1]
+
+
+def sheet_document(sheets, plate_ids=None, *, design=None) -> dict:
+    """The nesting to show: a workshop plan's :meth:`layout` or a ``sheets.json`` document,
+    checked.
+
+    Parameters
+    ----------
+    sheets : dict or object with a ``layout()`` method
+        ``compas_ccu.fabrication.workshop.WorkshopPlan`` or its ``layout()`` (the
+        ``sheets.json`` that ``ccu fabricate`` writes, parsed).
+    plate_ids : sequence of int, optional
+        The model's plate ids: the document's ``model_plate_ids`` must be the same plates.
+    design : str, optional
+        The model's design name: a document of another design is refused.
+
+    Returns
+    -------
+    dict
+        The document, with ``tone_index`` added to every part (the index of its plate in
+        ``plate_ids``, for its colour).
+
+    Raises
+    ------
+    compas_ccu.errors.OptionError
+        Not a nesting document (no ``sheets`` / ``parts`` lists), another design, other
+        plates, or a part on a sheet that does not exist (the message names it).
+
+    Examples
+    --------
+    >>> doc = {"sheets": [{"size": [2.0, 1.0], "utilisation": 0.5, "parts": ["P0"]}],
+    ...        "parts": [{"name": "P0", "plate": 0, "sheet": 0,
+    ...                   "outline": [[0.1, 0.1], [1.0, 0.1], [1.0, 0.9], [0.1, 0.9]]}]}
+    >>> sheet_document(doc, [0])["parts"][0]["tone_index"]
+    0
+    """
+    if hasattr(sheets, "layout") and callable(sheets.layout):
+        sheets = sheets.layout()
+    if not isinstance(sheets, dict):
+        raise OptionError(
+            f"sheets must be a workshop plan or its layout (sheets.json), got "
+            f"{type(sheets).__name__}"
+        )
+    missing = [k for k in ("sheets", "parts") if not isinstance(sheets.get(k), list)]
+    if missing:
+        raise OptionError(
+            f"sheets: the nesting document has no {' and no '.join(missing)} list (is it the "
+            "sheets.json that ccu fabricate writes?)"
+        )
+    name = sheets.get("design")
+    if design is not None and name is not None and name != design:
+        raise OptionError(f"sheets: the nesting is of design {name!r}, not of {design!r}")
+    count = len(sheets["sheets"])
+    model = sheets.get("model_plate_ids")
+    if plate_ids is not None:
+        plate_ids = [int(v) for v in plate_ids]
+        if model is not None and sorted(int(v) for v in model) != sorted(plate_ids):
+            raise OptionError(
+                f"sheets: the nesting is of {len(model)} plates {sorted(model)}, the model has "
+                f"{len(plate_ids)} plates {sorted(plate_ids)}"
+            )
+    index = {pid: i for i, pid in enumerate(plate_ids or [])}
+    parts = []
+    for part in sheets["parts"]:
+        k = part.get("sheet")
+        if not isinstance(k, int) or not 0 <= k < count:
+            raise OptionError(
+                f"sheets: part {part.get('name')!r} is on sheet {k!r}, but there are {count} sheets"
+            )
+        outline = np.asarray(part.get("outline", []), dtype=float)
+        if outline.ndim != 2 or outline.shape[0] < 3 or outline.shape[1] != 2:
+            raise OptionError(
+                f"sheets: part {part.get('name')!r} has no outline of at least 3 points (x, y)"
+            )
+        plate = int(part.get("plate", 0))
+        if model is not None and plate_ids is not None:
+            if not 0 <= plate < len(model):
+                raise OptionError(
+                    f"sheets: part {part.get('name')!r} is of plate {plate}, but the nesting "
+                    f"has {len(model)} plates"
+                )
+            tone = index[int(model[plate])]
+        else:
+            tone = plate
+        parts.append({**part, "tone_index": tone})
+    return {**sheets, "parts": parts}
+
+
+def _strip_triangles(m: int) -> np.ndarray:
+    """(t, 3) triangles of a part outline of ``m`` points.
+
+    An even outline is a strip of quads between rulings (its near row ``0 .. k``, then its far
+    row back, ``m = 2k + 2``), as the parts of the workshop are: two triangles per quad, so the
+    crescents of a vault fill correctly. Any other outline is filled as a fan from its first
+    point (right for convex outlines).
+    """
+    if m >= 4 and m % 2 == 0:
+        j = np.arange(m // 2 - 1)
+        a = np.stack([j, j + 1, m - 2 - j], axis=1)
+        b = np.stack([j, m - 2 - j, m - 1 - j], axis=1)
+        return np.concatenate([a, b])
+    j = np.arange(1, m - 1)
+    return np.stack([np.zeros_like(j), j, j + 1], axis=1)
+
+
+def _sheet_traces(doc: dict, corners: np.ndarray, z: float, kinds: list, tones: list) -> list:
+    """The traces of the nested sheets (legend group ``cut``), in the plane ``z``.
+
+    Parts first (their fill: the first ``cut`` trace), then the boards, the sheet edges, the
+    part outlines, the creases by kind, the score lines, the splice marks and the labels.
+    Coordinates are float64: every part lies exactly at its nested place plus its sheet's
+    corner.
+    """
+    import plotly.graph_objects as go
+
+    def at(points, sheet, dz=0.0) -> np.ndarray:
+        pts = np.asarray(points, dtype=float).reshape(-1, 2)
+        out = np.empty((len(pts), 3))
+        out[:, :2] = pts + corners[sheet]
+        out[:, 2] = z + dz
+        return out
+
+    parts = doc["parts"]
+    dz = 1e-3 * max(1.0, float(np.ptp(corners, axis=0).max()) if len(corners) else 1.0)
+    verts, tri, colors, text = [], [], [], []
+    base = 0
+    for part in parts:
+        pts = at(part["outline"], part["sheet"], -dz)
+        t = _strip_triangles(len(pts))
+        verts.append(pts)
+        tri.append(t + base)
+        base += len(pts)
+        colors += [tones[part["tone_index"] % len(tones)]] * len(t)
+        text += [f"{part.get('name', '')} · sheet {part['sheet'] + 1}"] * len(pts)
+    verts = np.concatenate(verts) if verts else np.zeros((0, 3))
+    tri = np.concatenate(tri) if tri else np.zeros((0, 3), dtype=int)
+    sheets = doc["sheets"]
+    flat_light = {"ambient": 0.95, "diffuse": 0.05, "specular": 0.0}
+    traces = [
+        go.Mesh3d(
+            **_xyz64(verts),
+            i=tri[:, 0].astype(np.int32),
+            j=tri[:, 1].astype(np.int32),
+            k=tri[:, 2].astype(np.int32),
+            facecolor=colors,
+            flatshading=True,
+            lighting=flat_light,
+            name=f"cut patterns: {len(sheets)} sheets, {len(parts)} parts",
+            legendgroup="cut",
+            showlegend=True,
+            text=text,
+            hovertemplate="%{text}<extra></extra>",
+        )
+    ]
+    rects, boards, board_text = [], [], []
+    for k, sheet in enumerate(sheets):
+        length, width = (float(v) for v in sheet["size"])
+        corner = [[0.0, 0.0], [length, 0.0], [length, width], [0.0, width]]
+        rects.append(at(corner + corner[:1], k))
+        boards.append(at(corner, k, -2.0 * dz))
+        u = float(sheet.get("utilisation", 0.0))
+        t = float(sheet.get("thickness") or 0.0)
+        thick = f" × {t * 1000:g}" if t > 0.0 else ""
+        board_text += [
+            f"sheet {k + 1}: {length * 1000:g} × {width * 1000:g}{thick} mm, utilisation "
+            f"{100 * u:.1f} %"
+        ] * 4
+    quads = np.arange(len(sheets))[:, None] * 4
+    board_tri = np.concatenate([quads + [0, 1, 2], quads + [0, 2, 3]]) if len(sheets) else []
+    board_tri = np.asarray(board_tri, dtype=np.int32).reshape(-1, 3)
+    traces.append(
+        go.Mesh3d(
+            **_xyz64(np.concatenate(boards) if boards else np.zeros((0, 3))),
+            i=board_tri[:, 0],
+            j=board_tri[:, 1],
+            k=board_tri[:, 2],
+            color=_BOARD,
+            flatshading=True,
+            lighting=flat_light,
+            name="sheets",
+            legendgroup="cut",
+            showlegend=False,
+            text=board_text,
+            hovertemplate="%{text}<extra></extra>",
+        )
+    )
+    traces.append(_line_trace64(_polylines(rects), "sheet edges", _BOARD_EDGE, 3))
+    outlines = [at(np.r_[o, o[:1]], p["sheet"]) for p in parts for o in [np.asarray(p["outline"])]]
+    traces.append(_line_trace64(_polylines(outlines), "part outlines", EDGE_COLOR, 2))
+    for kind in kinds:
+        lines = [
+            at(c["points"], p["sheet"])
+            for p in parts
+            for c in p.get("creases", [])
+            if c.get("kind") == kind
+        ]
+        if lines:
+            traces.append(
+                _line_trace64(
+                    _polylines(lines), f"sheets: {kind}", KIND_COLORS.get(kind, EDGE_COLOR), 5
+                )
+            )
+    score = [at(line, p["sheet"]) for p in parts for line in p.get("score", [])]
+    if score:
+        traces.append(_line_trace64(_polylines(score), "score lines", RULING_COLOR, 1.5))
+    marks = [
+        at(np.r_[m, m[:1]], p["sheet"])
+        for p in parts
+        for m in (np.asarray(r, dtype=float) for r in p.get("marks", []))
+    ]
+    if marks:
+        traces.append(_line_trace64(_polylines(marks), "splice marks", _MARK_COLOR, 1.5))
+    centres = [at(np.asarray(p["outline"], dtype=float).mean(axis=0), p["sheet"]) for p in parts]
+    traces.append(
+        go.Scatter3d(
+            **_xyz64(np.concatenate(centres) if centres else np.zeros((0, 3))),
+            mode="text",
+            text=[str(p.get("name", "")) for p in parts],
+            textfont={"size": 10, "color": _FONT},
+            name="part names",
+            legendgroup="cut",
+            showlegend=False,
+            hoverinfo="skip",
+        )
+    )
+    # at the front-left corner of every sheet (the nearest to the default camera, so that the
+    # sheet behind the text on the screen does not hide it), lifted over the parts' lines
+    labels = [at([0.0, 0.0], k, 10.0 * dz)[0] for k in range(len(sheets))]
+    traces.append(
+        go.Scatter3d(
+            **_xyz64(np.asarray(labels).reshape(-1, 3)),
+            mode="text",
+            text=[
+                f"sheet {k + 1} · {100 * float(sheet.get('utilisation', 0.0)):.0f} %"
+                for k, sheet in enumerate(sheets)
+            ],
+            textposition="top right",
+            textfont={"size": 11, "color": _BOARD_EDGE},
+            name="sheet numbers",
+            legendgroup="cut",
+            showlegend=False,
+            hoverinfo="skip",
+        )
+    )
+    return traces
+
+
 _DEFAULT_CAMERA = {
     "eye": {"x": 0.7, "y": -1.05, "z": 0.5},
     "center": {"x": 0.0, "y": 0.0, "z": -0.08},
@@ -407,6 +741,27 @@ def _line_trace(points, name: str, group: str, color: str, width: float, *, lege
     )
 
 
+def _xyz64(points: np.ndarray) -> dict:
+    """Coordinates kept as float64 (the sheets: every part exactly at its nested place)."""
+    pts = np.ascontiguousarray(points, dtype=float)
+    return {"x": pts[:, 0], "y": pts[:, 1], "z": pts[:, 2]}
+
+
+def _line_trace64(points, name: str, color: str, width: float):
+    """A line trace of the sheets (legend group ``cut``, float64, not in the legend)."""
+    import plotly.graph_objects as go
+
+    return go.Scatter3d(
+        **_xyz64(points),
+        mode="lines",
+        name=name,
+        legendgroup="cut",
+        showlegend=False,
+        line={"color": color, "width": width},
+        hoverinfo="skip",
+    )
+
+
 def _xyz(points: np.ndarray) -> dict:
     pts = _f32(points)
     return {"x": pts[:, 0], "y": pts[:, 1], "z": pts[:, 2]}
@@ -441,6 +796,7 @@ def viewer_figure(
     title: str | None = None,
     view=None,
     pattern_offsets=None,
+    sheets=None,
 ) -> go.Figure:
     """Interactive 3D figure of a model along its deployment path, with slider and toggles.
 
@@ -449,14 +805,18 @@ def viewer_figure(
     ``z = 0``) and the axis ranges are fixed over all states, so the view does not jump. The cut
     patterns (hidden at first) lie on the ground behind the structure (+y, so that the
     structure stands in front of them, large), in the compact columns of
-    :func:`cut_pattern_layout` (or at ``pattern_offsets``), none overlapping another; showing
-    them widens the box to include them. A read-out under the scene gives α, span, rise and
-    plate length of the state shown (:func:`compas_ccu.key_figures.state_figures`).
+    :func:`cut_pattern_layout` (or at ``pattern_offsets``), none overlapping another; or, with
+    ``sheets``, the fabrication's sheets with every part at its nested place, beside and behind
+    the structure. Showing them widens the box to include them. A read-out under the scene
+    gives α, span, rise and plate length of the state shown
+    (:func:`compas_ccu.key_figures.state_figures`).
 
     Traces, in order: plates (Mesh3d, two triangles per quad, alternating plate tones), plate
     edges (free boundaries and plate ends, thin dark lines), one crease trace per kind present
     (wide, coloured and labelled by kind), rulings (at most 32 per plate), then the cut patterns
-    (fill, outlines, creases by kind, rulings, plate ids). Every trace carries ``legendgroup``
+    (fill, outlines, creases by kind, rulings, plate ids; with ``sheets``: the parts' fill,
+    boards, sheet edges, part outlines, creases by kind, score lines and splice marks if any,
+    part names, sheet numbers). Every trace carries ``legendgroup``
     ``"plates"``, ``"creases"``, ``"rulings"`` or ``"cut"``; the animation frames update the
     coordinates of the structure's traces only. *Play* runs the whole path from α = 0.
 
@@ -474,8 +834,16 @@ def viewer_figure(
         ``front``, ``side``, ``top``, ...) or ``"azimuth,elevation"``; default a perspective
         from the front right.
     pattern_offsets : (p, 2) float, optional
-        Where the cut patterns lie (translations of the flat-folded stack's plates), e.g. a
-        sheet nesting; default :func:`cut_pattern_layout`.
+        Where the cut patterns lie (translations of the flat-folded stack's plates); default
+        :func:`cut_pattern_layout`.
+    sheets : WorkshopPlan or dict, optional
+        The fabrication's nesting: a ``compas_ccu.fabrication.workshop.WorkshopPlan`` or its
+        ``layout()`` (the ``sheets.json`` of a ``ccu fabricate`` folder:
+        :func:`compas_ccu.viz.record.read_sheets`). The cut patterns are then the sheets: every
+        sheet (its board and edge, "sheet k · utilisation") in a grid around the structure
+        (:func:`sheet_grid_layout`), every part at exactly its nested place (float64, the
+        placement of the sheet DXFs), filled in its plate's tone, with its crease edges by
+        kind, its score lines and splice marks if any, and its name.
 
     Returns
     -------
@@ -487,7 +855,8 @@ def viewer_figure(
     ------
     compas_ccu.errors.OptionError
         ``steps`` is not an integer >= 1 or ``alpha`` is not a finite angle > 0 (the message
-        names the value).
+        names the value); ``sheets`` is no nesting, or one of another design or other plates
+        (:func:`sheet_document`), or is given with ``pattern_offsets``.
     compas_ccu.errors.DeploymentLimitError, compas_ccu.errors.SelfIntersectionError
         ``alpha`` is beyond the deployment limit, or a crease overlaps itself on the way.
 
@@ -502,6 +871,12 @@ def viewer_figure(
     import plotly.graph_objects as go
 
     target = _check_arguments(model, steps, alpha)
+    doc = None
+    if sheets is not None:  # checked before the path is computed
+        if pattern_offsets is not None:
+            raise OptionError("give sheets or pattern_offsets, not both")
+        name = getattr(model.design, "name", None)
+        doc = sheet_document(sheets, model.plate_ids, design=name)
     alphas = np.linspace(0.0, target, int(steps) + 1)
     structures = model.path(alphas)
     scenes = [scene_from_structure(s, ground=True) for s in structures]
@@ -522,29 +897,39 @@ def viewer_figure(
     lo, hi = allv.min(axis=0), allv.max(axis=0)
     size = float(np.linalg.norm(hi - lo))
     fv = flat.vertices
-    if pattern_offsets is None:
-        beside = (float(hi[0] - lo[0]), float(hi[1] - lo[1]))
-        pattern_offsets = cut_pattern_layout(fv, n, gap=0.02 * size, beside=beside)
-    pattern_offsets = np.asarray(pattern_offsets, dtype=float)
-    if pattern_offsets.shape != (p, 2):
-        raise OptionError(
-            f"pattern_offsets must have shape {(p, 2)} (one translation per plate), got "
-            f"{pattern_offsets.shape}"
+    tones = [plate_tone(i) for i in range(p)]
+    if doc is None:
+        if pattern_offsets is None:
+            beside = (float(hi[0] - lo[0]), float(hi[1] - lo[1]))
+            pattern_offsets = cut_pattern_layout(fv, n, gap=0.02 * size, beside=beside)
+        pattern_offsets = np.asarray(pattern_offsets, dtype=float)
+        if pattern_offsets.shape != (p, 2):
+            raise OptionError(
+                f"pattern_offsets must have shape {(p, 2)} (one translation per plate), got "
+                f"{pattern_offsets.shape}"
+            )
+        pattern = fv.copy()
+        pattern[..., :2] += pattern_offsets[:, None, :]
+        centre = 0.5 * (pattern[..., 0].min() + pattern[..., 0].max())
+        shift = np.array(
+            [0.5 * (lo[0] + hi[0]) - centre, hi[1] + 0.04 * size - pattern[..., 1].min(), 0.0]
         )
-    pattern = fv.copy()
-    pattern[..., :2] += pattern_offsets[:, None, :]
-    centre = 0.5 * (pattern[..., 0].min() + pattern[..., 0].max())
-    shift = np.array(
-        [0.5 * (lo[0] + hi[0]) - centre, hi[1] + 0.04 * size - pattern[..., 1].min(), 0.0]
-    )
-    pattern = pattern + shift
-    pattern[..., 2] = 0.0
+        pattern = pattern + shift
+        pattern[..., 2] = 0.0
+        extent = pattern.reshape(-1, 3)
+    else:
+        sizes = np.array([s["size"] for s in doc["sheets"]], dtype=float).reshape(-1, 2)
+        corners = sheet_grid_layout(sizes, gap=0.04 * size, structure=(lo[0], lo[1], hi[0], hi[1]))
+        sheet_kinds = {c.get("kind") for part in doc["parts"] for c in part.get("creases", [])}
+        cut_kinds = kinds + sorted(k for k in sheet_kinds if k and k not in kinds)
+        cut = _sheet_traces(doc, corners, 0.0, cut_kinds, tones)
+        ends = np.concatenate([corners, corners + sizes]) if len(sizes) else np.zeros((0, 2))
+        extent = np.c_[ends, np.zeros(len(ends))]
     struct_ranges, struct_ratio = _range(lo, hi)
-    plo = np.minimum(lo, pattern.reshape(-1, 3).min(axis=0))
-    phi = np.maximum(hi, pattern.reshape(-1, 3).max(axis=0))
+    plo = np.minimum(lo, extent.min(axis=0)) if len(extent) else lo
+    phi = np.maximum(hi, extent.max(axis=0)) if len(extent) else hi
     all_ranges, all_ratio = _range(plo, phi)
 
-    tones = [plate_tone(i) for i in range(p)]
     tri = _triangles(last.faces, v)
     facecolor = np.repeat(tones, 2 * n)
     plate_text = np.repeat([f"plate {pid}" for pid in last.plate_ids], v)
@@ -592,71 +977,72 @@ def viewer_figure(
     first[0].update(k=tri[:, 2].astype(np.int32), facecolor=facecolor)
     moving = list(range(len(first)))
 
-    # cut patterns (static, hidden at first)
-    cut = [
-        go.Mesh3d(
-            **_xyz(pattern.reshape(-1, 3) - np.array([0.0, 0.0, 1e-3 * size])),
-            i=tri[:, 0].astype(np.int32),
-            j=tri[:, 1].astype(np.int32),
-            k=tri[:, 2].astype(np.int32),
-            facecolor=facecolor,
-            flatshading=True,
-            lighting={"ambient": 0.95, "diffuse": 0.05, "specular": 0.0},
-            name="cut patterns",
-            legendgroup="cut",
-            showlegend=True,
-            text=np.char.add(plate_text, f" ({_PATTERN_TAG})"),
-            hovertemplate="%{text}<extra></extra>",
-        ),
-        _line_trace(
-            _polylines(pattern[:, _outline_index(n)]),
-            "cut outlines",
-            "cut",
-            EDGE_COLOR,
-            2,
-            legend=False,
-        ),
-    ]
-    index = {pid: i for i, pid in enumerate(structures[-1].plate_ids)}
-    for kind in kinds:
-        lines = []
-        for c in structures[-1].creases:
-            if c["kind"] == kind:
-                for plate, verts in zip(c["plates"], c["vertices"]):
-                    lines.append(pattern[index[plate], np.asarray(verts, dtype=int)])
-        cut.append(
+    # cut patterns (static, hidden at first): the compact layout, or the sheets built above
+    if doc is None:
+        cut = [
+            go.Mesh3d(
+                **_xyz(pattern.reshape(-1, 3) - np.array([0.0, 0.0, 1e-3 * size])),
+                i=tri[:, 0].astype(np.int32),
+                j=tri[:, 1].astype(np.int32),
+                k=tri[:, 2].astype(np.int32),
+                facecolor=facecolor,
+                flatshading=True,
+                lighting={"ambient": 0.95, "diffuse": 0.05, "specular": 0.0},
+                name="cut patterns",
+                legendgroup="cut",
+                showlegend=True,
+                text=np.char.add(plate_text, f" ({_PATTERN_TAG})"),
+                hovertemplate="%{text}<extra></extra>",
+            ),
             _line_trace(
-                _polylines(lines),
-                f"cut: {kind}",
+                _polylines(pattern[:, _outline_index(n)]),
+                "cut outlines",
                 "cut",
-                KIND_COLORS.get(kind, EDGE_COLOR),
-                5,
+                EDGE_COLOR,
+                2,
                 legend=False,
+            ),
+        ]
+        index = {pid: i for i, pid in enumerate(structures[-1].plate_ids)}
+        for kind in kinds:
+            lines = []
+            for c in structures[-1].creases:
+                if c["kind"] == kind:
+                    for plate, verts in zip(c["plates"], c["vertices"]):
+                        lines.append(pattern[index[plate], np.asarray(verts, dtype=int)])
+            cut.append(
+                _line_trace(
+                    _polylines(lines),
+                    f"cut: {kind}",
+                    "cut",
+                    KIND_COLORS.get(kind, EDGE_COLOR),
+                    5,
+                    legend=False,
+                )
             )
-        )
-    ends = plate_rulings(n)
-    prul = pattern[:, ends[rulings_at]]
-    mid = 0.5 * (pattern[:, ends[n // 2, 0]] + pattern[:, ends[n // 2, 1]])
-    cut += [
-        _line_trace(
-            _polylines(prul.reshape(-1, 2, 3)),
-            "cut rulings",
-            "cut",
-            RULING_COLOR,
-            1.5,
-            legend=False,
-        ),
-        go.Scatter3d(
-            **_xyz(mid),
-            mode="text",
-            text=[str(pid) for pid in last.plate_ids],
-            textfont={"size": 12, "color": _FONT},
-            name="plate ids",
-            legendgroup="cut",
-            showlegend=False,
-            hoverinfo="skip",
-        ),
-    ]
+        ends = plate_rulings(n)
+        prul = pattern[:, ends[rulings_at]]
+        mid = 0.5 * (pattern[:, ends[n // 2, 0]] + pattern[:, ends[n // 2, 1]])
+        cut += [
+            _line_trace(
+                _polylines(prul.reshape(-1, 2, 3)),
+                "cut rulings",
+                "cut",
+                RULING_COLOR,
+                1.5,
+                legend=False,
+            ),
+            go.Scatter3d(
+                **_xyz(mid),
+                mode="text",
+                text=[str(pid) for pid in last.plate_ids],
+                textfont={"size": 12, "color": _FONT},
+                name="plate ids",
+                legendgroup="cut",
+                showlegend=False,
+                hoverinfo="skip",
+            ),
+        ]
     for trace in cut:
         trace.visible = False
 
@@ -836,6 +1222,7 @@ def write_viewer(
     title: str | None = None,
     view=None,
     pattern_offsets=None,
+    sheets=None,
 ) -> Path:
     """Write the viewer of :func:`viewer_figure` as one self-contained, offline HTML page.
 
@@ -850,7 +1237,7 @@ def write_viewer(
     model : compas_ccu.model.CCUModel
     path : str or pathlib.Path
         The ``.html`` file to write (its folder is created).
-    steps, alpha, title, view, pattern_offsets
+    steps, alpha, title, view, pattern_offsets, sheets
         As in :func:`viewer_figure`.
 
     Returns
@@ -868,7 +1255,13 @@ def write_viewer(
     (True, False)
     """
     fig = viewer_figure(
-        model, steps=steps, alpha=alpha, title=title, view=view, pattern_offsets=pattern_offsets
+        model,
+        steps=steps,
+        alpha=alpha,
+        title=title,
+        view=view,
+        pattern_offsets=pattern_offsets,
+        sheets=sheets,
     )
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
