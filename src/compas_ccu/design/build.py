@@ -32,6 +32,7 @@ from compas_ccu.design.layouts import (
     plane_layout,
     planes_from_heights,
 )
+from compas_ccu.design.patterns import check_patterns, pattern_chain
 from compas_ccu.design.targets import TargetFit, solve_plane, targets_from_values
 from compas_ccu.errors import DesignError, GeometryError, ProfileError
 from compas_ccu.geometry import reflect, unit
@@ -186,6 +187,13 @@ def build(design) -> DesignGeometry:
                 CreaseLink(1, "near", 3, "ccf", True, (0.0, 0.0, 1.0)),
             ]
         plate_ids = list(range(len(nears)))
+    elif layout.type == "patterns":
+        ends = np.asarray(rulings.points) * np.array([1.0, flip])
+        far0 = near0 + np.linalg.norm(ends - local, axis=1)[:, None] * pattern_rulings(
+            rulings, local, flip
+        )
+        chain = pattern_chain(layout.patterns, near0, far0, layout.leading)
+        nears, fars, links, creases, plate_ids = chain
     else:
         layout_values = layout.to_dict()
         r = design_rulings(rulings, local, alpha, reference, flip)
@@ -218,6 +226,12 @@ def build(design) -> DesignGeometry:
         for intr, (p, b, rel, c) in zip(intrinsics, links)
     ]
     mechanism = Mechanism(leading, plates, creases)
+    if layout.type == "patterns":
+        # the design state is the flat-folded stack the mechanism places (every plate's
+        # pattern checked against the plate attached)
+        st = mechanism.place(0.0)
+        check_patterns(chain, st.near[0], st.far[0])
+        design_near, design_far = st.near[0], st.far[0]
     if state == "deployed" and alpha > mechanism.alpha_limit:  # pragma: no cover - guard
         raise GeometryError("design alpha beyond the deployment limit of its own pattern")
     return DesignGeometry(
