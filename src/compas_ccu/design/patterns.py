@@ -90,8 +90,8 @@ def pattern_chain(patterns: list, near0, far0, leading_id) -> PatternChain:
     Raises
     ------
     DesignError
-        A parent that is not an earlier plate, a first pattern that is not the leading plate's
-        partner (parent 0, boundary 'near'), a boundary that already holds a crease, a row of
+        A parent that is not an earlier plate, no leading plate's partner (parent 0, boundary
+        'near'), a boundary that already holds a crease, a row of
         another number of points than the leading crease, a crease row whose segments differ
         from the parent's boundary row, ids that are not 0 ... p - 1 once each. The key is
         ``layout.patterns[i].KEY``.
@@ -104,12 +104,6 @@ def pattern_chain(patterns: list, near0, far0, leading_id) -> PatternChain:
     for i, table in enumerate(patterns):
         at, k = f"{KEY}[{i}]", i + 1
         parent, boundary = table["parent"], table["boundary"]
-        if i == 0 and (parent, boundary) != (0, "near"):
-            raise DesignError(
-                "the first pattern is the leading plate's partner across the leading crease: "
-                f"parent = 0, boundary = 'near', got parent = {parent}, boundary = {boundary!r}",
-                key=at,
-            )
         if parent >= k:
             raise DesignError(
                 f"must be an earlier plate, 0 (the leading plate) ... {k - 1} (pattern "
@@ -153,7 +147,14 @@ def pattern_chain(patterns: list, near0, far0, leading_id) -> PatternChain:
         nears.append(np.c_[near, zeros])
         fars.append(np.c_[far, zeros])
         links.append((parent, boundary, "ccu", i))
-        creases.append(CreaseLink(parent, boundary, k, "ccu", i == 0, (0.0, 0.0, 1.0)))
+        leading = (parent, boundary) == (0, "near")  # the leading crease: its plane is fixed
+        creases.append(CreaseLink(parent, boundary, k, "ccu", leading, (0.0, 0.0, 1.0)))
+    if (0, "near") not in taken:
+        raise DesignError(
+            "no pattern is the leading plate's partner across the leading crease (parent = 0, "
+            "boundary = 'near'): a CCU structure mirrors the leading plate there",
+            key=KEY,
+        )
     return PatternChain(nears, fars, links, creases, _plate_ids(patterns, leading_id))
 
 

@@ -354,9 +354,9 @@ SCHEMA: dict = {
             "near = [[x, y], ...] the plate's crease row (one point per crease vertex, in the "
             "order of the parent's row: the rulings of both plates meet the crease at the same "
             "points), far = [[x, y], ...] the far end of every ruling, in the plate's own cut "
-            "pattern coordinates, m; id = its plate id (optional). The first pattern is the "
+            "pattern coordinates, m; id = its plate id (optional). One pattern is the "
             "leading plate's partner across the leading crease (parent = 0, boundary = "
-            "'near'). Every plate is attached as the mechanism attaches plates: the mirror "
+            "'near'; `ccu import` writes it first). Every plate is attached as the mechanism attaches plates: the mirror "
             "image of the parent's rulings across the crease's plane, with its own ruling "
             "lengths; its pattern must be that mirror image (segment lengths, ruling lengths "
             "and angles to 1e-6 of the plate's size).",
