@@ -358,8 +358,8 @@ SCHEMA: dict = {
             "leading plate's partner across the leading crease (parent = 0, boundary = "
             "'near'; `ccu import` writes it first). Every plate is attached as the mechanism "
             "attaches plates: the mirror image of the parent's rulings across the crease's "
-            "plane, with its own ruling lengths; its pattern must be that mirror image (segment lengths, ruling lengths "
-            "and angles to 1e-6 of the plate's size).",
+            "plane, with its own ruling lengths; its pattern must be that mirror image "
+            "(segment lengths, ruling lengths and angles to 1e-6 of the plate's size).",
             when="patterns",
         ),
     },
