@@ -15,14 +15,14 @@ or drawn by hand to the same convention (docs/import.md), is read back:
     The two end rulings are the outline's edges at the crease's ends.
 
 The crease vertices are the crease's end points and the rulings' feet on it, in order along it;
-the ruling ends are the rulings' far end points. :func:`import_design` turns one crease and its
-two plates into a ``state = "flat"`` design with ``explicit`` rulings, the design
-:func:`compas_ccu.model.flat_design` writes. That is what a design file can say about a cut
-pattern: one crease, its leading plate and the leading plate's mirror partner. So the partner
-must be the leading plate's mirror image (same crease, same rulings), and a multi-crease
-structure is imported into a design file one crease pair at a time (docs/import.md says why);
-:func:`import_structure` joins every plate of the folder into one mechanism that deploys the
-whole structure.
+the ruling ends are the rulings' far end points. :func:`import_structure` joins every plate of
+the folder into one mechanism that deploys the whole structure, and writes it as a design
+document (``ccu import``): the leading plate as a ``state = "flat"`` design with ``explicit``
+rulings, every other plate as a ``[[layout.patterns]]`` table (its cut pattern, its parent and
+the parent's boundary it hangs from; :mod:`compas_ccu.design.patterns`).
+:func:`import_design` turns one crease and its two plates into a single-crease design, the one
+:func:`compas_ccu.model.flat_design` writes (``ccu import --leading-pair-only``); there the
+partner must be the leading plate's mirror image (same crease, same rulings).
 
 Inconsistent drawings are refused before anything is written, the error naming the plate file
 and the entity (DXF handle): a missing layer, a ruling that does not start on the crease or
