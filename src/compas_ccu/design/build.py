@@ -8,6 +8,9 @@ profile's y coordinate (``flip = -1``) in and out of the local frame.
 Multi-crease construction (docs/kinematics.md, paper §5.1): the rulings of a plate are trimmed at
 the next crease plane, and the next plate is the mirror image of those ruling lines across that
 plane, trimmed at the plane after it. At the design state every crease is planar by construction.
+
+Layout ``patterns`` (:mod:`compas_ccu.design.patterns`) gives every plate by its cut pattern:
+the mechanism attaches them as above, and the design state is the flat-folded stack it places.
 """
 
 from __future__ import annotations
