@@ -72,7 +72,33 @@ BROKEN = {
     ("rulings.points", "state"): (
         _doc(rulings={"type": "explicit", "points": [[0, 1], [1, 1], [2, 1]]}),
         r"rulings\.points: explicit rulings describe a cut pattern: they need crease\.state = "
-        r"'flat' and layout type 'single', got state 'deployed' and layout 'single'",
+        r"'flat' and layout type 'single' or 'patterns', got state 'deployed' and layout 'single'",
+    ),
+    ("layout.type", "patterns"): (
+        _doc(
+            layout={
+                "type": "patterns",
+                "patterns": [
+                    {
+                        "parent": 0,
+                        "boundary": "near",
+                        "near": [[0, 0], [1, 0]],
+                        "far": [[0, 1], [1, 1]],
+                    }
+                ],
+            },
+        ),  # fmt: skip
+        r"layout\.type: layout 'patterns' lists cut patterns: the leading plate is one too, so "
+        r"it needs rulings\.type = 'explicit' and crease\.state = 'flat', got rulings "
+        r"'orthogonal' and state 'deployed'",
+    ),
+    ("layout.patterns", "patterns"): (
+        _doc(
+            crease={"state": "flat"},
+            rulings={"type": "explicit", "points": [[0, 1], [1, 1], [2, 1]]},
+            layout={"type": "patterns"},
+        ),
+        r"layout\.patterns: required for layout type 'patterns'",
     ),
     ("[target]", "layout"): (
         _doc(target={"apex": [[0.0, 1.0], [1.0, 1.2]]}),

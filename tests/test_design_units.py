@@ -55,12 +55,20 @@ def test_the_length_keys_are_the_expected_ones():
         "plates.thickness", "plates.hinge_width", "loads.concrete_thickness", "plane.origin",
         "fabrication.sheets", "fabrication.kerf", "fabrication.tool_diameter",
         "fabrication.bridge", "fabrication.margin", "fabrication.splice_width",
-        "fabrication.roll_width",
+        "fabrication.roll_width", "layout.patterns",
     }  # fmt: skip
 
 
 @pytest.mark.parametrize("section, name, key", length_keys(), ids=lambda v: str(v)[:20])
 def test_every_length_key_is_converted_to_metres(section, name, key):
+    if key.kind == "patterns":  # the point rows of every table
+        table = {"parent": 0, "boundary": "near", "near": [[0.0, 0.0], [500.0, 250.0]]}
+        value = _coerce(section, name, key, [{**table, "far": [[0.0, 100.0], [5.0, 0.0]]}], "mm")
+        assert value == [
+            {"parent": 0, "boundary": "near", "near": [[0.0, 0.0], [0.5, 0.25]],
+             "far": [[0.0, 0.1], [0.005, 0.0]], "id": None}
+        ]  # fmt: skip
+        return
     given, metres = ROWS[name] if key.kind == "rows" else SAMPLES[key.kind]
     value = _coerce(section, name, key, given, "mm")
     assert np.allclose(value, metres, rtol=1e-15, atol=0.0)

@@ -212,8 +212,9 @@ def test_undoing_that_does_not_converge_is_refused(inclined3, monkeypatch):
 def test_cli_import_undoes_or_takes_the_patterns_as_drawn(inclined3, tmp_path, capsys):
     """``ccu import`` undoes the correction: the leading plate's ruling ends move out by the
     correction of its far crease (7.45e-5 m), its crease (the leading one) does not move.
-    ``--as-drawn`` takes the drawn patterns, in which the partner (its far edge free, not
-    corrected) is no longer the leading plate's mirror image: refused, nothing written."""
+    ``--as-drawn`` takes the drawn patterns: the whole structure is written; of the leading
+    pair alone (``--leading-pair-only``) the partner (its far edge free, not corrected) is no
+    longer the leading plate's mirror image: refused, nothing written."""
     model, folder = inclined3
     crease = str(leading_crease(model, folder))
     undone, drawn = tmp_path / "undone.toml", tmp_path / "drawn.toml"
@@ -222,12 +223,16 @@ def test_cli_import_undoes_or_takes_the_patterns_as_drawn(inclined3, tmp_path, c
     assert "the thickness correction of 8 mm plates undone (up to 0.0745 mm, 2 iterations)" in out
     assert "# the thickness correction of 8 mm plates undone" in undone.read_text(encoding="utf-8")
     design = load_design(undone)
+    assert design.layout.type == "patterns" and len(design.layout.patterns) == 2
     as_drawn = import_structure(folder, crease=crease, as_drawn=True).design
     moved = np.linalg.norm(np.subtract(design.rulings.points, as_drawn.rulings.points), axis=1)
     assert 7.4e-5 < moved.max() < 7.5e-5
     assert np.abs(np.subtract(design.crease.points, as_drawn.crease.points)).max() < 1e-12
     argv = ["import", str(folder), "--crease", crease, "--out", str(drawn), "--as-drawn"]
-    assert main(argv) == 2 and not drawn.exists()
+    assert main(argv) == 0 and load_design(drawn).layout.type == "patterns"
+    capsys.readouterr()
+    argv += ["--leading-pair-only", "--force"]
+    assert main(argv) == 2
     assert re.search(
         r"plate_\d.dxf RULING_SCORE #\w+ \(end ruling\): the ruling at crease vertex \d+ is "
         r"0.157603132 m long, its partner in plate_\d.dxf 0.157528644 m",

@@ -10,9 +10,10 @@ from compas_ccu.cli.common import FAB, load_model, need_extra, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.design import load_design
+from compas_ccu.design.writer import design_toml
 from compas_ccu.errors import OptionError
 from compas_ccu.fabrication.fabricate import fabricate as write_fabrication
-from compas_ccu.fabrication.importing import design_toml, import_design
+from compas_ccu.fabrication.importing import import_design, import_structure
 from compas_ccu.fabrication.workshop import WorkshopOptions
 from compas_ccu.key_figures.text import rows_lines, workshop_rows
 from compas_ccu.model import CCUModel
@@ -76,6 +77,15 @@ def workshop_lines(manifest: dict) -> list:
     return rows_lines(workshop_rows(manifest))
 
 
+def _correction_text(undone) -> str:
+    if undone is None:
+        return "the patterns as drawn"
+    return (
+        f"the thickness correction of {undone['thickness'] * 1e3:g} mm plates undone "
+        f"(up to {undone['largest'] * 1e3:.3g} mm, {undone['iterations']} iterations)"
+    )
+
+
 def import_plates(args) -> int:
     need_extra("import", "fab", ("ezdxf",))
     target = Path(args.toml)
@@ -83,8 +93,7 @@ def import_plates(args) -> int:
         raise OptionError(f"--out must name a design file ending in .toml, got {str(target)!r}")
     if target.exists() and not args.force:
         raise OptionError(f"{str(target)!r} exists; give --force to overwrite it")
-    document, report = import_design(
-        args.folder,
+    options = dict(
         crease=args.crease,
         alpha=args.alpha,
         reference=args.reference,
@@ -92,19 +101,26 @@ def import_plates(args) -> int:
         units=args.units,
         as_drawn=args.as_drawn,
     )
-    undone = report["thickness_correction"]
-    correction = (
-        "the patterns as drawn"
-        if undone is None
-        else f"the thickness correction of {undone['thickness'] * 1e3:g} mm plates undone "
-        f"(up to {undone['largest'] * 1e3:.3g} mm, {undone['iterations']} iterations)"
-    )
-    header = (
-        f"Imported by `ccu import` from the plate files in {args.folder}:\n"
-        f"{report['crease']}, leading plate {report['leading']}, partner {report['partner']} "
-        f"(its mirror image to {report['partner_error']:.2g}), {report['segments']} segments;\n"
-        f"{correction}."
-    )
+    if args.leading_pair_only:
+        document, report = import_design(args.folder, **options)
+        correction = _correction_text(report["thickness_correction"])
+        header = (
+            f"Imported by `ccu import --leading-pair-only` from the plate files in "
+            f"{args.folder}:\n{report['crease']}, leading plate {report['leading']}, partner "
+            f"{report['partner']} (its mirror image to {report['partner_error']:.2g}), "
+            f"{report['segments']} segments;\n{correction}."
+        )
+    else:
+        imported = import_structure(args.folder, **options)
+        document, report = imported.document, imported.report
+        correction = _correction_text(report["thickness_correction"])
+        ids = "the plate ids of the files" if report["ids_written"] else "plate ids 0, 1, ..."
+        header = (
+            f"Imported by `ccu import` from the plate files in {args.folder}:\n"
+            f"{len(report['attached'])} plates, leading {report['crease']} ({report['leading']},"
+            f" partner {report['partner']}), {report['segments']} segments, {ids};\n"
+            f"{correction}."
+        )
     text = design_toml(document, header=header)
     target.parent.mkdir(parents=True, exist_ok=True)
     partial = target.with_name(target.name + ".part")
@@ -117,11 +133,19 @@ def import_plates(args) -> int:
         raise
     partial.replace(target)
     say(args, f"{len(report['plates'])} plate files, creases: {', '.join(report['pairs'])}")
-    say(
-        args,
-        f"{report['crease']}: {report['leading']} (leading) and {report['partner']}, "
-        f"{report['segments']} segments; deployed to alpha = {structure.alpha:g} deg",
-    )
+    if args.leading_pair_only:
+        say(
+            args,
+            f"{report['crease']}: {report['leading']} (leading) and {report['partner']}, "
+            f"{report['segments']} segments; deployed to alpha = {structure.alpha:g} deg",
+        )
+    else:
+        say(
+            args,
+            f"{len(report['attached'])} plates joined from {report['crease']} "
+            f"({report['leading']} leading, {report['partner']} its partner), "
+            f"{report['segments']} segments; deployed to alpha = {structure.alpha:g} deg",
+        )
     say(args, correction)
     say(args, f"wrote {target}")
     return 0
@@ -181,16 +205,28 @@ COMMANDS = (
         "rebuild a design from plate DXFs (the reverse of fabricate)",
         "Read a folder of plate cut files (layers CUT, CREASE, RULING_SCORE; as ccu fabricate "
         "writes them or drawn by hand to the same convention, docs/import.md) and write the "
-        "design of one crease pair: the leading plate's crease polyline and ruling ends, "
-        'crease.state = "flat", rulings.type = "explicit". Inconsistent drawings (missing '
-        "layers, crossing rulings, partner creases of different length) are refused, naming "
-        "the plate file and the entity. With fabrication.json's plate thickness, the thickness "
-        "correction of the cut patterns is undone (--as-drawn: not). The design is deployed "
-        "once before it is written.",
+        "design of the whole structure: the leading plate's crease polyline and ruling ends "
+        '(crease.state = "flat", rulings.type = "explicit") and every other plate\'s cut '
+        'pattern and where it attaches (layout.type = "patterns"); --leading-pair-only writes '
+        "the leading crease pair alone (a single-crease design). The leading crease is "
+        "--crease, else fabrication.json's leading_crease, else the middle one. Inconsistent "
+        "drawings (missing layers, crossing rulings, partner creases of different length) are "
+        "refused, naming the plate file and the entity. With fabrication.json's plate "
+        "thickness, the thickness correction of the cut patterns is undone (--as-drawn: not). "
+        "The design is deployed once before it is written.",
         (
             option("folder", help="folder of plate DXFs (ccu fabricate's output folder)"),
             option("--out", dest="toml", required=True, help="design TOML file to write"),
-            option("--crease", default=None, help="crease id (or a plate file) to import"),
+            option(
+                "--crease",
+                default=None,
+                help="the leading crease: crease id (or a plate file)",
+            ),
+            option(
+                "--leading-pair-only",
+                action="store_true",
+                help="write the leading crease pair alone (layout single), not the structure",
+            ),
             option(
                 "--alpha",
                 type=float,

@@ -8,6 +8,9 @@ profile's y coordinate (``flip = -1``) in and out of the local frame.
 Multi-crease construction (docs/kinematics.md, paper §5.1): the rulings of a plate are trimmed at
 the next crease plane, and the next plate is the mirror image of those ruling lines across that
 plane, trimmed at the plane after it. At the design state every crease is planar by construction.
+
+Layout ``patterns`` (:mod:`compas_ccu.design.patterns`) gives every plate by its cut pattern:
+the mechanism attaches them as above, and the design state is the flat-folded stack it places.
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from compas_ccu.design.layouts import (
     plane_layout,
     planes_from_heights,
 )
+from compas_ccu.design.patterns import check_patterns, pattern_chain
 from compas_ccu.design.targets import TargetFit, solve_plane, targets_from_values
 from compas_ccu.errors import DesignError, GeometryError, ProfileError
 from compas_ccu.geometry import reflect, unit
@@ -186,6 +190,13 @@ def build(design) -> DesignGeometry:
                 CreaseLink(1, "near", 3, "ccf", True, (0.0, 0.0, 1.0)),
             ]
         plate_ids = list(range(len(nears)))
+    elif layout.type == "patterns":
+        ends = np.asarray(rulings.points) * np.array([1.0, flip])
+        far0 = near0 + np.linalg.norm(ends - local, axis=1)[:, None] * pattern_rulings(
+            rulings, local, flip
+        )
+        chain = pattern_chain(layout.patterns, near0, far0, layout.leading)
+        nears, fars, links, creases, plate_ids = chain
     else:
         layout_values = layout.to_dict()
         r = design_rulings(rulings, local, alpha, reference, flip)
@@ -218,6 +229,12 @@ def build(design) -> DesignGeometry:
         for intr, (p, b, rel, c) in zip(intrinsics, links)
     ]
     mechanism = Mechanism(leading, plates, creases)
+    if layout.type == "patterns":
+        # the design state is the flat-folded stack the mechanism places (every plate's
+        # pattern checked against the plate attached)
+        st = mechanism.place(0.0)
+        check_patterns(chain, st.near[0], st.far[0])
+        design_near, design_far = st.near[0], st.far[0]
     if state == "deployed" and alpha > mechanism.alpha_limit:  # pragma: no cover - guard
         raise GeometryError("design alpha beyond the deployment limit of its own pattern")
     return DesignGeometry(

@@ -14,6 +14,8 @@ from compas_ccu.materials import GAMMA_M, MATERIALS
 __all__ = ["Rule", "RULES", "MULTI_CREASE", "plate_material_kind"]
 
 MULTI_CREASE = ("parallel", "inclined", "radial")
+#: The layouts that give their plates by their cut patterns (explicit rulings).
+CUT_PATTERN = ("single", "patterns")
 
 
 @dataclass(frozen=True)
@@ -93,15 +95,27 @@ RULES = (
     _required("rulings", "points", "type 'explicit'", _ruling_type("explicit")),
     Rule(
         "rulings.points",
-        "explicit rulings need crease.state = 'flat' and layout type 'single'",
+        "explicit rulings need crease.state = 'flat' and layout type 'single' or 'patterns'",
         _ruling_type("explicit"),
-        lambda v: v["crease"]["state"] == "flat" and v["layout"]["type"] == "single",
+        lambda v: v["crease"]["state"] == "flat" and v["layout"]["type"] in CUT_PATTERN,
         lambda v: (
             "explicit rulings describe a cut pattern: they need crease.state = 'flat' and "
-            f"layout type 'single', got state {v['crease']['state']!r} and layout "
-            f"{v['layout']['type']!r}"
+            f"layout type 'single' or 'patterns', got state {v['crease']['state']!r} and "
+            f"layout {v['layout']['type']!r}"
         ),
     ),
+    Rule(
+        "layout.type",
+        "layout type 'patterns' needs rulings.type = 'explicit' and crease.state = 'flat'",
+        _layout_type("patterns"),
+        lambda v: v["rulings"]["type"] == "explicit" and v["crease"]["state"] == "flat",
+        lambda v: (
+            "layout 'patterns' lists cut patterns: the leading plate is one too, so it needs "
+            "rulings.type = 'explicit' and crease.state = 'flat', got rulings "
+            f"{v['rulings']['type']!r} and state {v['crease']['state']!r}"
+        ),
+    ),
+    _required("layout", "patterns", "layout type 'patterns'", _layout_type("patterns")),
     Rule(
         "[target]",
         "target curves need layout type 'parallel' or 'inclined'",

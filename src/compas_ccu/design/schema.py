@@ -40,7 +40,8 @@ class Key:
     """One design-file key."""
 
     kind: str  # "float", "int", "str", "bool", "point2", "point3", "points2", "polyline2",
-    # "sizes2" (one or more [x, y] pairs), "float_or_list", "gamma"
+    # "sizes2" (one or more [x, y] pairs), "float_or_list", "gamma", "patterns" (an array of
+    # tables of PATTERN_KEYS)
     doc: str
     default: Any = None
     required: bool = False
@@ -214,8 +215,8 @@ SCHEMA: dict = {
             "points2",
             "Far end [x, y] of the ruling at every crease vertex, in the cut pattern (one "
             "point per vertex); the plate lies on their side of the crease and 'side' is "
-            "ignored. Only with crease.state = 'flat' and layout type 'single' (the plate "
-            "width is given by the points).",
+            "ignored. Only with crease.state = 'flat' and layout type 'single' or 'patterns' "
+            "(the plate width is given by the points).",
             when="explicit",
         ),
         "apex": Key("point2", "Apex [x, y] that all ruling lines pass through.", when="conical"),
@@ -256,9 +257,13 @@ SCHEMA: dict = {
             "distances above the crease's start, reference and end vertex, i.e. inclined about "
             "the actuation rotation axis (Fig. 11) and perpendicular to it (Fig. 12a); "
             "'radial': crease planes through one axis parallel to the profile y axis, for "
-            "corrugated domes and funnel columns (Fig. 12b, c). See docs/shape-control.md.",
+            "corrugated domes and funnel columns (Fig. 12b, c). See docs/shape-control.md. "
+            "'patterns': the cut patterns of a whole structure, as `ccu import` writes a "
+            "folder of plate files: the leading plate as [crease] and [rulings] give it "
+            "(state = 'flat', explicit rulings) and every other plate by its cut pattern "
+            "(patterns, docs/import.md).",
             default="single",
-            choices=("single", "parallel", "inclined", "radial"),
+            choices=("single", "parallel", "inclined", "radial", "patterns"),
         ),
         "width": Key(
             "float",
@@ -334,10 +339,28 @@ SCHEMA: dict = {
         "leading": Key(
             "int",
             "Index of the plane (0 ... plates) that holds the leading crease; "
-            "default: the middle plane.",
+            "default: the middle plane. For 'patterns': the id of the leading plate (with an "
+            "id for every pattern; default 0, the patterns 1, 2, ... in order).",
             check=lambda v: v >= 0,
             check_doc=">= 0",
-            when="parallel, inclined, radial",
+            when="parallel, inclined, radial, patterns",
+        ),
+        "patterns": Key(
+            "patterns",
+            "The plates other than the leading one, in mechanism order, one table each "
+            "([[layout.patterns]]): parent = the index of the plate it hangs from (0 the "
+            "leading plate, k the k-th pattern; an earlier one), boundary = which boundary of "
+            "the parent is the shared crease ('near': its crease row, 'far': its ruling ends), "
+            "near = [[x, y], ...] the plate's crease row (one point per crease vertex, in the "
+            "order of the parent's row: the rulings of both plates meet the crease at the same "
+            "points), far = [[x, y], ...] the far end of every ruling, in the plate's own cut "
+            "pattern coordinates, m; id = its plate id (optional). One pattern is the "
+            "leading plate's partner across the leading crease (parent = 0, boundary = "
+            "'near'; `ccu import` writes it first). Every plate is attached as the mechanism "
+            "attaches plates: the mirror image of the parent's rulings across the crease's "
+            "plane, with its own ruling lengths; its pattern must be that mirror image "
+            "(segment lengths, ruling lengths and angles to 1e-6 of the plate's size).",
+            when="patterns",
         ),
     },
     "target": {
@@ -755,7 +778,7 @@ _UNITS = {
     "deployment": {"alpha": "deg"},
     "layout": {
         "width": "m", "ccf_width": "m", "plates": "1", "spacing": "m", "spacing_start": "m",
-        "spacing_end": "m", "angle": "deg", "axis": "m", "leading": "1",
+        "spacing_end": "m", "angle": "deg", "axis": "m", "leading": "1", "patterns": "m",
     },
     "target": {"apex": "m", "support": "m", "support_end": "m"},
     "plates": {"thickness": "m", "grain": "deg", "hinge_width": "m"},
@@ -984,6 +1007,83 @@ def _curve_file(where: str, value) -> dict:
     return {k: table.get(k, 1.0 if k == "scale" else None) for k in CURVE_FILE_KEYS}
 
 
+#: The keys of one ``[[layout.patterns]]`` table: (required, documentation).
+PATTERN_KEYS = {
+    "parent": (True, "index of the plate it hangs from (0: the leading plate)"),
+    "boundary": (True, "'near' or 'far': the parent's boundary that is the shared crease"),
+    "near": (True, "[[x, y], ...]: the crease row, in the parent's row order"),
+    "far": (True, "[[x, y], ...]: the far end of every ruling"),
+    "id": (False, "the plate id"),
+}
+
+
+def _patterns(where: str, value) -> list:
+    """The ``[[layout.patterns]]`` tables, each checked on its own (types, at least two
+    points, finite numbers); how they fit together is checked when the design is built
+    (:mod:`compas_ccu.design.patterns`)."""
+    if not isinstance(value, list) or not value:
+        raise DesignError(
+            f"must be a non-empty array of tables [[layout.patterns]], got {_short(value)}",
+            key=where,
+        )
+    out = []
+    for i, table in enumerate(value):
+        at = f"{where}[{i}]"
+        if not isinstance(table, dict):
+            raise DesignError(f"must be a table (parent, boundary, near, far, id), got "
+                              f"{_short(table)}", key=at)  # fmt: skip
+        for k in table:
+            if k not in PATTERN_KEYS:
+                raise DesignError(
+                    f"unknown key; allowed in a pattern: {', '.join(PATTERN_KEYS)}",
+                    key=f"{at}.{k}",
+                )
+        for k, (required, doc) in PATTERN_KEYS.items():
+            if required and k not in table:
+                raise DesignError(f"missing required key ({doc})", key=f"{at}.{k}")
+        for k in ("parent", "id"):
+            v = table.get(k, 0)
+            if not isinstance(v, int) or isinstance(v, bool) or v < 0:
+                raise DesignError(f"must be an integer >= 0, got {_short(v)}", key=f"{at}.{k}")
+        if table["boundary"] not in ("near", "far"):
+            raise DesignError(
+                f"must be 'near' or 'far', got {_short(table['boundary'])}", key=f"{at}.boundary"
+            )
+        rows = {}
+        for k in ("near", "far"):
+            v = table[k]
+            ok = isinstance(v, list) and all(
+                isinstance(p, list) and len(p) == 2 and all(map(_is_number, p)) for p in v
+            )
+            if not ok:
+                raise DesignError(
+                    f"must be a list of [x, y] pairs of finite numbers, got {_short(v)}",
+                    key=f"{at}.{k}",
+                )
+            if len(v) < 2:
+                raise DesignError(
+                    f"needs at least 2 points (one per crease vertex), got {len(v)}",
+                    key=f"{at}.{k}",
+                )
+            rows[k] = [[float(x), float(y)] for x, y in v]
+        if len(rows["near"]) != len(rows["far"]):
+            raise DesignError(
+                f"{len(rows['far'])} ruling ends for {len(rows['near'])} crease points: one "
+                "far end per crease vertex",
+                key=f"{at}.far",
+            )
+        out.append(
+            {
+                "parent": table["parent"],
+                "boundary": table["boundary"],
+                "near": rows["near"],
+                "far": rows["far"],
+                "id": table.get("id"),
+            }
+        )
+    return out
+
+
 def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS):
     where = f"{section}.{name}"
     # the value as the message shows it: a number of a float key as a float (-1 -> -1.0)
@@ -1035,6 +1135,8 @@ def _coerce(section: str, name: str, key: Key, value, units: str = DEFAULT_UNITS
         if not ok or not value:
             fail(f"must be a non-empty list of rows of {key.columns} numbers")
         value = [[float(v) for v in p] for p in value]
+    elif key.kind == "patterns":
+        value = _patterns(where, value)
     elif key.kind == "float_or_list":
         if _is_number(value):
             value = float(value)

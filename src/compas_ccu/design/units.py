@@ -77,6 +77,11 @@ def is_length(unit: str) -> bool:
 def _scale(kind: str, unit: str, value, f: float):
     if value is None or f == 1.0 or not is_length(unit):
         return value
+    if kind == "patterns":  # [[layout.patterns]]: the point rows of every table
+        return [
+            {k: _scale("points2", unit, v, f) if k in ("near", "far") else v for k, v in t.items()}
+            for t in value
+        ]
     if kind == "rows":
         return [
             [v * f if i in _ROW_LENGTH_COLUMNS.get(len(row), ()) else v for i, v in enumerate(row)]
@@ -105,6 +110,8 @@ def _tidy(value):
     """Round away the last-bit noise of a unit conversion (0.30479999999999996 -> 0.3048)."""
     if isinstance(value, list):
         return [_tidy(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _tidy(v) for k, v in value.items()}
     if isinstance(value, float) and value != 0.0 and math.isfinite(value):
         return float(f"{value:.15g}")
     return value

@@ -3,7 +3,8 @@
 ``tomli_w`` writes every element of a nested array on its own line, so a spline's control
 points ``[[0.25, 1.2], [1.0, 1.0]]`` become eight lines of single numbers. :func:`design_toml`
 writes a number list and a short point list inline and a long point list one point ``[x, y]``
-per line; scalars are formatted by ``tomli_w`` (valid TOML, exact floats).
+per line; scalars are formatted by ``tomli_w`` (valid TOML, exact floats). A list of tables
+(``layout.patterns``) is written as an array of tables, ``[[layout.patterns]]`` per table.
 
 >>> print(design_toml({"crease": {"profile": "spline", "points": [[0.25, 1.2], [1.0, 1.0]]}}))
 [crease]
@@ -70,19 +71,31 @@ def _key(name: str) -> str:
     return tomli_w.dumps({name: 0}).split("=", 1)[0].strip()
 
 
-def _table(header: str, table: dict) -> list:
-    lines = [f"[{header}]"] if header else []
-    subtables = []
+def _is_array_of_tables(value) -> bool:
+    return (
+        isinstance(value, (list, tuple)) and bool(value) and all(isinstance(v, dict) for v in value)
+    )
+
+
+def _table(header: str, table: dict, *, array: bool = False) -> list:
+    lines = [f"[[{header}]]" if array else f"[{header}]"] if header else []
+    subtables, arrays = [], []
     for name, value in table.items():
         if value is None:
             continue
         if isinstance(value, dict):
             subtables.append((name, value))
             continue
+        if _is_array_of_tables(value):
+            arrays.append((name, value))
+            continue
         lines.append(f"{_key(name)} = {toml_value(value)}")
-    out = [lines] if len(lines) > 1 or not subtables or not header else []
+    out = [lines] if len(lines) > 1 or not (subtables or arrays) or not header or array else []
     for name, value in subtables:
         out += _table(f"{header}.{_key(name)}" if header else _key(name), value)
+    for name, value in arrays:  # [[header.name]], one block per table
+        for item in value:
+            out += _table(f"{header}.{_key(name)}" if header else _key(name), item, array=True)
     return out
 
 

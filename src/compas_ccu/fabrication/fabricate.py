@@ -78,6 +78,13 @@ def workshop_summary(summary: dict, data) -> dict:
     return out
 
 
+def _leading_crease(model, model_creases: list) -> int:
+    """The workshop id of the model's leading crease (the fixed crease of its leading plate):
+    the crease whose reflection angle the design angle is (``ccu import`` leads with it)."""
+    lead = next(ci for ci, c in enumerate(model.mechanism.creases) if c.fixed)
+    return int(list(model_creases).index(lead))
+
+
 def failed_checks(manifest: dict) -> list:
     """The checks of a ``fabrication.json`` manifest that failed, in words (empty: all pass)."""
     failed = []
@@ -226,6 +233,7 @@ def fabricate(
             "plates": data.metadata["model_plate_ids"],
             "creases": data.metadata["model_crease_ids"],
         },
+        "leading_crease": _leading_crease(model, data.metadata["model_crease_ids"]),
         **summary,
     }
     work = plan.summary()

@@ -15,14 +15,14 @@ or drawn by hand to the same convention (docs/import.md), is read back:
     The two end rulings are the outline's edges at the crease's ends.
 
 The crease vertices are the crease's end points and the rulings' feet on it, in order along it;
-the ruling ends are the rulings' far end points. :func:`import_design` turns one crease and its
-two plates into a ``state = "flat"`` design with ``explicit`` rulings, the design
-:func:`compas_ccu.model.flat_design` writes. That is what a design file can say about a cut
-pattern: one crease, its leading plate and the leading plate's mirror partner. So the partner
-must be the leading plate's mirror image (same crease, same rulings), and a multi-crease
-structure is imported into a design file one crease pair at a time (docs/import.md says why);
-:func:`import_structure` joins every plate of the folder into one mechanism that deploys the
-whole structure.
+the ruling ends are the rulings' far end points. :func:`import_structure` joins every plate of
+the folder into one mechanism that deploys the whole structure, and writes it as a design
+document (``ccu import``): the leading plate as a ``state = "flat"`` design with ``explicit``
+rulings, every other plate as a ``[[layout.patterns]]`` table (its cut pattern, its parent and
+the parent's boundary it hangs from; :mod:`compas_ccu.design.patterns`).
+:func:`import_design` turns one crease and its two plates into a single-crease design, the one
+:func:`compas_ccu.model.flat_design` writes (``ccu import --leading-pair-only``); there the
+partner must be the leading plate's mirror image (same crease, same rulings).
 
 Inconsistent drawings are refused before anything is written, the error naming the plate file
 and the entity (DXF handle): a missing layer, a ruling that does not start on the crease or
@@ -42,6 +42,7 @@ import numpy as np
 from compas_ccu.curves.readers import dxf_line_chains, dxf_sampler
 from compas_ccu.design import Design
 from compas_ccu.design.build import build
+from compas_ccu.design.writer import design_toml
 from compas_ccu.errors import DesignError, MissingExtraError
 from compas_ccu.geometry import fit_planes, rigid_align, unit
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
@@ -64,8 +65,10 @@ __all__ = [
     "round_trip_error",
     "ImportedStructure",
     "import_structure",
+    "structure_document",
     "thickness_shifts",
     "structure_round_trip_error",
+    "structure_error",
 ]
 
 REQUIRED_LAYERS = ("CUT", "CREASE", "RULING_SCORE")
@@ -512,8 +515,11 @@ def _check_partner(pair: CreasePair, a_pattern, b_pattern):
     return err, flip
 
 
-def _select(folder: Path, *, crease, units):
-    """Read a folder; the crease pair chosen (its stack-upper plate first) and every pattern."""
+def _select(folder: Path, *, crease, units, whole: bool = False):
+    """Read a folder; the crease pair chosen (its stack-upper plate first) and every pattern.
+
+    ``whole``: without ``crease``, the crease of the shallowest attachment tree leads (a
+    mechanism grows from the middle of its layout) instead of a refusal."""
     folder = Path(folder)
     manifest = {}
     for place in (folder / "fabrication.json", folder.parent / "fabrication.json"):
@@ -529,6 +535,12 @@ def _select(folder: Path, *, crease, units):
             crease_pattern(pair.b, pair.crease_b),
         )
     listing = "; ".join(f"{p.key}: {p.a.label} - {p.b.label}" for p in pairs)
+    if whole and crease is None and len(pairs) > 1:
+        lead = manifest.get("leading_crease")  # ccu fabricate records the design's
+        if lead is not None and any(p.crease_a.crease_id == lead for p in pairs):
+            crease = lead
+        else:
+            return manifest, plates, pairs, _middle(pairs, patterns, manifest), patterns
     if crease is None and len(pairs) != 1:
         raise DesignError(
             f"{folder}: {len(pairs)} creases ({listing}); a design file holds one crease pair: "
@@ -546,6 +558,19 @@ def _select(folder: Path, *, crease, units):
             raise DesignError(f"{folder}: no crease {crease!r}; the creases: {listing}")
         pair = chosen[0]
     return manifest, plates, pairs, _stack_upper_leads(pair, patterns, manifest), patterns
+
+
+def _middle(pairs: list, patterns: dict, manifest: dict) -> CreasePair:
+    """The crease pair whose attachment tree is the shallowest (the first of equals), its
+    stack-upper plate first (``patterns`` reordered with it)."""
+    best = None
+    for pair in pairs:
+        trial = dict(patterns)
+        upper = _stack_upper_leads(pair, trial, manifest)
+        depth = _depth(_structure_tree(upper, pairs, *trial[upper.key])[0])
+        if best is None or depth < best[0]:
+            best = (depth, pair)
+    return _stack_upper_leads(best[1], patterns, manifest)
 
 
 def _stack_upper_leads(pair: CreasePair, patterns: dict, manifest: dict) -> CreasePair:
@@ -754,43 +779,6 @@ def round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> d
     }
 
 
-def _toml_value(value) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(value)
-    if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
-    if isinstance(value, (list, tuple)):
-        if value and isinstance(value[0], (list, tuple)):
-            return "[\n" + "".join(f"    {_toml_value(v)},\n" for v in value) + "]"
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    raise TypeError(f"no TOML for {type(value).__name__}")  # pragma: no cover
-
-
-def design_toml(document: dict, *, header: str = "") -> str:
-    """TOML text of a design document of tables of numbers, strings and lists (floats
-    written with ``repr``: they read back exactly).
-
-    Examples
-    --------
-    >>> print(design_toml({"crease": {"points": [[0.0, 1.5]], "state": "flat"}}))
-    [crease]
-    points = [
-        [0.0, 1.5],
-    ]
-    state = "flat"
-    <BLANKLINE>
-    """
-    lines = [f"# {line}" for line in header.splitlines()]
-    for section, values in document.items():
-        if lines:
-            lines.append("")
-        lines.append(f"[{section}]")
-        lines += [f"{key} = {_toml_value(value)}" for key, value in values.items()]
-    return "\n".join(lines) + "\n"
-
-
 @dataclass
 class ImportedStructure:
     """Every plate of a folder of plate files, joined into one mechanism.
@@ -803,15 +791,20 @@ class ImportedStructure:
     plate_ids : list
         The plate id (XDATA; else the file name) of every mechanism plate.
     design : Design
-        The leading crease pair's design (alpha, reference vertex, plate section).
+        The whole structure's design (``document``): alpha, reference vertex, plate section.
     report : dict
-        :func:`import_design`'s report, with ``attached`` (plate files joined to the pair).
+        :func:`import_design`'s report, with ``attached`` (plate files joined to the pair),
+        ``ids_written`` (whether the document keeps the plate ids).
+    document : dict
+        The design document of the whole structure (``layout.type = "patterns"``): what
+        ``ccu import`` writes; its mechanism is ``mechanism``.
     """
 
     mechanism: Mechanism
     plate_ids: list
     design: Design
     report: dict
+    document: dict = field(default_factory=dict)
 
 
 def _row_order(plate, crease, near, reference, where: str):
@@ -920,6 +913,33 @@ def _leading_document(near, far, *, alpha, reference, name) -> dict:
         "deployment": {"alpha": float(alpha)},
         "layout": {"type": "single"},
     }
+
+
+def structure_document(members, patterns, ids, *, alpha, reference, name) -> dict:
+    """The design document of a whole structure: the leading plate's flat design and every
+    other plate as a ``[[layout.patterns]]`` table (:mod:`compas_ccu.design.patterns`).
+
+    ``members`` in mechanism order, ``patterns`` their (near, far) rows (m), ``ids`` their
+    plate ids: written (``layout.leading`` and ``id``) when they are the integers 0 ... p - 1.
+    """
+    document = _leading_document(*patterns[0], alpha=alpha, reference=reference, name=name)
+    keep = sorted(str(i) for i in ids) == sorted(str(i) for i in range(len(ids))) and all(
+        isinstance(i, int) for i in ids
+    )
+    layout: dict = {"type": "patterns"}
+    if keep:
+        layout["leading"] = int(ids[0])
+    tables = []
+    for member, (near, far), pid in zip(members[1:], patterns[1:], ids[1:]):
+        table = {"parent": int(member.parent), "boundary": member.boundary}
+        if keep:
+            table["id"] = int(pid)
+        table["near"] = np.asarray(near, dtype=float).tolist()
+        table["far"] = np.asarray(far, dtype=float).tolist()
+        tables.append(table)
+    layout["patterns"] = tables
+    document["layout"] = layout
+    return document
 
 
 def _assemble(members, links, patterns, *, alpha, reference, name):
@@ -1199,23 +1219,37 @@ def _zero_thickness(folder, manifest, pairs, pair, patterns, *, alpha, reference
 
 
 def import_structure(
-    folder, *, crease=None, alpha=None, reference=0.5, units=None, as_drawn: bool = False
+    folder,
+    *,
+    crease=None,
+    alpha=None,
+    reference=0.5,
+    name: str | None = None,
+    units=None,
+    as_drawn: bool = False,
 ):
-    """The whole structure of a folder of plate files as one mechanism.
+    """The whole structure of a folder of plate files: one mechanism and its design document.
 
     The leading crease pair is imported as by :func:`import_design` (its design fixes the
     leading strip, the design angle and the reference vertex); every other plate is attached
     to the plate it shares a crease with, as the mechanism attaches plates (the mirror image of
-    the parent's rulings across the crease's plane, with the plate's own ruling lengths). A
-    design file cannot hold this (docs/import.md); the mechanism deploys it.
+    the parent's rulings across the crease's plane, with the plate's own ruling lengths). The
+    document (:func:`structure_document`, ``layout.type = "patterns"``) holds every plate's
+    cut pattern; ``ccu import`` writes it.
 
     With ``fabrication.json``'s thickness (``ccu fabricate``'s folders), the thickness
     correction of the cut patterns is undone first (:func:`import_design`).
 
     Parameters
     ----------
-    folder, crease, alpha, reference, units, as_drawn
-        As :func:`import_design`; ``crease`` names the leading crease.
+    folder, alpha, reference, name, units, as_drawn
+        As :func:`import_design`.
+    crease : int or str, optional
+        The leading crease. Default: with one crease, it; with several, ``fabrication.json``'s
+        ``leading_crease`` (the design's, as ``ccu fabricate`` records it), else the crease
+        with which the thickness correction of the patterns was made (found by undoing it),
+        else (hand-drawn, ``as_drawn``) the crease of the shallowest attachment tree (the
+        middle of the layout; the design angle is then that crease's).
 
     Returns
     -------
@@ -1238,34 +1272,59 @@ def import_structure(
     >>> undone = structure.report["thickness_correction"]
     >>> structure.plate_ids, undone["thickness"], undone["iterations"], undone["leading"]
     ([1, 0], 0.008, 1, 'crease 0')
+    >>> layout = structure.document["layout"]
+    >>> layout["type"], layout["leading"], [(t["parent"], t["boundary"], t["id"])
+    ...                                     for t in layout["patterns"]]
+    ('patterns', 1, [(0, 'near', 0)])
     """
     folder = Path(folder)
-    manifest, plates, pairs, pair, patterns = _select(folder, crease=crease, units=units)
+    manifest, plates, pairs, pair, patterns = _select(
+        folder, crease=crease, units=units, whole=True
+    )
+    read = dict(patterns)  # as read: the undoing may reorder pairs' patterns
     if alpha is None:
         alpha = manifest.get("alpha")
     if alpha is None:
         raise DesignError(
             f"{folder}: no fabrication.json with the design angle: give the design reflection "
-            "angle (alpha)"
+            "angle (alpha, --alpha DEG)"
         )
     members, links, undone, info = _zero_thickness(
         folder, manifest, pairs, pair, patterns, alpha=alpha, reference=reference,
         as_drawn=as_drawn,
     )  # fmt: skip
-    name = manifest.get("design") or folder.name
-    design, mechanism = _assemble(
-        members, links, undone, alpha=alpha, reference=reference, name=name
-    )
+    if crease is None and info is not None and info["leading"] != pair.key:
+        # the correction was made with another crease leading: the design's leading crease
+        patterns = dict(read)
+        found = next(p for p in pairs if p.key == info["leading"])
+        pair = _stack_upper_leads(found, patterns, manifest)
+        members, links, undone, info = _zero_thickness(
+            folder, manifest, pairs, pair, patterns, alpha=alpha, reference=reference,
+            as_drawn=as_drawn,
+        )  # fmt: skip
+    name = name or manifest.get("design") or folder.name
+    _, mechanism = _assemble(members, links, undone, alpha=alpha, reference=reference, name=name)
     ids = [m.plate.plate_id if m.plate.plate_id is not None else m.plate.label for m in members]
+    document = structure_document(members, undone, ids, alpha=alpha, reference=reference, name=name)
+    document["design"]["description"] = (
+        f"imported from the plate files of {folder.name}: {len(members)} plates, leading "
+        f"{pair.key} ({pair.a.label}, partner {pair.b.label})"
+    )
+    plates_section = {k: manifest[k] for k in ("thickness", "material") if k in manifest}
+    if plates_section:
+        document["plates"] = plates_section
     report = {
         "crease": pair.key,
         "leading": pair.a.label,
         "partner": pair.b.label,
         "attached": [m.plate.label for m in members],
         "plates": [p.label for p in plates],
+        "pairs": [p.key for p in pairs],
+        "segments": len(members[0].near) - 1,
+        "ids_written": "leading" in document["layout"],
         "thickness_correction": info,
     }
-    return ImportedStructure(mechanism, ids, design, report)
+    return ImportedStructure(mechanism, ids, Design(document), report, document)
 
 
 def structure_round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> dict:
@@ -1280,13 +1339,32 @@ def structure_round_trip_error(model, folder, *, crease=None, as_drawn: bool = F
         ``max`` (m), ``max_relative`` (to the structure's bounding-box diagonal), ``plates``.
     """
     imported = import_structure(folder, crease=crease, as_drawn=as_drawn)
+    out = structure_error(model, folder, imported.mechanism, imported.plate_ids)
+    out["report"] = imported.report
+    return out
+
+
+def structure_error(model, folder, mechanism: Mechanism, plate_ids) -> dict:
+    """An imported mechanism against the model whose plate files ``folder`` holds.
+
+    Both are deployed to the model's design angle; every vertex of every plate is compared
+    with the model's after a best rigid alignment, plates matched by id: ``plate_ids`` (of
+    the mechanism's plates) are the plate files' ids, mapped to the model's by
+    ``fabrication.json``. The model of a design file ``ccu import`` wrote compares with
+    ``loaded.mechanism, loaded.geometry.plate_ids``.
+
+    Returns
+    -------
+    dict
+        ``max`` (m), ``max_relative`` (to the structure's bounding-box diagonal), ``plates``.
+    """
     alpha = math.radians(model.alpha_design)
-    new = imported.mechanism.deploy(alpha)
+    new = mechanism.deploy(alpha)
     old = model.mechanism.deploy(alpha)
     old_ids = list(model.geometry.plate_ids)
     plate_id, _ = _model_ids(folder)
     a, b = [], []
-    for i, pid in enumerate(imported.plate_ids):
+    for i, pid in enumerate(plate_ids):
         j = old_ids.index(plate_id(pid))
         a += [new.near[0, i], new.far[0, i]]
         b += [old.near[0, j], old.far[0, j]]
@@ -1294,9 +1372,4 @@ def structure_round_trip_error(model, folder, *, crease=None, as_drawn: bool = F
     moved = rigid_align(a, b)
     distance = float(np.linalg.norm(moved - b, axis=1).max())
     size = float(np.linalg.norm(np.ptp(b, axis=0)))
-    return {
-        "max": distance,
-        "max_relative": distance / size,
-        "plates": len(imported.plate_ids),
-        "report": imported.report,
-    }
+    return {"max": distance, "max_relative": distance / size, "plates": len(plate_ids)}

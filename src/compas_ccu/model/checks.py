@@ -18,9 +18,13 @@ def check_size(design) -> None:
     """Refuse designs beyond the work limits before anything is built."""
     n = design.crease.segments
     layout = design.layout
-    plates = layout.plates if layout.plates is not None else (4 if layout.quadrants else 2)
+    if layout.patterns is not None:
+        plates, key = len(layout.patterns) + 1, "layout.patterns"
+    else:
+        plates = layout.plates if layout.plates is not None else (4 if layout.quadrants else 2)
+        key = "layout.plates"
     limits.check("segments", n, what="crease segments (crease.segments)")
-    limits.check("plates", plates, what="plates (layout.plates)")
+    limits.check("plates", plates, what=f"plates ({key})")
     limits.check(
         "vertices", plates * (2 * n + 2), what=f"vertices ({plates} plates x {n} segments)"
     )

@@ -17,7 +17,7 @@ from compas_ccu.errors import DesignError
 from compas_ccu.geometry import rigid_align
 from compas_ccu.model.ccu_model import CCUModel
 
-__all__ = ["flat_design", "round_trip"]
+__all__ = ["flat_design", "patterns_design", "round_trip"]
 
 
 def flat_design(design, *, name: str | None = None):
@@ -55,6 +55,76 @@ def flat_design(design, *, name: str | None = None):
     }
     doc["rulings"] = {"type": "explicit", "points": flat[n + 1 :, :2].tolist()}
     doc["layout"] = {"type": "single"}
+    return Design.from_metric(doc, units=design.units)
+
+
+def patterns_design(design, *, name: str | None = None):
+    """The cut-pattern design of any design: every plate by its cut pattern (layout
+    ``patterns``, docs/import.md).
+
+    The leading plate becomes the ``state = "flat"`` crease polyline with explicit ruling ends
+    (as :func:`flat_design`), every other plate a ``[[layout.patterns]]`` table in mechanism
+    order: its parent, the parent's boundary it hangs from, its crease row and ruling ends in
+    the flat-folded stack (plane coordinates), and its plate id.
+
+    Parameters
+    ----------
+    design : compas_ccu.design.Design
+        Any design (single, with quadrants, multi-crease).
+
+    Returns
+    -------
+    compas_ccu.design.Design
+        The same reference vertex, design angle, plane placement and other sections, in the
+        units of ``design``; deployed to the design angle it is the design's structure.
+
+    Raises
+    ------
+    DesignError
+        A design with quadrants (curved-crease-folding continuations share a boundary).
+
+    Examples
+    --------
+    >>> from compas_ccu.design import load_design
+    >>> d = patterns_design(load_design("examples/vault.toml"))
+    >>> d.layout.type, len(d.layout.patterns), d.layout.leading, d.crease.state
+    ('patterns', 9, 5, 'flat')
+    """
+    model = CCUModel(design)
+    if any(plate.relation != "ccu" for plate in model.mechanism.plates):
+        raise DesignError(
+            "the curved-crease-folding continuations of quadrants have no cut-pattern layout "
+            "(a pattern hangs from its parent as the CCU mirror image, one crease per boundary)",
+            key="layout.quadrants",
+        )
+    st = model.mechanism.place(0.0)
+    plane = np.array([1.0, model.flip])
+    near, far = st.near[0][..., :2] * plane, st.far[0][..., :2] * plane
+    ids = list(model.geometry.plate_ids)
+    n = model.segments
+    doc = design.metric_document()
+    doc.setdefault("design", {})["name"] = name or f"{design.name}-patterns"
+    doc["crease"] = {
+        "profile": "polyline",
+        "points": near[0].tolist(),
+        "segments": n,
+        "reference": model.reference / n,
+        "state": "flat",
+    }
+    doc["rulings"] = {"type": "explicit", "points": far[0].tolist()}
+    tables = [
+        {
+            "parent": int(plate.parent),
+            "boundary": plate.boundary,
+            "id": int(ids[k]),
+            "near": near[k].tolist(),
+            "far": far[k].tolist(),
+        }
+        for k, plate in enumerate(model.mechanism.plates)
+        if k > 0
+    ]
+    doc["layout"] = {"type": "patterns", "leading": int(ids[0]), "patterns": tables}
+    doc.pop("target", None)  # the planes they solved are in the patterns
     return Design.from_metric(doc, units=design.units)
 
 
