@@ -275,6 +275,49 @@ def test_ccu_import_writes_the_whole_structure(tmp_path, capsys, path, plates, o
     assert text.count("[[layout.patterns]]") == plates - 1
 
 
+@pytest.fixture(scope="module")
+def dome22(tmp_path_factory):
+    """The dome preset with 22 plates (radial, 15 deg apart) fabricated: its folder."""
+    from compas_ccu.design.presets import preset_text
+
+    root = tmp_path_factory.mktemp("dome22")
+    path = root / "dome22.toml"
+    path.write_text(preset_text("dome").replace("plates = 12 ", "plates = 22 "), encoding="utf-8")
+    model = load_model(path)
+    fabricate(model, root / "fab", workshop=SHELF, allow_collisions=True)
+    return model, root / "fab"
+
+
+def test_ccu_import_of_the_22_plate_dome(dome22, tmp_path, capsys):
+    """Many plates, radial: the undoing of the 4 mm correction stops at the rounding floor
+    (planar steps change by 3e-12 to 6e-12 m; it needed a tolerance relative to the plates'
+    size) after 13 iterations; 8.3e-13 relative through the TOML."""
+    model, folder = dome22
+    out = tmp_path / "dome22.toml"
+    assert main(["import", str(folder), "--out", str(out)]) == 0
+    said = capsys.readouterr().out
+    assert "22 plates joined from crease 10" in said
+    assert "the thickness correction of 4 mm plates undone" in said
+    loaded = load_model(out)
+    error = structure_error(model, folder, loaded.mechanism, loaded.geometry.plate_ids)
+    assert error["plates"] == 22 and error["max_relative"] < 1e-9
+
+
+def test_an_undoing_that_does_not_converge_is_refused_with_the_way_out(dome22, monkeypatch):
+    """No tolerance can be met: the leading crease fails, every other crease diverges (until
+    a pattern degenerates, a GeometryError that escaped before); the error says what to do."""
+    import compas_ccu.fabrication.importing as importing
+
+    monkeypatch.setattr(importing, "UNDO_RELATIVE", 0.0)
+    monkeypatch.setattr(importing, "UNDO_TOLERANCE", 0.0)
+    _, folder = dome22
+    with pytest.raises(DesignError) as info:
+        import_structure(folder)
+    text = str(info.value)
+    assert "did not converge in 20 iterations" in text
+    assert "ccu import --as-drawn" in text and "tried every crease of the folder" in text
+
+
 def test_ccu_import_leading_pair_only_keeps_the_single_crease_design(tmp_path, capsys):
     model = load_model(EXAMPLES / "cone.toml")
     fabricate(model, tmp_path / "fab", workshop=SHELF)

@@ -259,3 +259,27 @@ def test_view_shows_the_sheets_of_a_fabrication_folder(fabricated, tmp_path, cap
     edited.write_text((EXAMPLES / "vault.toml").read_text(encoding="utf-8") + "\n# edited\n")
     assert main(["view", str(edited), "--out", str(view), "--fabrication", str(out)]) == 2
     assert "was written from another version of the design file" in capsys.readouterr().err
+
+
+def test_fabricating_again_into_a_folder_removes_only_its_own_stale_files(tmp_path):
+    """A 22-plate dome then a 12-plate one into the same folder: plate_12 .. plate_21.dxf
+    (and the extra sheets) were left, and ``ccu import`` read them as part of the structure."""
+    from compas_ccu.design.presets import preset_text
+    from compas_ccu.fabrication.workshop import WorkshopOptions
+    from compas_ccu.model import load_model
+
+    shelf = WorkshopOptions(nesting="shelf")
+    out = tmp_path / "fab"
+    (tmp_path / "d22.toml").write_text(
+        preset_text("dome").replace("plates = 12 ", "plates = 22 "), encoding="utf-8"
+    )
+    first = fabricate(load_model(tmp_path / "d22.toml"), out, workshop=shelf, allow_collisions=True)
+    (out / "notes.txt").write_text("mine")  # the user's file stays
+    (out / "plates" / "plate_99.dxf").write_text("0\nEOF\n")  # not listed: stays
+    second = fabricate(
+        load_model(EXAMPLES / "vault.toml"), out, workshop=shelf, allow_collisions=True
+    )
+    written = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
+    assert written == set(second["files"]) | {"notes.txt", "plates/plate_99.dxf"}
+    assert len(first["files"]) > len(second["files"])
+    assert not (out / "plates" / "plate_21.dxf").exists()

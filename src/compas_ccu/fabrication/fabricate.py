@@ -117,6 +117,31 @@ def failed_checks(manifest: dict) -> list:
     return failed
 
 
+def _remove_stale(out: Path, files: set) -> list:
+    """Remove the files a previous ``ccu fabricate`` listed in ``out/fabrication.json`` that
+    this one does not write (a design with fewer plates or sheets would leave plate files
+    that ``ccu import`` reads as part of the structure). Only files of that list inside
+    ``out`` are removed; nothing else in the folder is touched."""
+    path = out / "fabrication.json"
+    try:
+        old = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return []
+    if not isinstance(old, dict) or old.get("format") != "ccu.fabrication":
+        return []
+    root = out.resolve()
+    removed = []
+    for name in old.get("files") or []:
+        if not isinstance(name, str) or name in files:
+            continue
+        target = (out / name).resolve()
+        if root not in target.parents or not target.is_file():
+            continue  # outside the folder (a hand-edited list) or gone already
+        target.unlink()
+        removed.append(name)
+    return removed
+
+
 def fabricate(
     model,
     out,
@@ -134,7 +159,9 @@ def fabricate(
     Every check runs before the first file (or the folder ``out``) is written: the writers'
     modules are importable, the thickness, material and hinge width are possible (the hinge
     strips are built, so a strip too wide for a crease's curvature is refused too), the thick
-    plates do not interpenetrate, and ``fabrication.json`` is composed as strict JSON.
+    plates do not interpenetrate, and ``fabrication.json`` is composed as strict JSON. Into a
+    folder of an earlier ``ccu fabricate``, the files its ``fabrication.json`` listed and this
+    one does not write are removed first (nothing else is touched).
 
     Parameters
     ----------
@@ -249,6 +276,7 @@ def fabricate(
 
     # --- every check passed: write
     out = Path(out)
+    _remove_stale(out, set(manifest["files"]))
     (out / "plates").mkdir(parents=True, exist_ok=True)
     (out / "sheets").mkdir(exist_ok=True)
     for i, name in enumerate(plates):

@@ -43,7 +43,7 @@ from compas_ccu.curves.readers import dxf_line_chains, dxf_sampler
 from compas_ccu.design import Design
 from compas_ccu.design.build import build
 from compas_ccu.design.writer import design_toml
-from compas_ccu.errors import DesignError, MissingExtraError
+from compas_ccu.errors import DesignError, GeometryError, MissingExtraError
 from compas_ccu.geometry import fit_planes, rigid_align, unit
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.kinematics.plates import hinge_and_rulings
@@ -1001,8 +1001,11 @@ def thickness_shifts(mechanism: Mechanism, thickness: float, alpha: float):
     return near, far
 
 
-#: Undoing the thickness correction: the shifts are iterated until they change by less (m) ...
+#: Undoing the thickness correction: the shifts are iterated until they change by less than
+#: this (m) or :data:`UNDO_RELATIVE` times the largest plate's size (rounding: the 22-plate
+#: dome's planar steps stop at changes of 3e-12 to 6e-12 m, plates 2.3 m across) ...
 UNDO_TOLERANCE = 1e-13
+UNDO_RELATIVE = 1e-11
 #: ... within this many iterations.
 UNDO_ITERATIONS = 20
 #: A leading crease whose shifts still change by more than this (m) after the attachment
@@ -1091,6 +1094,7 @@ def _undo_correction(folder, members, links, thickness, *, alpha, reference, nam
         return _assemble(members, links, patterns, alpha=alpha, reference=reference, name=name)[1]
 
     change = math.inf
+    tolerance = max(UNDO_TOLERANCE, UNDO_RELATIVE * max(m.plate.size for m in members))
     for iteration in range(1, UNDO_ITERATIONS + 1):
         planar = _shift_update(mechanism(*shifts), *shifts, thickness, alpha)
         forward = thickness_shifts(mechanism(*planar), thickness, alpha)
@@ -1103,7 +1107,7 @@ def _undo_correction(folder, members, links, thickness, *, alpha, reference, nam
         shifts = forward
         if patience is not None and iteration >= patience and change > PATIENCE_CHANGE:
             break  # this leading crease is not the one the correction was made with
-        if change <= UNDO_TOLERANCE:
+        if change <= tolerance:
             info = {
                 "thickness": float(thickness),
                 "iterations": iteration,
@@ -1114,7 +1118,7 @@ def _undo_correction(folder, members, links, thickness, *, alpha, reference, nam
     raise DesignError(
         f"{folder}: undoing the thickness correction of the cut patterns ({thickness:g} m "
         f"plates, fabrication.json) did not converge in {iteration} iterations (the "
-        f"shifts still change by {change:.3g} m > {UNDO_TOLERANCE:g} m); import the patterns "
+        f"shifts still change by {change:.3g} m > {tolerance:.3g} m); import the patterns "
         "as drawn (as_drawn=True, ccu import --as-drawn)"
     )
 
@@ -1204,6 +1208,13 @@ def _zero_thickness(folder, manifest, pairs, pair, patterns, *, alpha, reference
             )  # fmt: skip
         except DesignError as exc:
             first = first or exc
+            continue
+        except GeometryError as exc:  # diverged until a pattern degenerated: not this crease
+            first = first or DesignError(
+                f"{folder}: undoing the thickness correction with {root.key} as the leading "
+                f"crease diverged ({exc}); import the patterns as drawn (as_drawn=True, ccu "
+                "import --as-drawn)"
+            )
             continue
         info["leading"] = root.key
         if tree is members:
