@@ -48,6 +48,26 @@ def test_a_preset_loads_deploys_and_its_info_runs(preset, tmp_path, capsys):
     assert f"design            my-{preset}" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("preset", [p for p in PRESETS if p != "quadrants"])
+def test_a_preset_passes_ccu_fabricate(preset, tmp_path, capsys):
+    """Every check of the workshop passes: the bending of the plates and of the splices (the
+    cone and the vault on 3050 x 1525 mm sheets, whole; the dome and the funnel split, with
+    1.5 mm splice plates: 0.93 and 0.80)."""
+    pytest.importorskip("ezdxf")
+    path = tmp_path / f"{preset}.toml"
+    assert main(["new", "--preset", preset, "--quiet", str(path)]) == 0
+    out = tmp_path / "fab"
+    assert main(["fabricate", str(path), "--out", str(out), "--nesting", "shelf", "--quiet"]) == 0
+    manifest = json.loads((out / "fabrication.json").read_text(encoding="utf-8"))
+    assert manifest["failed_checks"] == []
+    splices = manifest["workshop"]["splice_bending"]
+    if preset in ("dome", "funnel"):
+        assert splices["cuts"] and splices["factor"] == pytest.approx(1.75)
+        assert 0.5 < splices["max_utilisation"] < 1.0
+    else:
+        assert splices["cuts"] == []  # nothing split
+
+
 @pytest.mark.parametrize("preset", list(PRESETS))
 def test_every_key_of_a_preset_is_explained(preset):
     text = preset_text(preset)
