@@ -55,7 +55,7 @@ def test_the_length_keys_are_the_expected_ones():
         "plates.thickness", "plates.hinge_width", "loads.concrete_thickness", "plane.origin",
         "fabrication.sheets", "fabrication.kerf", "fabrication.tool_diameter",
         "fabrication.bridge", "fabrication.margin", "fabrication.splice_width",
-        "fabrication.roll_width", "layout.patterns",
+        "fabrication.roll_width", "layout.patterns", "fabrication.splice_thickness",
     }  # fmt: skip
 
 

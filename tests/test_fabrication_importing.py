@@ -200,7 +200,7 @@ def test_undoing_that_does_not_converge_is_refused(inclined3, monkeypatch):
         DesignError,
         match=rf"{re.escape(str(folder))}: undoing the thickness correction of the cut patterns "
         r"\(0.008 m plates, fabrication.json\) did not converge in 1 iterations \(the shifts "
-        r"still change by [\d.e-]+ m > 1e-13 m\); import the patterns as drawn",
+        r"still change by [\d.e-]+ m > [\d.e-]+ m\); import the patterns as drawn",
     ):
         import_structure(folder, crease=crease)
     with pytest.raises(DesignError, match="did not converge in 1 iterations"):
@@ -275,7 +275,8 @@ def test_round_trip_fig12b_at_8_mm_undoes_the_thickness_correction(tmp_path):
     """fig12b's radial layout: the correction (up to 2.1e-4 m) undone, the whole dome and its
     leading pair come back to rounding (measured 8.0e-15 and 2.1e-15; 1.9e-4 and 6.5e-5 as
     drawn). Another pair of the leading crease's parity (the same reflection angle) too
-    (7.2e-15): its correction is undone on the leading crease's tree, found by trying."""
+    (7.2e-15): its correction is undone on the tree of a crease of that parity, found by
+    trying."""
     model = load_model(catalog_path("fig12b-dome"))
     fabricate(model, tmp_path / "fab", hinge_width=0.03, allow_collisions=True)
     crease = leading_crease(model, tmp_path / "fab")
@@ -288,7 +289,11 @@ def test_round_trip_fig12b_at_8_mm_undoes_the_thickness_correction(tmp_path):
     second = {c for c, ids in plates.items() if any(ids & plates[n] for n in near)}
     other = round_trip_error(model, tmp_path / "fab", crease=min(second - near - {crease}))
     assert other["max_relative"] < 1e-9
-    assert other["report"]["thickness_correction"]["leading"] == f"crease {crease}"
+    # undone on a tree whose leading crease has the design's reflection angle: the leading
+    # crease's or another of its parity (fig12b's creases 1, 3, 5, 7, 9), whichever converges
+    # first
+    leading = other["report"]["thickness_correction"]["leading"]
+    assert int(leading.split()[1]) % 2 == crease % 2, (leading, crease)
 
 
 def test_missing_layer_is_refused_naming_the_file(tmp_path):

@@ -158,9 +158,10 @@ def test_fabricate_writes_only_when_run(tmp_path, cone_model):
     idle = gh.fabricate_component(cone_model, tmp_path / "fab")
     assert idle.files == [] and not (tmp_path / "fab").exists()
     result = gh.fabricate_component(cone_model, tmp_path / "fab", run=True, thickness=0.004)
-    # 2 plates, the sheets (the cone's plates are split and nested), bom.csv and 9 more files
+    # 2 plates, the sheets (the cone's plates are split and nested), sheets.json, bom.csv and 9
+    # more files
     sheets = [f for f in result.files if Path(f).parent.name == "sheets"]
-    assert len(sheets) >= 1 and len(result.files) == 12 + len(sheets)
+    assert len(sheets) >= 1 and len(result.files) == 13 + len(sheets)
     assert all(Path(f).is_file() for f in result.files)
     assert Path(result.files[-1]).name == "fabrication.json"
     with pytest.raises(OptionError, match="connect a folder"):
@@ -267,7 +268,7 @@ def test_the_components_run_with_host_doubles(host, tmp_path):
     )
     files, info = fab.RunScript(model, str(tmp_path / "out"), 0.004, True)
     sheets = [f for f in files if Path(f).parent.name == "sheets"]
-    assert len(files) == 12 + len(sheets) and info.startswith(f"wrote {len(files)} files")
+    assert len(files) == 13 + len(sheets) and info.startswith(f"wrote {len(files)} files")
     assert fab_host.messages == []
 
 

@@ -482,23 +482,31 @@ def test_play_deploys_from_the_folded_stack(viewer):
     assert _flatness(_plates(page)) > 1e-2
 
 
+def _open_and_show_cut_patterns(browser, path, name: str, shots: dict):
+    """Open a 2-step viewer page, count the structure's pixels, show the cut patterns and
+    count them again: the page (still open), pixels alone, pixels with the cut patterns;
+    ``shots`` gets the screenshots before and after ("start", "shown")."""
+    ready = READY.replace(f"=== {STEPS + 1}", "=== 3")
+    page = browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
+    page.goto(path.as_uri())
+    page.wait_for_function(ready, timeout=30_000)
+    _settle(page)
+    alone = _structure_pixels(page, f"{name}-alone")
+    shots["start"] = _shot(page, f"{name}-start")
+    _click_button(page, "Cut patterns")
+    page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
+    _settle(page)
+    shots["shown"] = _shot(page, f"{name}-shown")
+    return page, alone, _structure_pixels(page, f"{name}-cut")
+
+
 @pytest.mark.slow
 def test_cut_patterns_leave_the_structure_visible(vault22, tmp_path, chromium_browser):
     """22 plates: with the cut patterns shown the structure keeps a good part of its screen area
     and the patterns plotted in the page do not overlap."""
     path = write_viewer(vault22, tmp_path / "vault22.html", steps=2)
-    ready = READY.replace(f"=== {STEPS + 1}", "=== 3")
-    page = chromium_browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
+    page, alone, with_cut = _open_and_show_cut_patterns(chromium_browser, path, "22", {})
     try:
-        page.goto(path.as_uri())
-        page.wait_for_function(ready, timeout=30_000)
-        _settle(page)
-
-        alone = _structure_pixels(page, "22-alone")
-        _click_button(page, "Cut patterns")
-        page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
-        _settle(page)
-        with_cut = _structure_pixels(page, "22-cut")
         # the patterns as plotted: x, y of the cut Mesh3d, one plate after the other
         xy = page.evaluate(
             f"() => {{const t = {GD}.data.find(t => t.legendgroup === 'cut'); return [t.x, t.y];}}"
@@ -682,26 +690,18 @@ def test_sheets_toggle_shows_the_nesting_and_keeps_the_structure_visible(
     patterns toggle shows the sheets, and the structure keeps a good part of its screen area."""
     plan = _plan(vault22, sheets=((2.8, 2.1),))
     path = write_viewer(vault22, tmp_path / "vault22-sheets.html", steps=2, sheets=plan)
-    ready = READY.replace(f"=== {STEPS + 1}", "=== 3")
-    page = chromium_browser.new_page(viewport=VIEWPORT, device_scale_factor=1)
+    shots = {}
+    page, alone, with_sheets = _open_and_show_cut_patterns(
+        chromium_browser, path, "22-sheets", shots
+    )
+    start, shown = shots["start"], shots["shown"]
     try:
-        page.goto(path.as_uri())
-        page.wait_for_function(ready, timeout=30_000)
-        _settle(page)
-        alone = _structure_pixels(page, "22-sheets-alone")
-        start = _shot(page, "22-sheets-start")
-        _click_button(page, "Cut patterns")
-        page.wait_for_function(f"() => ({GROUP_VISIBLE})('cut').every(v => v === true)")
-        _settle(page)
-        shown = _shot(page, "22-sheets-shown")
-        with_sheets = _structure_pixels(page, "22-sheets-cut")
         plotted = page.evaluate(
             f"""() => {GD}.data.filter(t => t.legendgroup === 'cut')
                 .map(t => [t.name, t.x, t.y, t.text || null])"""
         )
     finally:
         page.close()
-    print(alone, with_sheets, _difference(shown, start))
     assert _difference(shown, start) > MIN_CHANGE
     assert alone > 50_000
     assert with_sheets > 0.08 * alone, (with_sheets, alone)
