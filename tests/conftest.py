@@ -24,6 +24,18 @@ def arc_strip(n: int, radius: float = 1.0, angle: float = np.pi / 2, width: floa
     return near, near * (1.0 - width / radius)
 
 
+def circumradius_error(points, radius: float) -> float:
+    """Largest distance of ``points`` (k, 3) from the circle of ``radius`` through the first,
+    middle and last (the circle's centre solved in their plane)."""
+    a, b, c = points[0], points[len(points) // 2], points[-1]
+    normal = np.cross(b - a, c - a)
+    normal /= np.linalg.norm(normal)
+    m = np.array([b - a, c - a, normal])
+    rhs = np.array([(b - a) @ (b + a) / 2.0, (c - a) @ (c + a) / 2.0, normal @ a])
+    centre = np.linalg.solve(m, rhs)
+    return float(np.abs(np.linalg.norm(points - centre, axis=1) - radius).max())
+
+
 def wavy_strip(n: int, seed: int = 0):
     """A general strip: spiral-like crease, rulings leaning by varying angles (plate left)."""
     rng = np.random.default_rng(seed)

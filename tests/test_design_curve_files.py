@@ -10,6 +10,7 @@ import pytest
 from compas_ccu.design import Design, load_design
 from compas_ccu.errors import DesignError
 from compas_ccu.model import CCUModel
+from conftest import circumradius_error
 
 ezdxf = pytest.importorskip("ezdxf")
 
@@ -39,18 +40,6 @@ def arc_file(folder, name="crease.dxf"):
     doc.modelspace().add_line((0, 0), (100, 0), dxfattribs={"layer": "OTHER"})
     doc.saveas(folder / name)
     return folder / name
-
-
-def circumradius_error(points, radius):
-    """Largest distance of the points from the circle through the first, middle and last."""
-    a, b, c = points[0], points[len(points) // 2], points[-1]
-    normal = np.cross(b - a, c - a)
-    normal /= np.linalg.norm(normal)
-    # centre: solve in the plane of a, b, c
-    m = np.array([b - a, c - a, normal])
-    rhs = np.array([(b - a) @ (b + a) / 2.0, (c - a) @ (c + a) / 2.0, normal @ a])
-    centre = np.linalg.solve(m, rhs)
-    return float(np.abs(np.linalg.norm(points - centre, axis=1) - radius).max())
 
 
 def test_cone_from_a_dxf_arc_relative_to_the_design_file(tmp_path, monkeypatch):

@@ -15,7 +15,7 @@ from compas_ccu.design.document import parse_toml
 from compas_ccu.errors import DesignError
 from compas_ccu.model import CCUModel, load_model
 from compas_ccu.thickness import ThickModel
-from conftest import EXAMPLES
+from conftest import EXAMPLES, circumradius_error
 
 ezdxf = pytest.importorskip("ezdxf")
 pytest.importorskip("shapely")
@@ -81,17 +81,6 @@ def hand_drawn(folder, **partner):
     return folder
 
 
-def crease_radius_error(points, radius):
-    """Largest distance of the points from the circle through the first, middle and last."""
-    a, b, c = points[0], points[len(points) // 2], points[-1]
-    normal = np.cross(b - a, c - a)
-    normal /= np.linalg.norm(normal)
-    m = np.array([b - a, c - a, normal])
-    rhs = np.array([(b - a) @ (b + a) / 2.0, (c - a) @ (c + a) / 2.0, normal @ a])
-    centre = np.linalg.solve(m, rhs)
-    return float(np.abs(np.linalg.norm(points - centre, axis=1) - radius).max())
-
-
 def test_hand_drawn_circular_crease_deploys_to_the_cone(tmp_path):
     """One ARC crease, 47 radial LINE rulings, bulged outlines, no XDATA, no fabrication.json:
     the plates pair by their creases' lengths and the design deploys to the cone, the crease a
@@ -104,10 +93,10 @@ def test_hand_drawn_circular_crease_deploys_to_the_cone(tmp_path):
     structure = CCUModel(Design(document)).deploy(ALPHA)
     deployed = np.asarray(structure.deployed)
     expected = R * math.cos(math.radians(ALPHA))
-    assert crease_radius_error(deployed[0, : N + 1], expected) < 1e-12
-    assert crease_radius_error(
-        deployed[0, N + 1 :], (R - WIDTH) * math.cos(math.radians(ALPHA))
-    ) < (1e-12)
+    assert circumradius_error(deployed[0, : N + 1], expected) < 1e-12
+    assert circumradius_error(deployed[0, N + 1 :], (R - WIDTH) * math.cos(math.radians(ALPHA))) < (
+        1e-12
+    )
     cone = load_model(EXAMPLES / "cone.toml").deploy(ALPHA)
     # the same plates up to a rigid motion: compare the (rigid-invariant) pairwise distances
     a = deployed.reshape(-1, 3)[::7]

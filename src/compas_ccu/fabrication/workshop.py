@@ -680,8 +680,8 @@ def _window_sheets(shapes, orientations, length, width, options) -> list:
     (mm, the sheet's origin at its usable area's corner).
 
     One packing of ``nesting_time`` seconds per sheet's worth of area (at least one), instead
-    of one to three packings per sheet (:func:`_pack_sheet`): the vault in 6 s instead of 43 s,
-    with as many sheets.
+    of one to three packings per sheet as the sheets were filled before: the vault's strip in
+    6 s instead of 43 s of packings, with as many sheets.
     """
     area = sum(_area(v) for v in shapes.values())
     seconds = max(1.0, options.nesting_time * math.ceil(area / (length * width)))
@@ -700,55 +700,6 @@ def _window_sheets(shapes, orientations, length, width, options) -> list:
         )
         left -= set(on)
     return out
-
-
-def _pack_sheet(shapes, orientations, length, width, gap, seconds):
-    """The parts of ``shapes`` (mm) that go on one sheet of usable ``length`` x ``width`` mm,
-    with their placement: name -> (rotation, translation, placed points)."""
-    names = sorted(shapes, key=lambda k: -_area(shapes[k]))
-    # the candidates: the largest parts, about CANDIDATES sheets' worth of area (a strip a
-    # little longer than the sheet, so that its first sheet length is packed densely)
-    chosen, total = [], 0.0
-    for name in names:
-        if total > CANDIDATES * length * width:
-            break
-        chosen.append(name)
-        total += _area(shapes[name])
-    candidates = {k: shapes[k] for k in chosen}
-    place, _ = _strip_pack(candidates, orientations, width, gap, seconds)
-    on = {}
-    for name, (rot, t) in place.items():
-        pts = _moved(shapes[name], rot, t)
-        if pts[:, 0].max() <= length + 1e-6 and pts[:, 0].min() >= -1e-6:
-            on[name] = (rot, t, pts)
-    if not on:  # the strip put nothing wholly within one sheet: the largest part alone
-        first = names[0]
-        place, _ = _strip_pack({first: shapes[first]}, orientations, width, gap, seconds)
-        rot, t = place[first]
-        pts = _moved(shapes[first], rot, t)
-        on[first] = (rot, t - np.array([pts[:, 0].min(), 0.0]), pts - [pts[:, 0].min(), 0.0])
-    # fill: the largest parts left that could fit in the free area, one at a time
-    free = length * width - sum(_area(shapes[k]) for k in on)
-    tries = 0
-    for name in names:
-        if name in on or _area(shapes[name]) > 0.9 * free or tries >= FILL_ATTEMPTS:
-            continue
-        tries += 1
-        trial = {k: shapes[k] for k in [*on, name]}
-        place, used = _strip_pack(trial, orientations, width, gap, seconds)
-        if used <= length + 1e-6 and len(place) == len(trial):
-            on = {}
-            for k, (rot, t) in place.items():
-                pts = _moved(shapes[k], rot, t)
-                on[k] = (rot, t, pts)
-            free = length * width - sum(_area(shapes[k]) for k in on)
-    # the strip may start past x = 0: shift the sheet's parts to its start
-    x0 = min(v[2][:, 0].min() for v in on.values())
-    y0 = min(v[2][:, 1].min() for v in on.values())
-    return {
-        k: (rot, (t[0] - x0, t[1] - min(y0, 0.0)), pts - [x0, min(y0, 0.0)])
-        for k, (rot, t, pts) in on.items()
-    }
 
 
 def _area(pts: np.ndarray) -> float:
@@ -812,22 +763,16 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
         length, width = (v * MM for v in options.usable(k))
         left = {p.name: p for p in groups[group]}
         centres.update({p.name: p.outline.mean(axis=0) for p in groups[group]})
-        windows = []
+        shapes = {m: (p.outline - centres[m]) * MM for m, p in left.items()}
+        orient = {m: _orientations(options, p.grain) for m, p in left.items()}
         if options.nesting != "shelf":  # one strip of every part, cut into sheet lengths
-            shapes = {m: (p.outline - centres[m]) * MM for m, p in left.items()}
-            orient = {m: _orientations(options, p.grain) for m, p in left.items()}
             windows = _window_sheets(shapes, orient, length, width, options)
         while left:
-            shapes = {m: (p.outline - centres[m]) * MM for m, p in left.items()}
-            orient = {m: _orientations(options, p.grain) for m, p in left.items()}
-            if windows:
-                on = windows.pop(0)
-            elif options.nesting == "shelf":
-                on = _shelf_sheet(shapes, orient, length, width, options.spacing * MM)
-            else:  # pragma: no cover - the windows hold every part
-                on = _pack_sheet(
-                    shapes, orient, length, width, options.spacing * MM, options.nesting_time
-                )
+            if options.nesting == "shelf":
+                rest = {m: shapes[m] for m in left}
+                on = _shelf_sheet(rest, orient, length, width, options.spacing * MM)
+            else:  # spyrrow places every part of the strip: the windows hold them all
+                on = windows.pop(0) if windows else {}
             if not on:  # pragma: no cover - every part fits a sheet alone (fitting_size)
                 raise GeometryError(f"no part of {sorted(left)} could be placed on a sheet")
             index = len(sheets)
@@ -853,13 +798,9 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
     return sheets
 
 
-#: Parts a sheet's first packing considers, in sheets' worth of area (the largest parts first).
-CANDIDATES = 2.0
 #: Packings :func:`nest_parts` spends at most on emptying sheets (merging pairs of sheets,
 #: moving the emptiest sheet's parts onto the others).
 MERGE_ATTEMPTS = 8
-#: Parts :func:`nest_parts` tries to add to a sheet's free space at most.
-FILL_ATTEMPTS = 2
 
 
 def _merge_sheets(sheets, parts, centres, options, k, thickness, length, width) -> None:

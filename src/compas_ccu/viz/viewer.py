@@ -463,21 +463,13 @@ def _sheet_traces(doc: dict, corners: np.ndarray, z: float, kinds: list, tones: 
     verts = np.concatenate(verts) if verts else np.zeros((0, 3))
     tri = np.concatenate(tri) if tri else np.zeros((0, 3), dtype=int)
     sheets = doc["sheets"]
-    flat_light = {"ambient": 0.95, "diffuse": 0.05, "specular": 0.0}
     traces = [
-        go.Mesh3d(
-            **_xyz64(verts),
-            i=tri[:, 0].astype(np.int32),
-            j=tri[:, 1].astype(np.int32),
-            k=tri[:, 2].astype(np.int32),
+        _cut_mesh(
+            _xyz64(verts),
+            tri,
+            f"cut patterns: {len(sheets)} sheets, {len(parts)} parts",
+            text,
             facecolor=colors,
-            flatshading=True,
-            lighting=flat_light,
-            name=f"cut patterns: {len(sheets)} sheets, {len(parts)} parts",
-            legendgroup="cut",
-            showlegend=True,
-            text=text,
-            hovertemplate="%{text}<extra></extra>",
         )
     ]
     rects, boards, board_text = [], [], []
@@ -497,19 +489,13 @@ def _sheet_traces(doc: dict, corners: np.ndarray, z: float, kinds: list, tones: 
     board_tri = np.concatenate([quads + [0, 1, 2], quads + [0, 2, 3]]) if len(sheets) else []
     board_tri = np.asarray(board_tri, dtype=np.int32).reshape(-1, 3)
     traces.append(
-        go.Mesh3d(
-            **_xyz64(np.concatenate(boards) if boards else np.zeros((0, 3))),
-            i=board_tri[:, 0],
-            j=board_tri[:, 1],
-            k=board_tri[:, 2],
+        _cut_mesh(
+            _xyz64(np.concatenate(boards) if boards else np.zeros((0, 3))),
+            board_tri,
+            "sheets",
+            board_text,
+            legend=False,
             color=_BOARD,
-            flatshading=True,
-            lighting=flat_light,
-            name="sheets",
-            legendgroup="cut",
-            showlegend=False,
-            text=board_text,
-            hovertemplate="%{text}<extra></extra>",
         )
     )
     traces.append(_line_trace64(_polylines(rects), "sheet edges", _BOARD_EDGE, 3))
@@ -788,6 +774,32 @@ def _title(model, kinds: list, counts: dict, alphas: np.ndarray) -> dict:
     }
 
 
+#: Lighting of the cut patterns and the sheets: flat, as on a drawing.
+_FLAT_LIGHT = {"ambient": 0.95, "diffuse": 0.05, "specular": 0.0}
+
+
+def _cut_mesh(coordinates: dict, triangles, name: str, text, *, legend: bool = True, **colour):
+    """A flat-lit Mesh3d of the ``"cut"`` group: ``coordinates`` (x, y, z), ``triangles``
+    (t, 3) int, hover ``text`` per vertex, ``colour`` (``facecolor=`` or ``color=``)."""
+    import plotly.graph_objects as go
+
+    tri = np.asarray(triangles).reshape(-1, 3).astype(np.int32)
+    return go.Mesh3d(
+        **coordinates,
+        i=tri[:, 0],
+        j=tri[:, 1],
+        k=tri[:, 2],
+        flatshading=True,
+        lighting=_FLAT_LIGHT,
+        name=name,
+        legendgroup="cut",
+        showlegend=legend,
+        text=text,
+        hovertemplate="%{text}<extra></extra>",
+        **colour,
+    )
+
+
 def viewer_figure(
     model,
     *,
@@ -980,19 +992,12 @@ def viewer_figure(
     # cut patterns (static, hidden at first): the compact layout, or the sheets built above
     if doc is None:
         cut = [
-            go.Mesh3d(
-                **_xyz(pattern.reshape(-1, 3) - np.array([0.0, 0.0, 1e-3 * size])),
-                i=tri[:, 0].astype(np.int32),
-                j=tri[:, 1].astype(np.int32),
-                k=tri[:, 2].astype(np.int32),
+            _cut_mesh(
+                _xyz(pattern.reshape(-1, 3) - np.array([0.0, 0.0, 1e-3 * size])),
+                tri,
+                "cut patterns",
+                np.char.add(plate_text, f" ({_PATTERN_TAG})"),
                 facecolor=facecolor,
-                flatshading=True,
-                lighting={"ambient": 0.95, "diffuse": 0.05, "specular": 0.0},
-                name="cut patterns",
-                legendgroup="cut",
-                showlegend=True,
-                text=np.char.add(plate_text, f" ({_PATTERN_TAG})"),
-                hovertemplate="%{text}<extra></extra>",
             ),
             _line_trace(
                 _polylines(pattern[:, _outline_index(n)]),
