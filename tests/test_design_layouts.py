@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from compas_ccu.design import Design
-from compas_ccu.errors import DesignError
+from compas_ccu.errors import DesignError, SelfIntersectionError
 from compas_ccu.model import CCUModel
 
 DOME = {
@@ -63,8 +63,11 @@ def test_the_angle_between_the_planes_changes_along_the_deployment():
     model = dome(plates=12, angle=29.0)
 
     def turns(alpha):
-        return plane_turns(model.deploy(alpha))
+        return plane_turns(model.deploy(alpha, check=False))
 
     assert turns(30.0) == pytest.approx(29.0, abs=1e-9)
     assert 18.0 < turns(15.0).min() and turns(15.0).max() < 19.5
     assert 32.0 < turns(45.0).min() and turns(45.0).max() < 33.0
+    # ... and so it does: the last plate reaches round to the first at 32.72 deg
+    with pytest.raises(SelfIntersectionError, match="plates 11 and 0 cross at alpha = 32.7"):
+        model.deploy(45.0)

@@ -25,6 +25,7 @@ def summary(name: str) -> dict:
     out = {
         "alpha_limit": model.alpha_limit,
         "overlap_alpha": model.overlap_alpha,
+        "collision_free_alpha": model.collision_free_alpha,
         "limit_vertex": model.limit_vertex,
         "states": [],
     }

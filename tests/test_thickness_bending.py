@@ -134,8 +134,9 @@ def test_cylinder_characteristic_and_design_utilisation_exactly():
     assert abs(0.5 / sc3.limit.max() - 0.6 * 1.2 / 0.7) < 1e-12
 
 
-def test_characteristic_basis_reproduces_the_old_numbers_bit_for_bit(vault_model):
-    """``code = "characteristic"`` is today's check: |κ| / (f / (E t/2)), the same floats."""
+def test_characteristic_basis_reproduces_the_old_numbers(vault_model):
+    """``code = "characteristic"`` is today's check: |κ| / (f / (E t/2)); the two code paths give
+    the same floats in one process."""
     thick = ThickModel(vault_model, design_code={"code": "characteristic"})
     alphas = np.linspace(0.0, 30.0, 5)
     check = thick.bending(alphas)
@@ -147,7 +148,8 @@ def test_characteristic_basis_reproduces_the_old_numbers_bit_for_bit(vault_model
     )
     assert np.array_equal(check.limit, old_limit)
     assert np.array_equal(check.utilisation, np.abs(kappa) / old_limit[None])
-    assert check.max == 0.5591662457663561  # docs/thickness.md: 0.559
+    # a reduction: another CPU (SIMD path) rounds the last digits differently
+    assert check.max == pytest.approx(0.5591662457663561, rel=1e-12)  # docs/thickness.md: 0.559
     design = ThickModel(vault_model).bending(alphas)
     assert np.array_equal(design.utilisation_characteristic, check.utilisation)
     assert design.max == pytest.approx(2.0 * check.max, rel=1e-15)

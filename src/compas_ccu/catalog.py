@@ -148,6 +148,7 @@ COLUMNS = (
     "alpha_max",
     "alpha_limit",
     "overlap_alpha",
+    "collision_free_alpha",
     "crease_planarity_path",
     "crease_planarity_exact",
     "relaxed_strain",

@@ -99,19 +99,25 @@ class DeploymentLimitError(CCUError):
 
 
 class SelfIntersectionError(CCUError):
-    """A crease overlaps itself in its plane at the requested state (the plates would collide).
+    """Plates would pass through each other at the requested state: a crease overlaps itself
+    in its plane, or two plates cross on the path from the flat stack (the certificate of
+    :mod:`compas_ccu.kinematics.interference`).
 
     Attributes
     ----------
     alpha : float
         The requested reference reflection angle, degrees.
     crease : int or None
-        Crease id (None: the leading crease curve when it joins no second plate).
+        Crease id (None: the leading crease curve when it joins no second plate, or two plates
+        that cross).
+    plates : tuple of int or None
+        The ids of the two plates that cross first, or None (a crease overlapping itself).
     """
 
-    def __init__(self, message: str, *, alpha: float, crease):
+    def __init__(self, message: str, *, alpha: float, crease, plates=None):
         self.alpha = alpha
         self.crease = crease
+        self.plates = plates
         super().__init__(message)
 
     def __reduce__(self):

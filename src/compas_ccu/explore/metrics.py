@@ -55,6 +55,7 @@ KEY_FIGURE_COLUMNS = {
         "alpha_max": "alpha_max",
         "alpha_limit": "alpha_limit",
         "overlap_alpha": "overlap_alpha",
+        "collision_free_alpha": "collision_free_alpha",
         "limit_margin": "limit_margin",
         "span": "crease_span",
         "rise": "crease_rise",

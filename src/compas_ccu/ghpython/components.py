@@ -171,7 +171,8 @@ def _info(model: CCUModel) -> str:
             f"{model.segments} segments per crease",
             f"creases: {kinds or 'none'}",
             f"design angle {model.alpha_design:g} deg; limit {model.alpha_limit:.4g} deg; "
-            f"plates overlap from {model.overlap_alpha:.4g} deg",
+            f"plates overlap from {model.overlap_alpha:.4g} deg; plates cross from "
+            f"{model.collision_free_alpha:.4g} deg",
         ]
     )
 
@@ -298,6 +299,7 @@ def checks_component(model, alpha=None, *, thickness=None) -> ChecksResult:
     lines, values, ok = [], {"alpha": alpha}, True
     values["alpha_limit"] = model.alpha_limit
     values["overlap_alpha"] = model.overlap_alpha
+    values["collision_free_alpha"] = model.collision_free_alpha
     try:
         structure = model.deploy(alpha)
     except CCUError as exc:
@@ -312,6 +314,12 @@ def checks_component(model, alpha=None, *, thickness=None) -> ChecksResult:
     lines.append(
         f"{'ok  ' if passed else 'FAIL'} overlap: plates overlap from "
         f"{model.overlap_alpha:.4g} deg (alpha {alpha:g} deg, limit {model.alpha_limit:.4g})"
+    )
+    passed = alpha <= model.collision_free_alpha
+    ok &= passed
+    lines.append(
+        f"{'ok  ' if passed else 'FAIL'} crossing: no two plates cross from the flat stack to "
+        f"{model.collision_free_alpha:.4g} deg (alpha {alpha:g} deg)"
     )
     kinds = structure.crease_kind_counts()
     values["crease_kinds"] = kinds

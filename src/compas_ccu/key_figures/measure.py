@@ -182,6 +182,7 @@ def design_state_figures(model, structure=None) -> dict:
     plan_x, plan_y, height = (float(v) for v in m["bounding_box"])
     stack_x, stack_y = flat_footprint(structure)
     overlap = float(model.overlap_alpha)
+    collision_free = float(model.collision_free_alpha)
     invariants = {
         key: float(m[key])
         for key in (
@@ -208,7 +209,10 @@ def design_state_figures(model, structure=None) -> dict:
             "alpha_limit": float(model.alpha_limit),
             "limit_vertex": model.limit_vertex,
             "overlap_alpha": overlap,
-            "limit_margin": float(min(model.alpha_limit, overlap) - model.alpha_design),
+            "collision_free_alpha": collision_free,
+            "limit_margin": float(
+                min(model.alpha_limit, overlap, collision_free) - model.alpha_design
+            ),
             **{k: v for k, v in shape.items() if k.startswith("crease_")},
             "plan_x": plan_x,
             "plan_y": plan_y,
@@ -327,6 +331,7 @@ def thickness_figures(thick, alphas) -> dict:
         "thickness": thick.thickness,
         "material": thick.material.name,
         "stack_height": float(thick.stack_height),
+        "collision_free_alpha_thick": thick.first_collision()[0],
         "mass": plate_area(thick.model) * thick.thickness * thick.material.density,
         "deployment_energy": float(push.energy[-1]),
         "actuation_force": push.force_max,

@@ -82,10 +82,18 @@ FIGURES = (
             ),
             ("overlap_alpha", "float", "deg", "Largest alpha before a crease overlaps itself."),
             (
+                "collision_free_alpha",
+                "float",
+                "deg",
+                "Largest alpha reached from the flat stack without any two plates (zero "
+                "thickness, every pair) crossing; alpha_limit if they never do (certified to "
+                "1e-7 rad, docs/geometry.md).",
+            ),
+            (
                 "limit_margin",
                 "float",
                 "deg",
-                "min(alpha_limit, overlap_alpha) - alpha_design: "
+                "min(alpha_limit, overlap_alpha, collision_free_alpha) - alpha_design: "
                 "how much further the structure could open.",
             ),
         ],
@@ -286,6 +294,13 @@ FIGURES = (
                 "Plate material ([plates]): a library name or one of the file's [materials.NAME].",
             ),
             ("stack_height", "float", "m", "Height of the flat-folded stack (sum of thicknesses)."),
+            (
+                "collision_free_alpha_thick",
+                "float",
+                "deg",
+                "Largest alpha reached from the flat stack without the thick plates "
+                "interpenetrating (at most collision_free_alpha; to 1/1536 of it).",
+            ),
             ("mass", "float", "kg", "plate_area * thickness * density."),
             (
                 "deployment_energy",

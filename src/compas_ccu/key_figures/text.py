@@ -85,6 +85,11 @@ def figure_rows(k) -> list:
             "overlap limit",
             f"{k.overlap_alpha:.4f} deg (largest alpha before a crease overlaps itself)",
         ),
+        (
+            "collision free",
+            f"{k.collision_free_alpha:.4f} deg (largest alpha from the flat stack without two "
+            "plates crossing)",
+        ),
         ("span", f"{k.crease_span:.4f} m (leading crease chord)"),
         ("rise", f"{k.crease_rise:.4f} m"),
         ("bounding box", f"{k.plan_x:.3f} x {k.plan_y:.3f} x {k.height:.3f} m"),

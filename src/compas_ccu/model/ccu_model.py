@@ -23,6 +23,7 @@ from compas_ccu.errors import (
     SelfIntersectionError,
 )
 from compas_ccu.geometry import PlaneFrame, plane_frame
+from compas_ccu.kinematics.interference import PathCertificate, describe
 from compas_ccu.kinematics.invariants import (
     invariant_errors,
     overlap_limit,
@@ -96,6 +97,7 @@ class CCUModel(Data):
         self._flat = None
         self._kinds = None
         self._overlap_alpha = None
+        self._certificate = None
         self._faces = None
         self._check_design()
 
@@ -307,6 +309,76 @@ class CCUModel(Data):
             self._overlap_alpha = math.degrees(overlap_limit(self.mechanism))
         return self._overlap_alpha
 
+    @property
+    def certificate(self) -> PathCertificate:
+        """The interpenetration certificate of the path from the flat stack to the limit
+        (:class:`compas_ccu.kinematics.interference.PathCertificate`), scanned as far as asked."""
+        if self._certificate is None:
+            mechanism = self.mechanism
+
+            def vertices_at(alphas):
+                states = mechanism.deploy(alphas)
+                return stack_rows(states.near, states.far)
+
+            index = self.plates
+            hinges = [
+                (a, b, *index.crease_rows(ci)) for ci, (a, b) in enumerate(index.crease_plates)
+            ]
+            self._certificate = PathCertificate(
+                vertices_at,
+                upto=mechanism.alpha_limit,
+                segments=self.segments,
+                hinges=hinges,
+                size=self.size,
+                plates=index.count,
+            )
+        return self._certificate
+
+    @property
+    def interference(self):
+        """The first state from the flat stack to the limit in which two plates (zero
+        thickness, every pair) cross: :class:`compas_ccu.kinematics.interference.Interference`
+        (its ``hit`` is None if they never do)."""
+        return self.certificate.result()
+
+    @property
+    def collision_free_alpha(self) -> float:
+        """Largest reference alpha (degrees) reached from the flat stack without any two plates
+        (zero thickness, every pair) passing through each other: the first of the plates
+        crossing (:attr:`interference`, certified to
+        :data:`compas_ccu.kinematics.interference.ANGLE_TOLERANCE`, 1e-7 rad) and a crease
+        overlapping itself (:attr:`overlap_alpha`: the two plates of that crease cross at their
+        hinge); the deployment limit if neither happens."""
+        overlap = math.radians(self.overlap_alpha)
+        found = self.certificate.certify(overlap)
+        return math.degrees(min(overlap, found.clear if found is not None else overlap))
+
+    def check_interference(self, alphas) -> None:
+        """Refuse reference angles ``alphas`` (degrees) beyond the first state, on the path from
+        the flat stack, in which two plates cross.
+
+        Raises
+        ------
+        SelfIntersectionError
+            Names the two plates, the alpha where they first meet and the largest alpha clear.
+        """
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        if not len(alphas):
+            return
+        found = self.certificate.certify(math.radians(float(alphas.max())))
+        if found is None:
+            return
+        beyond = np.radians(alphas) > found.clear
+        if beyond.any():
+            ids = [self.plates.output_id(i) for i in range(self.plates.count)]
+            alpha = float(alphas[np.flatnonzero(beyond)[0]])
+            raise SelfIntersectionError(
+                f"self-intersection at alpha = {alpha:.6g} deg: " + describe(found, ids),
+                alpha=alpha,
+                crease=None,
+                plates=tuple(ids[i] for i in found.plates),
+            )
+
     def _check_states(self, count: int) -> None:
         check_path(self, count)
 
@@ -328,7 +400,8 @@ class CCUModel(Data):
         DeploymentLimitError
             ``alpha`` is negative or beyond the deployment limit.
         SelfIntersectionError
-            A crease overlaps itself at ``alpha`` (with ``check``).
+            A crease overlaps itself at ``alpha``, or two plates have crossed on the way from
+            the flat stack (with ``check``).
         """
         alpha = self.alpha_design if alpha is None else float(alpha)
         return self.path([alpha], check=check)[0]
@@ -341,7 +414,9 @@ class CCUModel(Data):
         alphas : (k,) float
             Reference reflection angles, degrees.
         check : bool
-            Refuse states in which a crease overlaps itself (:class:`SelfIntersectionError`).
+            Refuse states in which a crease overlaps itself, or beyond the first state on the
+            path from the flat stack in which two plates cross (:attr:`collision_free_alpha`):
+            :class:`SelfIntersectionError`.
 
         Returns
         -------
@@ -358,6 +433,7 @@ class CCUModel(Data):
         states = self.mechanism.deploy(np.radians(alphas))
         if check:
             self.check_overlap(states, alphas)
+            self.check_interference(alphas)
         return path_structures(self, states, alphas)
 
     def structure(self, states, k: int, alpha: float, invariants: dict | None = None) -> Structure:

@@ -79,31 +79,16 @@ def _f(value, digits=4, unit="") -> str:
 
 
 def first_collision(thick: ThickModel, upto: float, *, states: int = COLLISION_STATES):
-    """The first interpenetration of the thick plates from the flat stack to ``upto`` degrees.
-
-    A scan of ``states`` states, then :data:`COLLISION_BISECTIONS` bisections between the last
-    clear and the first colliding state, so the angle is known to ``upto / states / 64``.
+    """The first interpenetration of the thick plates from the flat stack to ``upto`` degrees
+    (:meth:`compas_ccu.thickness.ThickModel.first_collision` with
+    :data:`COLLISION_BISECTIONS` bisections, so the angle is known to ``upto / states / 64``).
 
     Returns
     -------
     dict or None
         The collision (``alpha``, ``plates``, ``depth``, ``crossing``, ``point``) or None.
     """
-    alphas = np.linspace(0.0, upto, states)
-    report = thick.collisions(alphas)
-    first = report.first
-    if first is None:
-        return None
-    k = int(np.searchsorted(alphas, first["alpha"]))
-    lo, hi = (alphas[k - 1] if k > 0 else 0.0), first["alpha"]
-    for _ in range(COLLISION_BISECTIONS if k > 0 else 0):
-        mid = 0.5 * (lo + hi)
-        hit = thick.collisions([mid]).first
-        if hit is None:
-            lo = mid
-        else:
-            hi, first = mid, hit
-    return first
+    return thick.first_collision(upto, states=states, bisections=COLLISION_BISECTIONS)[1]
 
 
 def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:

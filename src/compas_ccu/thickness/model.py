@@ -515,6 +515,40 @@ class ThickModel(Data):
             )
         return report
 
+    def first_collision(self, upto=None, *, states: int = 25, bisections: int = 6):
+        """The first interpenetration of the thick plates from the flat stack to ``upto``.
+
+        A scan of ``states`` states from the flat stack to ``upto`` degrees (default: the
+        largest alpha the zero-thickness plates reach without crossing, or the deployment
+        limit, :attr:`compas_ccu.model.CCUModel.collision_free_alpha`), then ``bisections``
+        bisections between the last clear and the first colliding state, so the angle is known
+        to ``upto / (states - 1) / 2 ** bisections``.
+
+        Returns
+        -------
+        clear : float
+            The largest scanned or bisected alpha (degrees) at which the thick plates are
+            clear; ``upto`` if they are clear to it.
+        first : dict or None
+            The collision (``alpha``, ``plates``, ``depth``, ``crossing``, ``point``), or None.
+        """
+        if upto is None:
+            upto = min(self.model.alpha_limit, self.model.collision_free_alpha)
+        alphas = np.linspace(0.0, float(upto), states)
+        first = self.collisions(alphas).first
+        if first is None:
+            return float(upto), None
+        k = int(np.searchsorted(alphas, first["alpha"]))
+        lo, hi = (alphas[k - 1] if k > 0 else 0.0), first["alpha"]
+        for _ in range(bisections if k > 0 else 0):
+            mid = 0.5 * (lo + hi)
+            hit = self.collisions([mid]).first
+            if hit is None:
+                lo = mid
+            else:
+                hi, first = mid, hit
+        return float(lo), first
+
     def bending(self, alphas=None) -> BendingCheck:
         """Bending utilisation (:func:`compas_ccu.thickness.bending.bending_check`).
 
