@@ -59,8 +59,8 @@ STEP = 0.05
 ANGLE_TOLERANCE = 1e-7
 
 #: A point within this fraction of the structure size of a plane (or of a quad's edge) is on it:
-#: touching is not crossing. Where the quads are planar only to a larger distance (layouts
-#: whose creases leave their planes), twice that distance is the tolerance.
+#: touching is not crossing. Where a quad is planar only to a larger distance (layouts whose
+#: creases leave their planes), twice that distance is its tolerance.
 TOUCH_RELATIVE = 1e-9
 
 _INITIAL_STATES = 33
@@ -89,8 +89,9 @@ class Interference:
     states : int
         States placed and tested (the scan and the bisection).
     tolerance : float
-        The touch tolerance, m: within it of a plane or an edge is touching, not crossing
-        (:data:`TOUCH_RELATIVE` of the size, or twice the quads' own non-planarity).
+        The largest touch tolerance used, m: within it of a quad's plane or edge is touching,
+        not crossing (:data:`TOUCH_RELATIVE` of the size, or twice the quad's own
+        non-planarity, whichever is larger).
     """
 
     clear: float
@@ -153,9 +154,10 @@ def _blocks(n):
 
 def _inside(points, inward, sides, tol):
     """(N,) bool: the foot of ``points`` (N, 3) inside the quads whose edge planes are
-    ``inward`` (N, 4, 3) and ``sides`` (N, 4) by more than ``tol`` (outside by less than
-    ``-tol`` if negative)."""
-    return (np.einsum("nei,ni->ne", inward, points) - sides > tol).all(axis=-1)
+    ``inward`` (N, 4, 3) and ``sides`` (N, 4) by more than ``tol`` (float or (N,); outside by
+    less than ``-tol`` if negative)."""
+    tol = np.asarray(tol, dtype=float)
+    return (np.einsum("nei,ni->ne", inward, points) - sides > tol[..., None]).all(axis=-1)
 
 
 def _boxes(points, axis):
@@ -172,7 +174,7 @@ def _events(vertices, n, excluded, tol):
     events : list of (int, str, int, int, (3,) float)
         ``(state, kind, a, b, point)``: plates ``a`` and ``b`` meet at or before ``state``.
     tolerance : float
-        The touch tolerance used (m): ``tol``, or twice the quads' own non-planarity.
+        The largest touch tolerance used (m): ``tol``, or twice a quad's own non-planarity.
     """
     k, p = vertices.shape[:2]
     if k < 2:
@@ -180,8 +182,8 @@ def _events(vertices, n, excluded, tol):
     corners, normal, offset, centre, radius2, inward, sides = _quads(vertices, n)
     # touching is within the tolerance or the quads' own planarity (radial and inclined
     # layouts mirror across fitted planes: their quads are planar to a few 1e-6 of the size)
-    planarity = np.abs(np.einsum("...ci,...i->...c", corners, normal) - offset[..., None]).max()
-    tol = max(tol, 2.0 * float(planarity))
+    planarity = np.abs(np.einsum("...ci,...i->...c", corners, normal) - offset[..., None])
+    touch = np.maximum(tol, 2.0 * planarity.max(axis=-1))  # (k, p, n): per quad
     # the largest displacement of a vertex in every step
     reach = np.linalg.norm(np.diff(vertices, axis=0), axis=-1).max(axis=(1, 2))
     quad_block, ruling_block, edges = _blocks(n)
@@ -192,7 +194,7 @@ def _events(vertices, n, excluded, tol):
     qlo, qhi = _boxes(np.concatenate([qc[:-1], qc[1:]], axis=3), axis=3)
     vc = vertices[:, :, local]
     vlo, vhi = _boxes(np.concatenate([vc[:-1], vc[1:]], axis=3), axis=3)
-    widen = (tol + reach)[:, None, None, None]
+    widen = (touch.max() + reach)[:, None, None, None]
     qlo, vlo = qlo - widen, vlo - widen
     overlap = np.all(
         (qlo[:, :, :, None, None] <= vhi[:, None, None])
@@ -216,10 +218,9 @@ def _events(vertices, n, excluded, tol):
             off = offset[kk[:, None], aq[:, None], quads]  # (N, BLOCK)
             x = vertices[kk[:, None], bq[:, None], verts]  # (N, V, 3)
             h = x @ nrm.swapaxes(1, 2) - off[:, None, :]  # (N, V, BLOCK)
-            heights.append((h, x, nrm))
-        (h0, x0, n0), (h1, x1, n1) = heights
-        up0, dn0 = (h0 > tol) & ~skip[..., None], (h0 < -tol) & ~skip[..., None]
-        up1, dn1 = (h1 > tol) & ~skip[..., None], (h1 < -tol) & ~skip[..., None]
+            t = touch[kk[:, None], aq[:, None], quads][:, None, :]  # (N, 1, BLOCK)
+            heights.append((h, x, (h > t) & ~skip[..., None], (h < -t) & ~skip[..., None]))
+        (h0, x0, up0, dn0), (h1, x1, up1, dn1) = heights
         # crossings in state k + 1: an edge of b from one side of a quad's plane to the other,
         # the crossing point inside the quad
         e0, e1 = edges[:, 0], edges[:, 1]
@@ -232,7 +233,7 @@ def _events(vertices, n, excluded, tol):
             near = ((point - centre[at]) ** 2).sum(axis=-1) <= radius2[at]
             nn, qq, point = nn[near], qq[near], point[near]
             at = (kq[nn] + 1, aq[nn], quads[nn, qq])
-            hit = _inside(point, inward[at], sides[at], -tol)  # the closed quad
+            hit = _inside(point, inward[at], sides[at], -touch[at])  # the closed quad
             for i in np.flatnonzero(hit):
                 found.append(
                     (int(kq[nn[i]]) + 1, "crossing", int(aq[nn[i]]), int(bq[nn[i]]), point[i])
@@ -256,7 +257,8 @@ def _events(vertices, n, excluded, tol):
             # state, and within the step's largest displacement of it in the other
             d0 = np.einsum("nei,ni->ne", inward[at0], x0v) - sides[at0]
             d1 = np.einsum("nei,ni->ne", inward[at1], x1v) - sides[at1]
-            in0, in1 = (d0 > tol).all(axis=1), (d1 > tol).all(axis=1)
+            t0, t1 = touch[at0][:, None], touch[at1][:, None]
+            in0, in1 = (d0 > t0).all(axis=1), (d1 > t1).all(axis=1)
             near0, near1 = (d0 > -dk[:, None]).all(axis=1), (d1 > -dk[:, None]).all(axis=1)
             inside = (in0 & near1) | (near0 & in1)
             for i in np.flatnonzero(inside):
@@ -270,7 +272,7 @@ def _events(vertices, n, excluded, tol):
                     )
                 )
     found.sort(key=lambda e: e[0])
-    return found, tol
+    return found, float(touch.max())
 
 
 class PathCertificate:
