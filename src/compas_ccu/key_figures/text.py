@@ -168,6 +168,20 @@ def thickness_rows(summary: dict) -> list:
             else text.replace("none", "none from the flat stack to the design", 1),
         )
     )
+    if "collision_free_alpha" in summary:
+        first = summary.get("first_collision")
+        rows.append(
+            (
+                "thick clear to",
+                f"{summary['collision_free_alpha']:.4f} deg (thick plates from the flat stack)"
+                + (
+                    f" (plates {first['plates'][0]} and {first['plates'][1]} meet at "
+                    f"{first['alpha']:.4f} deg)"
+                    if first
+                    else ""
+                ),
+            )
+        )
     worst = b["worst"]
     basis = b["basis"]
     design = basis["code"] != "characteristic"

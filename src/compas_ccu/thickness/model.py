@@ -607,6 +607,7 @@ class ThickModel(Data):
         per_plate = bend.per_plate.max(axis=0)
         k, plate, vertex = bend.worst()
         collisions = self.collisions(alphas)
+        clear, first = self.first_collision()
         push = self.actuation(alphas)
         design = -1
         return {
@@ -638,6 +639,14 @@ class ThickModel(Data):
                 "exceeded": bool(bend.max > 1.0),
             },
             "collisions": collisions.summary(),
+            "collision_free_alpha": clear,
+            "first_collision": None
+            if first is None
+            else {
+                "alpha": float(first["alpha"]),
+                "plates": list(first["plates"]),
+                "crossing": bool(first.get("crossing")),
+            },
             "actuation": {
                 "energy_J": float(push.energy[design]),
                 "force_max_N": push.force_max,
