@@ -32,6 +32,7 @@ from compas_ccu.design.crease_rulings import (
 from compas_ccu.design.layouts import (
     PlaneLayout,
     check_plane_gaps,
+    check_straight_creases,
     inclined_increments,
     plane_layout,
     planes_from_heights,
@@ -217,6 +218,7 @@ def build(design) -> DesignGeometry:
                 lambda q, near, direction: (planes.normals[q], planes.offsets[q]),
             )
         nears, fars, links, creases, plate_ids = chain
+        check_straight_creases(np.asarray(nears), np.asarray(fars), creases, plate_ids)
 
     design_near = np.asarray(nears)
     design_far = np.asarray(fars)
