@@ -9,8 +9,9 @@ design through the library the way a user does and classifies what happened:
 * ``ok``: the model builds and deploys, and the structure file it writes, read back, has
   invariants within 1e-9 of its size (the numbers a user gets, not the ones in memory);
 * ``refused``: a :class:`compas_ccu.errors.CCUError` whose message is one line;
-* ``bug``: anything else (another exception, a multi-line message, invariants beyond the bar,
-  a non-finite number in a written file).
+* ``bug``: anything else (another exception, a multi-line message, a message that says "this
+  is a bug" or "please report", invariants beyond the bar, a non-finite number in a written
+  file).
 
 ``tests/test_robustness.py`` runs a bounded slice in ``make test``; ``tools/fuzz.py`` (``make
 fuzz``) runs the long campaign and prints the table of outcomes.
@@ -32,10 +33,28 @@ from compas_ccu.io import write_structure_json
 from compas_ccu.model import CCUModel
 from compas_ccu.strips.intrinsics import QUAD_LENGTH_PAIRS
 
-__all__ = ["designs", "outcome", "written_invariants", "toml_texts", "BAR"]
+__all__ = [
+    "designs",
+    "outcome",
+    "written_invariants",
+    "toml_texts",
+    "BAR",
+    "asks_for_a_report",
+]
 
 #: The exactness bar of the written files, relative to the structure size.
 BAR = 1e-9
+
+#: Words that admit a defect of compas_ccu: a message holding one is a bug, whatever its type
+#: or exit code (an input is refused by naming its cause, never by asking for a report).
+BUG_WORDS = ("this is a bug", "please report")
+
+
+def asks_for_a_report(text: str) -> bool:
+    """Whether ``text`` (a message or a command's output) admits a bug of compas_ccu."""
+    lowered = text.lower()
+    return any(word in lowered for word in BUG_WORDS)
+
 
 EXTREME = st.sampled_from(
     [0.0, -1.0, 1e-12, 1e-300, 1e12, 1e308, math.nan, math.inf, -math.inf, 10**400, "2", True]
@@ -282,6 +301,8 @@ def outcome(document: dict) -> tuple:
         message = str(exc)
         if "\n" in message or not message.strip():
             return "bug", f"{type(exc).__name__} message not one line: {message!r}"
+        if asks_for_a_report(message):
+            return "bug", f"{type(exc).__name__} asks for a report: {message}"
         return "refused", type(exc).__name__
     except Exception as exc:  # noqa: BLE001 - classifying is the point
         return "bug", f"{type(exc).__name__}: {exc}"

@@ -8,6 +8,7 @@
 CCUError) or bug (anything else). A design that runs longer than ``--budget`` seconds is a
 hang. Malformed design files (bad TOML, UTF-16, binary) and bad command lines go through
 ``ccu`` itself: exit 2 with one line and no output folder left is refused, anything else a bug.
+Any message that says "this is a bug" or "please report" is a bug, whatever its exit code.
 The exit status is 1 if any bug or hang was found.
 """
 
@@ -57,13 +58,16 @@ def timed(budget: float, function, *args):
 
 def cli_outcome(argv: list, out: Path) -> tuple:
     """Run ``ccu`` in-process: exit 0 ok, exit 2 with one line and no ``out`` left refused."""
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+    err, out_text = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out_text):
         try:
             code = ccu(argv)
         except SystemExit as exc:  # argparse usage errors
             code = exc.code
     text = err.getvalue().strip()
+    said = text + "\n" + out_text.getvalue()
+    if strategies.asks_for_a_report(said):  # whatever the exit code
+        return "bug", f"exit {code}, asks for a report: {said.strip()[-300:]}"
     if code == 0:
         return "ok", "exit 0"
     # argparse's own usage errors are "usage: ..." lines and one "error:" line

@@ -23,6 +23,7 @@ import numpy as np
 from compas_ccu.curves import profile_from_dict
 from compas_ccu.design.crease_rulings import (
     check_crease,
+    check_ruling_sides,
     design_rulings,
     explicit_side,
     pattern_rulings,
@@ -31,6 +32,7 @@ from compas_ccu.design.crease_rulings import (
 from compas_ccu.design.layouts import (
     PlaneLayout,
     check_plane_gaps,
+    check_straight_creases,
     inclined_increments,
     plane_layout,
     planes_from_heights,
@@ -38,7 +40,7 @@ from compas_ccu.design.layouts import (
 from compas_ccu.design.patterns import check_patterns, pattern_chain
 from compas_ccu.design.targets import TargetFit, solve_plane, targets_from_values
 from compas_ccu.errors import DesignError, GeometryError, ProfileError
-from compas_ccu.geometry import reflect, unit
+from compas_ccu.geometry import reflect
 from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.strips.frames import crease_frames
@@ -174,6 +176,8 @@ def build(design) -> DesignGeometry:
         else:
             width = layout.width
             r = pattern_rulings(rulings, local, flip)
+        deployed = state == "deployed" and rulings.type != "explicit"
+        check_ruling_sides(rulings, local, r, "deployed" if deployed else "flat")
         ccf_width = layout.ccf_width or width
         nears = [near0, near0]
         fars = [near0 + width * r, _reflect_z(near0 + width * r)]
@@ -200,6 +204,7 @@ def build(design) -> DesignGeometry:
     else:
         layout_values = layout.to_dict()
         r = design_rulings(rulings, local, alpha, reference, flip)
+        check_ruling_sides(rulings, local, r, "deployed")
         targets = targets_from_values(design.target.to_dict(), flip=flip)
         if targets:
             chain, planes, fit = _fit_targets(layout_values, targets, local, reference, near0, r)
@@ -213,6 +218,7 @@ def build(design) -> DesignGeometry:
                 lambda q, near, direction: (planes.normals[q], planes.offsets[q]),
             )
         nears, fars, links, creases, plate_ids = chain
+        check_straight_creases(np.asarray(nears), np.asarray(fars), creases, plate_ids)
 
     design_near = np.asarray(nears)
     design_far = np.asarray(fars)
@@ -278,7 +284,9 @@ def _plate_chain(near0, r, m: int, k0: int, plane_at):
             )
             crease_index = len(creases) - 1
             parent = len(nears) - 1
-            direction = reflect(unit(near - far), normal)
+            # the ruling lines themselves, mirrored: not the direction of far - near, which
+            # round-off spoils where the planes almost meet (a ruling of 1e-9 m)
+            direction = reflect(-direction, normal)
             near = far
     # the plates before the leading plane, mirrored across it
     parent, boundary = 0, "near"
@@ -293,7 +301,7 @@ def _plate_chain(near0, r, m: int, k0: int, plane_at):
         plate_ids.append(k)
         links.append((parent, boundary, "ccu", len(creases) - 1))
         parent, boundary = len(nears) - 1, "far"
-        direction = reflect(unit(near - far), normal)
+        direction = reflect(-direction, normal)
         near, upper = far, normal
     return nears, fars, links, creases, plate_ids
 

@@ -12,9 +12,25 @@ import numpy as np
 from compas_ccu.errors import DesignError
 from compas_ccu.strips import rulings as ruling_fields
 from compas_ccu.strips.frames import crease_frames
-from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_ANGLE, ZERO_LENGTH
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE, ZERO_ANGLE, ZERO_LENGTH
 
-__all__ = ["check_crease", "side_flip", "explicit_side", "design_rulings", "pattern_rulings"]
+__all__ = [
+    "check_crease",
+    "side_flip",
+    "explicit_side",
+    "design_rulings",
+    "pattern_rulings",
+    "check_ruling_sides",
+]
+
+#: The key of a design file that sets the rulings of each ruling type.
+RULING_KEYS = {
+    "orthogonal": "rulings.type",
+    "cylindrical": "rulings.direction",
+    "conical": "rulings.apex",
+    "angle": "rulings.gamma",
+    "explicit": "rulings.points",
+}
 
 
 def check_crease(points: np.ndarray) -> None:
@@ -188,3 +204,62 @@ def pattern_rulings(rulings, local: np.ndarray, flip: float) -> np.ndarray:
             key="rulings.type",
         )
     return np.c_[r, np.zeros(len(r))]
+
+
+def check_ruling_sides(rulings, local: np.ndarray, r: np.ndarray, state: str) -> None:
+    """Refuse rulings that leave the plate across a crease edge next to them.
+
+    Every ruling lies in the quads on both sides of it, so it must point into the plate from
+    both crease edges at its vertex (the end rulings: from the end edge): seen from above the
+    crease plane, strictly to the left of the edges (the plate's side, local frame). A ruling to
+    the right of an edge makes its quad fold through the crease; the sector angles of such a
+    pattern describe another surface, so no deployment of the cut pattern reproduces the design
+    (the end rulings of a ruling-angle field and the rulings towards a cone apex beside a sharp
+    crease corner do this).
+
+    Parameters
+    ----------
+    rulings : the typed ``[rulings]`` section
+    local : (n + 1, 2) float
+        The leading crease, local frame (plate on the left).
+    r : (n + 1, 3) float
+        Its rulings at the design state (3D for a deployed design, z = 0 in a cut pattern).
+    state : str
+        ``"deployed"`` or ``"flat"`` (named in the message).
+
+    Raises
+    ------
+    DesignError
+        Names the key of the ruling type, the vertex, the edge and the angle.
+    """
+    p = np.asarray(local, dtype=float)[:, :2]
+    d = np.asarray(r, dtype=float)[:, :2]
+    u = np.diff(p, axis=0)
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    size = np.maximum(np.linalg.norm(d, axis=1), DIVISION_FLOOR)
+    # ruling i against its forward edge i (i < n) and its backward edge i - 1 (i > 0)
+    vertex = np.r_[np.arange(len(u)), np.arange(1, len(u) + 1)]
+    edge = np.r_[np.arange(len(u)), np.arange(len(u))]
+    ue, de = u[edge], d[vertex]
+    sine = (ue[:, 0] * de[:, 1] - ue[:, 1] * de[:, 0]) / size[vertex]
+    bad = np.flatnonzero(sine <= EXACT_RELATIVE)
+    if not bad.size:
+        return
+    k = int(bad[np.argmin(sine[bad])])
+    i, j = int(vertex[k]), int(edge[k])
+    angle = math.degrees(math.atan2(-sine[k] * size[i], float(ue[k] @ de[k])))
+    key = RULING_KEYS.get(rulings.type, "rulings.type")
+    value = {
+        "rulings.gamma": lambda: f"gamma = {rulings.gamma!r}",
+        "rulings.apex": lambda: f"apex = {list(rulings.apex)!r}",
+        "rulings.direction": lambda: f"direction = {list(rulings.direction)!r}",
+    }.get(key, lambda: f"type = {rulings.type!r}")()
+    end = " (an end of the crease)" if i in (0, len(p) - 1) else ""
+    raise DesignError(
+        f"{value}: the ruling at crease vertex {i}{end} points across crease edge {j}-{j + 1} "
+        f"at the {state} design state ({angle:.4g} deg on the far side of it), so its quad folds "
+        "through the crease and no deployment of the cut pattern reproduces the design; use "
+        "more crease segments, rulings nearer perpendicular to the crease there, or a smoother "
+        "crease",
+        key=key,
+    )

@@ -27,7 +27,7 @@ import numpy as np
 
 from compas_ccu.geometry import dot, fit_planes, reflect_points
 from compas_ccu.kinematics.leading import LeadingStrip
-from compas_ccu.kinematics.plates import boundary_rows, hinge_and_rulings
+from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import StripIntrinsics
 
 __all__ = ["PlateLink", "CreaseLink", "CreasePlanes", "Mechanism", "MechanismStates"]
@@ -176,6 +176,11 @@ class Mechanism:
         near = np.empty((k, p, m, 3))
         far = np.empty((k, p, m, 3))
         near[:, 0], far[:, 0] = lead.near, lead.far
+        # unit ruling directions near -> far of every placed plate: a child's rulings mirror its
+        # parent's directions as placed, not the difference of the parent's boundaries, whose
+        # round-off a short ruling (crease planes that almost meet) would magnify
+        rays = np.empty((k, p, m, 3))
+        rays[:, 0] = lead.rulings
         origins = np.zeros((k, c, 3))
         normals = np.zeros((k, c, 3))
         planarity = np.zeros((k, c))
@@ -183,7 +188,8 @@ class Mechanism:
         planes.begin(k, c, m)
         for i, plate in enumerate(self.plates[1:], start=1):
             j, ci = plate.parent, plate.crease
-            hinge, away = hinge_and_rulings(near[:, j], far[:, j], plate.boundary)
+            hinge = boundary_rows(near[:, j], far[:, j], plate.boundary)[0]
+            away = rays[:, j] if plate.boundary == "near" else -rays[:, j]
             # the parent is placed, so the crease (its boundary) is known
             origin, normal, planarity[:, ci] = planes.plane(self, ci, near, far)
             origins[:, ci], normals[:, ci] = origin, normal
@@ -194,6 +200,7 @@ class Mechanism:
                 hinge = reflect_points(hinge, origin, normal)
             near[:, i] = hinge
             far[:, i] = hinge + self._ruling_lengths[i][None, :, None] * mirrored
+            rays[:, i] = mirrored
             placed[ci] = True
         for ci in np.flatnonzero(~placed):  # creases that attach no plate (closing a loop)
             origins[:, ci], normals[:, ci], planarity[:, ci] = planes.plane(self, ci, near, far)

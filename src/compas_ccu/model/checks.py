@@ -11,7 +11,7 @@ from compas_ccu.kinematics.checks import crossing_rulings
 from compas_ccu.kinematics.invariants import EXACT_KEYS
 from compas_ccu.tolerances import EXACT_RELATIVE
 
-__all__ = ["check_size", "check_design", "check_path"]
+__all__ = ["check_size", "check_design", "check_reproduced", "check_path"]
 
 
 def check_size(design) -> None:
@@ -36,8 +36,8 @@ def check_design(model) -> None:
     * rulings that cross inside a plate (a quad of the cut pattern folds over: the crease
       is curved too tightly for the plate's width there);
     * a flat-state design whose design angle lies beyond the deployment limit;
-    * a mechanism that does not reproduce its own design state (an internal inconsistency:
-      never silently deploy something other than the design);
+    * a mechanism that does not reproduce its own design state to the exactness bar
+      (:func:`check_reproduced`: never silently deploy something other than the design);
     * a crease that overlaps itself at the design state.
     """
     bad = crossing_rulings(model.flat()[..., :2], model.plates.quads)
@@ -62,13 +62,7 @@ def check_design(model) -> None:
     g = model.geometry
     s0 = model.mechanism.leading.s0_for_alpha(g.design_alpha) if g.state == "deployed" else 0.0
     st = model.mechanism.place(s0)
-    miss = max(np.abs(st.near[0] - g.design_near).max(), np.abs(st.far[0] - g.design_far).max())
-    if not miss <= EXACT_RELATIVE * model.size:
-        raise GeometryError(
-            f"the mechanism misses its own design state by {miss:.3g} m at alpha "
-            f"{model.alpha_design:.6g} deg (reference vertex {model.reference}); this is a bug "
-            "in compas_ccu, please report it with the design file"
-        )
+    check_reproduced(model, st)
     design = model.invariants(st)
     worst = max(float(design[key][0]) for key in EXACT_KEYS)
     # half the bar: a reader that measures planarity or lengths another way sees up to
@@ -84,6 +78,47 @@ def check_design(model) -> None:
         )
     at_design = st if g.state == "deployed" else model.mechanism.deploy(g.design_alpha)
     model.check_overlap(at_design, [model.alpha_design])
+
+
+def check_reproduced(model, st) -> None:
+    """Refuse a design whose mechanism, placed at the design angle, misses the design state.
+
+    The builder refuses the designs known to be impossible (rulings across the crease, planes
+    that cross) before this; what is left is a design so close to degenerate that round-off
+    decides its shape. The message names the plate, the crease vertex, the miss and what to
+    change, as a refusal of the input.
+
+    Parameters
+    ----------
+    model : CCUModel
+    st : compas_ccu.kinematics.mechanism.MechanismStates
+        The mechanism placed at the design state (one state).
+
+    Raises
+    ------
+    GeometryError
+    """
+    g = model.geometry
+    misses = np.maximum(
+        np.abs(st.near[0] - g.design_near).max(axis=-1),
+        np.abs(st.far[0] - g.design_far).max(axis=-1),
+    )  # (p, n + 1)
+    miss = float(misses.max()) if np.all(np.isfinite(misses)) else float("inf")
+    if miss <= EXACT_RELATIVE * model.size:
+        return
+    p, i = (
+        int(v) for v in np.unravel_index(np.argmax(np.nan_to_num(misses, nan=np.inf)), misses.shape)
+    )
+    raise GeometryError(
+        f"this design cannot be deployed exactly: its mechanism, placed at the design alpha "
+        f"{model.alpha_design:.6g} deg, misses the design state by {miss:.3g} m "
+        f"({miss / model.size:.2g} of the {model.size:.3g} m structure; the bar is "
+        f"{EXACT_RELATIVE:g}) at plate {model.geometry.plate_ids[p]}, crease vertex {i}: the "
+        "design is too close to degenerate there (rulings almost along the crease or "
+        "almost meeting, crease planes almost meeting, an almost straight crease between "
+        "plates); use fewer or more crease segments, move crease.reference or change the "
+        "layout there"
+    )
 
 
 def check_path(model, count: int) -> None:
