@@ -193,7 +193,12 @@ def read_curve(
         points = points[keep]
     if len(points) < 2:
         raise ProfileError(f"{str(path)!r}: {chosen.label} has fewer than 2 distinct points")
-    return CurveRead(points * (factor * scale), f"{path}: {chosen.label}", used)
+    scaled = points * (factor * scale)
+    if not np.isfinite(scaled).all():
+        raise ProfileError(
+            f"{str(path)!r}: {chosen.label} times scale {scale:g} ({used}) is not finite"
+        )
+    return CurveRead(scaled, f"{path}: {chosen.label}", used)
 
 
 def plane_coordinates(points, *, source: str = "curve", planarity: float = 1e-6):
