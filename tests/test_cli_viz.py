@@ -56,7 +56,7 @@ def test_figures_colour_by_values_from_a_file(tmp_path, cone_model):
         (["--size", "12by7"], "--size must be WIDTHxHEIGHT in inches, e.g. 12x7, got '12by7'"),
         (["--size", "0x7"], "--size must be positive inches up to 200, got '0x7'"),
         (["--dpi", "5"], "--dpi must be >= 10, got 5"),
-        (["--dpi", "5000"], "--dpi must be from 10 to 2400, got 5000"),
+        (["--dpi", "5000"], "--dpi must be <= 2400, got 5000"),
     ],
 )
 def test_figures_errors_name_the_cause(tmp_path, capsys, extra, message):

@@ -39,8 +39,12 @@ class Limits:
     vertices: int = 500_000
     #: States of one path, animation or planarity table.
     states: int = 10_000
-    #: Variants of a design-space sweep.
+    #: Variants of a design-space sweep, trials of a study, spans of a scaling study.
     variants: int = 1_000_000
+    #: Points of one curve file (CSV rows, DXF coordinate tags) or of one sampled curve.
+    points: int = 200_000
+    #: Worker processes of a local Dask cluster (explore, optimize --workers).
+    workers: int = 256
     #: Estimated memory of one computation, GiB.
     memory_gib: float = 4.0
 

@@ -14,6 +14,7 @@ __all__ = [
     "ZERO_ANGLE",
     "DIVISION_FLOOR",
     "SOLVER",
+    "OBJECTIVE_RELATIVE",
 ]
 
 #: The exactness bar: an invariant error below this fraction of the structure size is exact
@@ -32,3 +33,8 @@ DIVISION_FLOOR = 1e-300
 
 #: Convergence tolerance of the iterative solvers (least squares, root finding) in relative terms.
 SOLVER = 1e-12
+
+#: Two values of one objective closer than this fraction of the objective's scale (its largest
+#: magnitude among the designs compared) are equal on a Pareto front: a design is dominated
+#: when another is as good within it in every objective and better by more in one.
+OBJECTIVE_RELATIVE = 1e-9

@@ -110,6 +110,7 @@ COMMANDS = (
             ),
             option(
                 "--workers",
+                limit="workers",
                 type=int,
                 default=None,
                 minimum=1,

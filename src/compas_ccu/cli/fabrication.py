@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from compas_ccu.cli.common import FAB, load_model, need_extra, say
-from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
+from compas_ccu.cli.parser import DESIGN, MAX_THICKNESS, OUT, QUIET, Command, option
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.design import load_design
 from compas_ccu.design.writer import design_toml
@@ -167,10 +167,23 @@ COMMANDS = (
         (
             DESIGN,
             OUT,
-            option("--thickness", type=float, default=None, help="plate thickness, m"),
+            option(
+                "--thickness",
+                type=float,
+                positive=True,
+                maximum=MAX_THICKNESS,
+                default=None,
+                help="plate thickness, m",
+            ),
             option("--material", default=None, help="material name (docs/thickness.md)"),
             option("--grain", type=float, default=None, help="grain direction, degrees"),
-            option("--hinge-width", type=float, default=None, help="hinge strip width, m"),
+            option(
+                "--hinge-width",
+                type=float,
+                positive=True,
+                default=None,
+                help="hinge strip width, m",
+            ),
             option(
                 "--allow-collisions", action="store_true", help="write even if the plates collide"
             ),
@@ -182,13 +195,14 @@ COMMANDS = (
             option(
                 "--sheet",
                 type=float,
+                positive=True,
                 nargs=2,
                 action="append",
                 default=None,
                 metavar=("LENGTH", "WIDTH"),
                 help="a sheet size in stock, m (repeat for several; default [fabrication] sheets)",
             ),
-            option("--kerf", type=float, default=None, help="kerf, m"),
+            option("--kerf", type=float, minimum=0.0, default=None, help="kerf, m"),
             option(
                 "--nesting",
                 default=None,
@@ -236,6 +250,8 @@ COMMANDS = (
             option(
                 "--reference",
                 type=float,
+                minimum=0.0,
+                maximum=1.0,
                 default=0.5,
                 help="arc-length fraction of the reference vertex (default 0.5)",
             ),

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 from compas_ccu.cli.common import load_model, missing_modules, say
-from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
+from compas_ccu.cli.parser import DESIGN, MAX_THICKNESS, OUT, QUIET, Command, option
 from compas_ccu.cli.text import basis_text, load_case_lines
 from compas_ccu.fea.loads import CASE_NAMES
 from compas_ccu.fea.problem import ConvergenceError
@@ -154,9 +154,16 @@ COMMANDS = (
             option(
                 "--mode", choices=("displacement", "actuation"), default="displacement", help=None
             ),
-            option("--element-size", type=float, default=0.1, help="m (default 0.1)"),
             option(
-                "--steps", limit="states", type=int, default=8, help="deployment steps (default 8)"
+                "--element-size", type=float, positive=True, default=0.1, help="m (default 0.1)"
+            ),
+            option(
+                "--steps",
+                limit="states",
+                type=int,
+                minimum=1,
+                default=8,
+                help="deployment steps (default 8)",
             ),
             option("--alpha", type=float, default=None, help="target alpha, degrees"),
             option(
@@ -165,6 +172,8 @@ COMMANDS = (
             option(
                 "--thickness",
                 type=float,
+                positive=True,
+                maximum=MAX_THICKNESS,
                 default=None,
                 help="plate thickness, m (default: the design's [plates])",
             ),
@@ -172,6 +181,7 @@ COMMANDS = (
             option(
                 "--hinge-stiffness",
                 type=float,
+                minimum=0.0,
                 default=None,
                 help="rotational hinge spring, Nm/rad/m (default: the design's [hinges])",
             ),
@@ -190,6 +200,7 @@ COMMANDS = (
             option(
                 "--area-load",
                 type=float,
+                minimum=0.0,
                 default=None,
                 help="an extra uniform load case on the plates, N/m2 (default: 1500 if the "
                 "design's [loads] define no action, else none)",

@@ -139,6 +139,7 @@ COMMANDS = (
             option("--out", required=True, help="output folder (continues this study)"),
             option(
                 "--trials",
+                limit="variants",
                 type=int,
                 default=None,
                 minimum=1,
@@ -150,6 +151,7 @@ COMMANDS = (
                 type=int,
                 default=None,
                 minimum=0,
+                maximum=2**32 - 1,
                 metavar="S",
                 help="the sampler's seed (default: study.seed; another seed is another study)",
             ),
@@ -161,6 +163,7 @@ COMMANDS = (
             ),
             option(
                 "--workers",
+                limit="workers",
                 type=int,
                 default=None,
                 minimum=1,

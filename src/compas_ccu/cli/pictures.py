@@ -72,8 +72,6 @@ def figures(args) -> int:
     formats = comma_list(args.format, FIGURE_FORMATS, "--format")
     only = comma_list(args.only, FIGURE_NAMES, "--only") if args.only else list(FIGURE_NAMES)
     size = _size(args.size)
-    if args.dpi > 2400:
-        raise OptionError(f"--dpi must be from 10 to 2400, got {args.dpi}")
     views = ("perspective", "plan", "elevation", "side")
     if args.view is not None:
         camera(args.view)  # a bad --view fails before any work
@@ -162,6 +160,10 @@ def sheet(args) -> int:
     need_viz("sheet")
 
     formats = comma_list(args.format, FIGURE_FORMATS, "--format")
+    if args.columns is not None and args.columns > len(args.designs):
+        raise OptionError(
+            f"--columns must be <= the number of designs ({len(args.designs)}), got {args.columns}"
+        )
     structures = [load_model(d).deploy() for d in args.designs]
     fig = plot_contact_sheet(structures, columns=args.columns, title=args.title)
     for path in save_figure(fig, Path(args.out) / "contact-sheet", formats=formats):
@@ -259,6 +261,7 @@ COMMANDS = (
                 "--dpi",
                 type=int,
                 minimum=10,
+                maximum=2400,
                 default=150,
                 help="PNG resolution, dots per inch (default 150)",
             ),
@@ -283,11 +286,20 @@ COMMANDS = (
             option(
                 "--frames",
                 limit="states",
+                extra=0,
                 type=int,
+                minimum=2,
                 default=48,
                 help="number of frames (default 48)",
             ),
-            option("--fps", type=float, default=12.0, help="frames per second (default 12)"),
+            option(
+                "--fps",
+                type=float,
+                positive=True,
+                maximum=1000.0,
+                default=12.0,
+                help="frames per second (default 12)",
+            ),
             option("--alpha", type=float, default=None, help="last state, degrees"),
             option("--format", default=None, help="gif, mp4 (default: gif, and mp4 if possible)"),
             QUIET_PROGRESS,
@@ -305,7 +317,12 @@ COMMANDS = (
             DESIGN,
             OUT,
             option(
-                "--steps", limit="states", type=int, default=24, help="slider steps (default 24)"
+                "--steps",
+                limit="states",
+                type=int,
+                minimum=1,
+                default=24,
+                help="slider steps (default 24)",
             ),
             option("--alpha", type=float, default=None, help="last state, degrees"),
             option("--view", default=None, help=VIEW_HELP + " (default: perspective)"),
@@ -327,7 +344,13 @@ COMMANDS = (
         (
             option("designs", nargs="+", help="design TOML files"),
             OUT,
-            option("--columns", type=int, default=None, help="columns (default: about square)"),
+            option(
+                "--columns",
+                type=int,
+                minimum=1,
+                default=None,
+                help="columns (default: about square; at most the number of designs)",
+            ),
             option("--title", default=None, help="sheet title"),
             FORMATS,
             QUIET,
@@ -349,13 +372,16 @@ COMMANDS = (
                 "--steps",
                 limit="states",
                 type=int,
+                minimum=1,
                 default=24,
                 help="deployment path steps (default 24)",
             ),
             option(
                 "--frames",
                 limit="states",
+                extra=0,
                 type=int,
+                minimum=2,
                 default=48,
                 help="animation frames (default 48)",
             ),

@@ -5,7 +5,16 @@ from __future__ import annotations
 from pathlib import Path
 
 from compas_ccu.cli.common import load_model, missing_modules, say
-from compas_ccu.cli.parser import DESIGN, OUT, QUIET, Command, option
+from compas_ccu.cli.parser import (
+    DESIGN,
+    MAX_LENGTH,
+    MAX_THICKNESS,
+    OUT,
+    QUIET,
+    Command,
+    numbers,
+    option,
+)
 from compas_ccu.errors import OptionError
 from compas_ccu.explore.scale import SHEET, THICKNESS_LAWS, plot_scale, scale_study, write_csv
 from compas_ccu.fea.loads import CASE_NAMES
@@ -14,22 +23,24 @@ from compas_ccu.viz.export import save_figure
 __all__ = ["COMMANDS"]
 
 
-def _numbers(text: str | None, option_name: str) -> list | None:
-    if text is None:
-        return None
-    try:
-        return [float(v) for v in text.replace("x", ",").split(",") if v.strip()]
-    except ValueError:
-        raise OptionError(
-            f"{option_name} must be numbers separated by commas, got {text!r}"
-        ) from None
-
-
 def scale(args) -> int:
-    sheet = _numbers(args.sheet, "--sheet")
-    if len(sheet) != 2 or min(sheet) <= 0:
-        raise OptionError(f"--sheet must be LENGTHxWIDTH in m, e.g. 2.44x1.22, got {args.sheet!r}")
-    thicknesses = _numbers(args.thickness, "--thickness")
+    sheet = numbers(
+        args.sheet,
+        "--sheet",
+        count=2,
+        maximum=MAX_LENGTH,
+        form="LENGTHxWIDTH in m",
+        example="2.44x1.22",
+    )
+    thicknesses = None
+    if args.thickness is not None:
+        thicknesses = numbers(
+            args.thickness,
+            "--thickness",
+            maximum=MAX_THICKNESS,
+            form="thicknesses in m separated by commas",
+            example="0.008,0.01",
+        )
     law = args.thickness_law or ("given" if thicknesses else "constant")
     model = load_model(args.design)
     base = model.deploy().metrics["span"]
@@ -93,9 +104,18 @@ COMMANDS = (
         (
             DESIGN,
             OUT,
-            option("--to", type=float, required=True, help="the largest span, m"),
+            option(
+                "--to",
+                type=float,
+                positive=True,
+                maximum=MAX_LENGTH,
+                required=True,
+                help="the largest span, m",
+            ),
             option(
                 "--steps",
+                limit="variants",
+                extra=1,
                 type=int,
                 default=7,
                 minimum=1,
@@ -127,6 +147,7 @@ COMMANDS = (
             option(
                 "--area-load",
                 type=float,
+                minimum=0.0,
                 default=None,
                 help="with --fe: a uniform load case, N/m2 (default 1500 if the design's [loads] "
                 "define no action)",

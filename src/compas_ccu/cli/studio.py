@@ -72,6 +72,7 @@ COMMANDS = (
                 type=int,
                 default=8080,
                 minimum=1,
+                maximum=65535,
                 help="port (default 8080; the next free one if busy)",
             ),
             option(

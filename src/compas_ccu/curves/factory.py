@@ -136,9 +136,26 @@ def _require_point_list(points: object) -> np.ndarray:
         raise ProfileError(
             f"points must be a list of [x, y] pairs (m), got {type(points).__name__}"
         )
+    fast = _plain_pairs(points)
+    if fast is not None:
+        return fast
     for index, pair in enumerate(points):
         if not isinstance(pair, (list, tuple, np.ndarray)) or len(pair) != 2:
             raise ProfileError(f"points[{index}] must be a pair [x, y] (m), got {pair!r}")
         for axis, coordinate in enumerate(pair):
             require_real(f"points[{index}][{axis}]", coordinate)
     return np.array(points, dtype=float).reshape(len(points), 2)
+
+
+def _plain_pairs(points):
+    """``points`` as (n, 2) float if it is a list of [x, y] lists of plain finite floats and
+    ints (no bool), checked in NumPy; None for anything else (the loop names the culprit)."""
+    if not all(type(p) is list and len(p) == 2 for p in points):
+        return None
+    if not {type(c) for p in points for c in p} <= {float, int}:
+        return None
+    try:
+        array = np.array(points, dtype=float).reshape(len(points), 2)
+    except (OverflowError, ValueError):
+        return None
+    return array if np.isfinite(array).all() else None

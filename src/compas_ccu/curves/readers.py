@@ -43,6 +43,14 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu import limits
+from compas_ccu.curves.dxf_input import (
+    check_dxf_points,
+    check_finite,
+    dxf_units,
+    spline_sampler,
+    straight_polyline_points,
+)
 from compas_ccu.errors import MissingExtraError, ProfileError
 
 __all__ = [
@@ -63,8 +71,6 @@ CURVE_SUFFIXES = (".csv", ".txt", ".dxf", ".svg", ".3dm")
 
 #: Default chord tolerance of the sampling, relative to the curve's bounding-box diagonal.
 TOLERANCE = 1e-8
-#: The largest number of points one curve is sampled with.
-MAX_POINTS = 200_000
 
 
 @dataclass(frozen=True)
@@ -166,7 +172,10 @@ def read_curve(
         ".svg": _svg,
         ".3dm": _rhino,
     }[suffix]
-    candidates, file_units, file_factor = reader(path)
+    if suffix == ".dxf":  # the file's $INSUNITS matters only without units
+        candidates, file_units, file_factor = _dxf(path, units)
+    else:
+        candidates, file_units, file_factor = reader(path)
     chosen = _choose(path, candidates, layer=layer, name=name, index=index)
     used = units or file_units
     if used is None:
@@ -175,15 +184,21 @@ def read_curve(
             f"{', '.join(UNITS)}): give units = one of {', '.join(UNITS)}"
         )
     factor = UNITS[used] if units is not None or file_factor is None else file_factor
-    rough = np.asarray(chosen.sample(None), dtype=float)
+    rough = check_finite(chosen.sample(None), f"{str(path)!r}: {chosen.label}").reshape(-1, 3)
     size = float(np.linalg.norm(np.ptp(rough, axis=0))) if len(rough) else 0.0
-    points = np.asarray(chosen.sample(tolerance * size), dtype=float)
+    points = check_finite(chosen.sample(tolerance * size), f"{str(path)!r}: {chosen.label}")
+    limits.check("points", len(points), what=f"points of {chosen.label} in {path.name}")
     if len(points) > 1:  # drop repeated points (joints of segments)
         keep = np.r_[True, np.linalg.norm(np.diff(points, axis=0), axis=1) > 1e-12 * size]
         points = points[keep]
     if len(points) < 2:
         raise ProfileError(f"{str(path)!r}: {chosen.label} has fewer than 2 distinct points")
-    return CurveRead(points * (factor * scale), f"{path}: {chosen.label}", used)
+    scaled = points * (factor * scale)
+    if not np.isfinite(scaled).all():
+        raise ProfileError(
+            f"{str(path)!r}: {chosen.label} times scale {scale:g} ({used}) is not finite"
+        )
+    return CurveRead(scaled, f"{path}: {chosen.label}", used)
 
 
 def plane_coordinates(points, *, source: str = "curve", planarity: float = 1e-6):
@@ -313,10 +328,8 @@ def _adaptive(evaluate, t0: float, t1: float, tolerance, *, start: int = 16, bre
         bad = error > tolerance
         if not bad.any():
             return pts
-        if len(ts) + int(bad.sum()) > MAX_POINTS:
-            raise ProfileError(
-                f"the curve needs more than {MAX_POINTS} points for the sampling tolerance"
-            )
+        if len(ts) + int(bad.sum()) > limits.LIMITS.points:
+            limits.check("points", len(ts) + int(bad.sum()), what="points (the curve's sampling)")
         ts = np.sort(np.r_[ts, mids[bad]])
         pts = evaluate(ts)
     return pts  # pragma: no cover - 2^40 refinements
@@ -327,12 +340,58 @@ def _adaptive(evaluate, t0: float, t1: float, tolerance, *, start: int = 16, bre
 _SPLIT = re.compile(r"[,;\s]+")
 
 
+_COMMENT = re.compile(r"#[^\n]*")
+_TO_SPACE = str.maketrans({",": " ", ";": " ", "\t": " ", "\r": "\n", "\f": " ", "\v": " "})
+
+
 def _csv(path: Path):
-    rows = []
     try:
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise ProfileError(f"cannot read {str(path)!r}: {exc}") from exc
+    limits.check("points", text.count("\n"), what=f"lines of {path.name}")
+    points = _csv_fast(text)
+    if points is None:  # ragged, malformed or non-finite: the line-by-line reading names it
+        points = _csv_lines(path, text)
+    candidate = _Candidate(f"{len(points)} points", None, None, lambda tol: points)
+    return [candidate], "m", None
+
+
+def _csv_fast(text: str):
+    """The points of a CSV / TXT text whose rows all have 2 or all 3 finite numbers (after an
+    optional header line), parsed by NumPy; None for anything else."""
+    if "#" in text:
+        text = _COMMENT.sub("", text)
+    clean = text.translate(_TO_SPACE)
+    clean = clean.lstrip()  # leading blank lines
+    end = clean.find("\n")
+    first = clean if end < 0 else clean[:end]
+    try:
+        [float(f) for f in first.split()]
+    except ValueError:  # a header line
+        clean = "" if end < 0 else clean[end + 1 :]
+    data = clean.split()
+    try:
+        values = np.array(data, dtype=float)
+    except ValueError:
+        return None
+    if not len(values) or not np.isfinite(values).all():
+        return None
+    # the fields of every non-empty line: a field starts where a blank is followed by a non-blank
+    b = np.frombuffer(clean.encode("utf-8"), dtype=np.uint8)
+    blank = (b == 32) | (b == 10)
+    starts = np.flatnonzero(~blank & np.r_[True, blank[:-1]])
+    line = np.searchsorted(np.flatnonzero(b == 10), starts)  # ascending line numbers
+    counts = np.diff(np.r_[0, np.flatnonzero(np.diff(line)) + 1, len(line)])
+    width = int(counts[0])
+    if width not in (2, 3) or (counts != width).any():
+        return None
+    points = values.reshape(-1, width)
+    return np.c_[points, np.zeros(len(points))] if width == 2 else points
+
+
+def _csv_lines(path: Path, text: str):
+    rows = []
     for number, line in enumerate(text.splitlines(), start=1):
         line = line.split("#", 1)[0].strip()
         if not line:
@@ -349,9 +408,7 @@ def _csv(path: Path):
                 f"{str(path)!r} line {number}: a point is 2 or 3 finite numbers, got {line[:60]!r}"
             )
         rows.append(values + [0.0] * (3 - len(values)))
-    points = np.array(rows, dtype=float).reshape(-1, 3)
-    candidate = _Candidate(f"{len(points)} points", None, None, lambda tol: points)
-    return [candidate], "m", None
+    return np.array(rows, dtype=float).reshape(-1, 3)
 
 
 # -- DXF --------------------------------------------------------------------------------------
@@ -368,18 +425,14 @@ def _need(module: str, extra: str, what: str):
         ) from None
 
 
-_DXF_UNITS = {1: "in", 2: "ft", 4: "mm", 5: "cm", 6: "m"}
-
-
-def _dxf(path: Path):
+def _dxf(path: Path, units=None):
     ezdxf = _need("ezdxf", "fab", "DXF files")
-
+    check_dxf_points(path)
     try:
         doc = ezdxf.readfile(str(path))
     except (OSError, ezdxf.DXFError) as exc:
         raise ProfileError(f"cannot read DXF file {str(path)!r}: {exc}") from exc
-    insunits = int(doc.header.get("$INSUNITS", 0) or 0)
-    file_units = _DXF_UNITS.get(insunits)  # None: unitless or a unit not in UNITS
+    file_units = units if units is not None else dxf_units(doc, path)  # None: unitless
     candidates = []
     lines = []
     for e in doc.modelspace():
@@ -417,14 +470,7 @@ def dxf_sampler(e):
     """
     kind = e.dxftype()
     if kind == "SPLINE":
-        tool = e.construction_tool()
-
-        def sample(tol):
-            if tol is None:
-                return np.array([tuple(v) for v in tool.control_points], dtype=float)
-            return np.array([tuple(v) for v in tool.flattening(tol, segments=16)])
-
-        return sample
+        return spline_sampler(e)
     if kind == "ARC":
         return _dxf_arc_sampler(e)
     if kind == "LWPOLYLINE" or (kind == "POLYLINE" and e.is_2d_polyline):
@@ -457,7 +503,14 @@ def _dxf_arc_sampler(e):
 
 
 def _dxf_polyline_sampler(e):
-    """A 2D polyline with bulges as exact line and arc pieces (ezdxf's virtual entities)."""
+    """A 2D polyline with bulges as exact line and arc pieces (ezdxf's virtual entities); an
+    LWPOLYLINE without bulges as its vertices (vectorised)."""
+    count = len(e) if e.dxftype() == "LWPOLYLINE" else len(e.vertices)
+    limits.check("points", count, what=f"vertices of {e.dxftype()} #{e.dxf.handle}")
+    if e.dxftype() == "LWPOLYLINE":
+        straight = straight_polyline_points(e)
+        if straight is not None:
+            return lambda tol: straight
     pieces = list(e.virtual_entities())
 
     def sample(tol):

@@ -730,28 +730,28 @@ SCHEMA: dict = {
             "Price of one sheet (every size in stock), currency per sheet.",
             default=60.0,
             check=lambda v: 0.0 <= v <= 1.0e9,
-            check_doc=">= 0",
+            check_doc=">= 0 and <= 1e9",
         ),
         "textile_price": Key(
             "float",
             "Price of the hinge textile, currency per metre of roll.",
             default=12.0,
             check=lambda v: 0.0 <= v <= 1.0e9,
-            check_doc=">= 0",
+            check_doc=">= 0 and <= 1e9",
         ),
         "glue_price": Key(
             "float",
             "Price of glue, currency per metre of glue line.",
             default=0.3,
             check=lambda v: 0.0 <= v <= 1.0e9,
-            check_doc=">= 0",
+            check_doc=">= 0 and <= 1e9",
         ),
         "fastener_price": Key(
             "float",
             "Price of one fastener, currency.",
             default=0.05,
             check=lambda v: 0.0 <= v <= 1.0e9,
-            check_doc=">= 0",
+            check_doc=">= 0 and <= 1e9",
         ),
     },
     "plane": {
@@ -1003,7 +1003,9 @@ def _curve_file(where: str, value) -> dict:
     if table.get("index") is not None and table["index"] < 0:
         raise DesignError(f"must be >= 0, got {table['index']}", key=f"{where}.index")
     if "scale" in table and not 0.0 < table["scale"] <= MAX_LENGTH:
-        raise DesignError(f"must be > 0, got {table['scale']}", key=f"{where}.scale")
+        raise DesignError(
+            f"must be > 0 and <= 1e6, got {table['scale']}", key=f"{where}.scale"
+        )
     return {k: table.get(k, 1.0 if k == "scale" else None) for k in CURVE_FILE_KEYS}
 
 

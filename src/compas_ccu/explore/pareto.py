@@ -4,12 +4,19 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.tolerances import OBJECTIVE_RELATIVE
+
 __all__ = ["pareto_mask", "feasible", "violations", "meets", "objective_matrix", "rank_best"]
 
 
 def pareto_mask(values: np.ndarray, senses, *, chunk: int = 512) -> np.ndarray:
     """Which rows are Pareto-optimal (no other row is as good in every objective and better
     in one).
+
+    Values are compared with a relative tolerance (:data:`compas_ccu.tolerances.
+    OBJECTIVE_RELATIVE` of each objective's largest magnitude): a row better only by round-off
+    in one objective is dominated by a row better by more in another, and rows equal within the
+    tolerance do not dominate each other.
 
     Parameters
     ----------
@@ -30,6 +37,8 @@ def pareto_mask(values: np.ndarray, senses, *, chunk: int = 512) -> np.ndarray:
     [True, True, False, True]
     >>> pareto_mask(v, ["max", "max"]).tolist()
     [True, False, True, True]
+    >>> pareto_mask([[1.0, 1.0], [1.0 - 3e-16, 5.0]], ["min", "min"]).tolist()
+    [True, False]
     """
     v = np.asarray(values, dtype=float)
     if v.ndim != 2 or v.shape[1] != len(senses):
@@ -42,9 +51,11 @@ def pareto_mask(values: np.ndarray, senses, *, chunk: int = 512) -> np.ndarray:
     mask = np.zeros(len(v), dtype=bool)
     w = v[valid]
     optimal = np.ones(len(w), dtype=bool)
+    scale = np.abs(np.where(np.isfinite(w), w, 0.0)).max(axis=0) if len(w) else 0.0
+    tol = OBJECTIVE_RELATIVE * scale  # (m,): the objectives' round-off
     for start in range(0, len(w), chunk):
         block = w[start : start + chunk, None, :]  # (c, 1, m) against (1, n, m)
-        dominated = (w[None] <= block).all(axis=2) & (w[None] < block).any(axis=2)
+        dominated = (w[None] <= block + tol).all(axis=2) & (w[None] < block - tol).any(axis=2)
         optimal[start : start + chunk] = ~dominated.any(axis=1)
     mask[np.flatnonzero(valid)] = optimal
     return mask

@@ -21,9 +21,11 @@ whether every plate still fits a stock sheet.
 from __future__ import annotations
 
 import copy
+import math
 
 import numpy as np
 
+from compas_ccu import limits
 from compas_ccu.analysis.plate_size import fits_sheet
 from compas_ccu.design.schema import SCHEMA
 from compas_ccu.errors import OptionError
@@ -159,8 +161,14 @@ def scale_study(
     """
     if steps < 1:
         raise OptionError(f"steps must be >= 1, got {steps}")
-    if not to_span > 0.0:
-        raise OptionError(f"the target span must be > 0 m, got {to_span!r}")
+    limits.check("variants", steps + 1, what=f"spans (steps {steps} + the base)")
+    if not (math.isfinite(to_span) and to_span > 0.0):
+        raise OptionError(f"the target span must be a finite number > 0 m, got {to_span!r}")
+    sheet = tuple(sheet)
+    if len(sheet) != 2 or not all(math.isfinite(v) and v > 0.0 for v in sheet):
+        raise OptionError(f"the sheet must be two finite lengths > 0 m, got {sheet!r}")
+    if thicknesses is not None and not all(math.isfinite(t) and t > 0.0 for t in thicknesses):
+        raise OptionError(f"the thicknesses must be finite numbers > 0 m, got {thicknesses!r}")
     spans = np.linspace(base_span, to_span, steps + 1)
     if law == "given":
         if thicknesses is None or len(thicknesses) != len(spans):

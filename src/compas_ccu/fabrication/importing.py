@@ -39,11 +39,12 @@ from pathlib import Path
 
 import numpy as np
 
-from compas_ccu.curves.readers import dxf_line_chains, dxf_sampler
+from compas_ccu.curves.dxf_input import check_dxf_points, check_finite, dxf_units
+from compas_ccu.curves.readers import UNITS, dxf_line_chains, dxf_sampler
 from compas_ccu.design import Design
 from compas_ccu.design.build import build
 from compas_ccu.design.writer import design_toml
-from compas_ccu.errors import DesignError, GeometryError, MissingExtraError
+from compas_ccu.errors import DesignError, GeometryError, MissingExtraError, ProfileError
 from compas_ccu.geometry import fit_planes, rigid_align, unit
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.kinematics.plates import hinge_and_rulings
@@ -160,15 +161,24 @@ def read_plate_drawing(path, *, units: str | None = None) -> PlateDrawing:
     """
     ezdxf = _ezdxf()
     path = Path(path)
+    check_dxf_points(path)
     try:
         doc = ezdxf.readfile(str(path))
     except (OSError, ezdxf.DXFError) as exc:
         raise DesignError(f"cannot read plate file {str(path)!r}: {exc}") from exc
-    if units is not None:
-        k = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048}[units]
-    else:
-        insunits = int(doc.header.get("$INSUNITS", 0) or 0) or ezdxf.units.MM
-        k = ezdxf.units.conversion_factor(insunits, ezdxf.units.M)
+    if units is None:
+        try:
+            units = dxf_units(doc, path.name) or "mm"  # unitless: as ccu fabricate writes
+        except ProfileError as exc:
+            raise DesignError(str(exc)) from None
+    k = UNITS[units]
+    try:
+        return _plate_drawing(path, doc, k)
+    except ProfileError as exc:  # a SPLINE no curve is built of, a non-finite coordinate
+        raise DesignError(f"{path.name} {exc}") from None
+
+
+def _plate_drawing(path: Path, doc, k: float) -> PlateDrawing:
     by_layer: dict = {}
     for e in doc.modelspace():
         by_layer.setdefault(e.dxf.layer.upper(), []).append(e)
@@ -189,7 +199,7 @@ def read_plate_drawing(path, *, units: str | None = None) -> PlateDrawing:
     cut = cuts[0]
     closed = cut.closed if cut.dxftype() == "LWPOLYLINE" else cut.is_closed
     sample = dxf_sampler(cut)
-    rough = np.asarray(sample(None))[:, :2]
+    rough = check_finite(sample(None), f"CUT #{cut.dxf.handle}")[:, :2]
     size = float(np.linalg.norm(np.ptp(rough, axis=0)))
     outline = _dedupe(np.asarray(sample(SAMPLING * size))[:, :2] * k, SNAP * size * k)
     if np.linalg.norm(outline[0] - outline[-1]) <= SNAP * size * k:
@@ -210,7 +220,8 @@ def read_plate_drawing(path, *, units: str | None = None) -> PlateDrawing:
                 f"{path.name} CREASE #{e.dxf.handle}: a {e.dxftype()} is no crease curve "
                 "(LWPOLYLINE, POLYLINE, ARC, SPLINE or LINEs)"
             )
-        pts = _dedupe(np.asarray(sampler(SAMPLING * size))[:, :2] * k, SNAP * size * k)
+        pts = check_finite(sampler(SAMPLING * size), f"CREASE #{e.dxf.handle}")
+        pts = _dedupe(pts[:, :2] * k, SNAP * size * k)
         cid, other = (_xdata_ints(e) + [None, None])[:2]
         plate.creases.append(CreaseDrawing(e.dxf.handle, pts, cid, other))
     for _, handles, pts in dxf_line_chains(lines):

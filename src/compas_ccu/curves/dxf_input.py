@@ -1,0 +1,176 @@
+"""Checks and fast paths of DXF input shared by the curve reader and the plate importer.
+
+* :func:`dxf_units`: the unit of ``$INSUNITS``, refusing a code outside the ones understood;
+* :func:`check_dxf_points`: the point limit (:data:`compas_ccu.limits.LIMITS` ``points``)
+  checked on the file's bytes before ezdxf parses it;
+* :func:`spline_sampler`: a SPLINE's points, with coincident fit points dropped and a SPLINE
+  that no curve can be built from refused by name;
+* :func:`straight_polyline_points`: the vertices of an LWPOLYLINE without arcs, vectorised.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from compas_ccu import limits
+from compas_ccu.errors import ProfileError
+from compas_ccu.tolerances import ZERO_LENGTH
+
+__all__ = [
+    "DXF_UNITS",
+    "dxf_units",
+    "dxf_point_count",
+    "check_dxf_points",
+    "check_finite",
+    "spline_sampler",
+    "straight_polyline_points",
+]
+
+#: The ``$INSUNITS`` codes the readers understand: code -> unit (0: unitless).
+DXF_UNITS = {0: None, 1: "in", 2: "ft", 4: "mm", 5: "cm", 6: "m"}
+
+
+def _understood() -> str:
+    return ", ".join(f"{c} ({u or 'unitless'})" for c, u in DXF_UNITS.items())
+
+
+def dxf_units(doc, path) -> str | None:
+    """The unit of a DXF document's ``$INSUNITS`` (None: unitless).
+
+    Raises
+    ------
+    ProfileError
+        The code is none of :data:`DXF_UNITS` (the message names the code and the codes
+        understood).
+    """
+    code = doc.header.get("$INSUNITS", 0)
+    if code is None or code == "":
+        code = 0
+    if isinstance(code, bool) or not isinstance(code, int) or code not in DXF_UNITS:
+        raise ProfileError(
+            f"{str(path)!r}: $INSUNITS = {code!r} is a unit code not understood; understood: "
+            f"{_understood()}; or give the file's units (m, cm, mm, in, ft)"
+        )
+    return DXF_UNITS[code]
+
+
+def dxf_point_count(data: bytes) -> int:
+    """An upper bound of the points a DXF file holds: its group-code 10 tags (x coordinates)."""
+    text = data.replace(b"\r\n", b"\n")
+    count = text.count(b"\n 10\n") + text.count(b"\n10\n") + text.count(b"\n  10\n")
+    return count + int(text.startswith(b"10\n") or text.startswith(b" 10\n"))
+
+
+def check_dxf_points(path) -> None:
+    """Refuse a DXF file with more coordinate tags than the ``points`` limit, before parsing.
+
+    Raises
+    ------
+    LimitError
+        Names the file, the count and how to raise the limit.
+    """
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+    except OSError:
+        return  # the reader names the problem
+    if size < 12 * limits.LIMITS.points:  # every point takes at least 12 bytes
+        return
+    count = dxf_point_count(path.read_bytes())
+    limits.check("points", count, what=f"points (coordinate tags) in {path.name}")
+
+
+def check_finite(points, label: str):
+    """``points`` as a float array, or a ProfileError naming the first non-finite coordinate."""
+    pts = np.asarray(points, dtype=float)
+    bad = ~np.isfinite(pts)
+    if bad.any():
+        k = int(np.flatnonzero(bad.any(axis=-1) if pts.ndim > 1 else bad)[0])
+        raise ProfileError(f"{label} has a non-finite coordinate at point {k}: {pts[k].tolist()}")
+    return pts
+
+
+def spline_sampler(e):
+    """A function ``tolerance -> (n, 3) points`` of a DXF SPLINE (file units).
+
+    A SPLINE of fit points is interpolated through its distinct fit points (a fit point that
+    repeats its predecessor within 1e-12 of their extent is dropped: ezdxf's interpolation
+    divides by the distance between them); a SPLINE of control points is ezdxf's B-spline of
+    them. The checks run when the curve is sampled, so a broken SPLINE elsewhere in a file does
+    not stop reading another curve.
+
+    Raises (when called)
+    ------
+    ProfileError
+        The SPLINE has fewer than 2 distinct fit points and no control points, a non-finite
+        coordinate, or ezdxf cannot build a curve of its data (the message names the handle).
+    """
+    label = f"SPLINE #{e.dxf.handle}"
+    state: dict = {}
+
+    def tool():
+        if "tool" in state:
+            return state["tool"]
+        from ezdxf.math import fit_points_to_cad_cv
+
+        try:
+            if e.control_point_count():
+                check_finite(np.asarray(e.control_points, dtype=float), label)
+                made = e.construction_tool()
+            elif e.fit_point_count():
+                fit = check_finite(np.asarray(e.fit_points, dtype=float), label)
+                extent = float(np.linalg.norm(np.ptp(fit, axis=0)))
+                step = np.linalg.norm(np.diff(fit, axis=0), axis=1)
+                distinct = fit[np.r_[True, step > ZERO_LENGTH * extent]]
+                if len(distinct) < 2:
+                    raise ProfileError(
+                        f"{label}: its {len(fit)} fit points coincide (fewer than 2 distinct "
+                        "points) and it has no control points"
+                    )
+                tangents = None
+                if e.dxf.hasattr("start_tangent") and e.dxf.hasattr("end_tangent"):
+                    tangents = [e.dxf.start_tangent, e.dxf.end_tangent]
+                    if not all(math.isfinite(c) for t in tangents for c in t):
+                        raise ProfileError(f"{label}: a non-finite end tangent {tangents}")
+                    if min(math.hypot(*t) for t in tangents) == 0.0:
+                        tangents = None  # a zero tangent: no tangent given
+                made = fit_points_to_cad_cv(distinct, tangents=tangents)
+            else:
+                raise ProfileError(f"{label} has neither control points nor fit points")
+        except ProfileError:
+            raise
+        except (ValueError, ArithmeticError, IndexError, np.linalg.LinAlgError) as exc:
+            raise ProfileError(f"{label}: no curve can be built of its data ({exc})") from None
+        state["tool"] = made
+        return made
+
+    def sample(tol):
+        spline = tool()
+        try:
+            if tol is None:
+                return np.array([tuple(v) for v in spline.control_points], dtype=float)
+            return np.array([tuple(v) for v in spline.flattening(tol, segments=16)], dtype=float)
+        except (ValueError, ArithmeticError, IndexError, np.linalg.LinAlgError) as exc:
+            raise ProfileError(f"{label}: its curve cannot be evaluated ({exc})") from None
+
+    return sample
+
+
+def straight_polyline_points(e):
+    """The WCS vertices of an LWPOLYLINE without arcs ((n, 3) float, the first repeated at
+    the end if it is closed), or None if it has an arc (bulge) segment."""
+    data = np.asarray(list(e.lwpoints), dtype=float).reshape(-1, 5)
+    if np.any(data[:, 4] != 0.0):
+        return None
+    ocs = e.ocs()
+    elevation = float(e.dxf.get("elevation", 0.0) or 0.0)
+    local = np.c_[data[:, :2], np.full(len(data), elevation)]
+    if e.closed and len(local) > 1:
+        local = np.r_[local, local[:1]]
+    if not ocs.transform:
+        return local
+    axes = np.array([tuple(ocs.ux), tuple(ocs.uy), tuple(ocs.uz)], dtype=float)
+    return local @ axes
