@@ -17,14 +17,15 @@ import strategies
 from compas_ccu.catalog import catalog_path
 from compas_ccu.design.document import parse_toml
 from compas_ccu.design.schema import SCHEMA
-from compas_ccu.errors import DesignError, OptionError
+from compas_ccu.errors import DesignError, LimitError, OptionError
 from compas_ccu.key_figures import key_figures
+from compas_ccu.limits import LIMITS
 from compas_ccu.model import load_model
 from compas_ccu.studio import StudioSession
 from compas_ccu.studio.checks import design_checks, first_collision
 from compas_ccu.studio.controls import UNSET, applies, design_controls, format_value, parse_value
 from compas_ccu.studio.export import export
-from compas_ccu.studio.files import MAX_UPLOAD, StudioFiles
+from compas_ccu.studio.files import StudioFiles
 from compas_ccu.studio.session import document_text
 from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, view_state
 from compas_ccu.thickness import ThickModel
@@ -109,7 +110,7 @@ def test_an_invalid_value_names_the_key_as_the_cli_does_and_keeps_the_last_model
     assert session.model is model  # the last valid model stays
     # the ccu command prints the same message for the same file
     bad = tmp_path / "bad.toml"
-    bad.write_text(session.text())
+    bad.write_text(session.fields_text())
     run = subprocess.run(
         [sys.executable, "-m", "compas_ccu.cli", "info", str(bad)], capture_output=True, text=True
     )
@@ -230,8 +231,8 @@ def test_open_catalog_upload_and_bad_uploads(session):
     assert session.name == "mine.toml" and session.model.plates.count == 2
     with pytest.raises(OptionError, match="not a text file"):
         session.open_upload("x.toml", b"\x89PNG\r\n\x1a\n\x00\x00")
-    with pytest.raises(OptionError, match="at most"):
-        session.open_upload("x.toml", b"#" * (MAX_UPLOAD + 1))
+    with pytest.raises(LimitError, match="at most 1,000,000 bytes .the limit upload_bytes"):
+        session.open_upload("x.toml", b"#" * (LIMITS.upload_bytes + 1))
     with pytest.raises(OptionError, match="not valid TOML"):
         session.open_upload("x.toml", b"[crease\nspan = ")
     with pytest.raises(OptionError, match=".toml"):
@@ -258,7 +259,7 @@ def test_a_value_toml_cannot_hold_is_named(session):
         document_text({"deployment": {"alpha": None}})
     session.replace({**session.document, "deployment": {"alpha": None}})
     assert session.problem.key == "deployment.alpha"
-    assert "could not write the recovery copy" in session.notice
+    assert session.notice == ""  # an invalid design never reaches the recovery copy
 
 
 def test_document_text_without_a_source():
@@ -416,14 +417,16 @@ def test_any_design_is_a_model_or_a_problem_and_saves_as_it_reads(tmp_path_facto
     else:
         assert problem.kind != "bug", problem.message
         assert session.model is vault  # the last valid model stays
-    # what Save writes reads back as the document (over the vault file's comments), or a value
-    # TOML cannot hold is named
+    # the fields' text reads back as the document (over the vault file's comments), or a value
+    # TOML cannot hold is named; Save writes the last valid design
     try:
-        text = session.text()
+        text = session.fields_text()
     except DesignError as exc:
         assert "cannot be written to a TOML file" in str(exc) and exc.key
-        assert "could not write the recovery copy" in session.notice
+        assert problem is not None
         return
+    assert _same(parse_toml(session.text()), session.model_document if problem is None
+                 else parse_toml((folder / "vault.toml").read_text()))  # fmt: skip
     assert _same(parse_toml(text), document)
     # and every control shows a value that edits back to the same document value
     for control in design_controls():
