@@ -28,7 +28,7 @@ def studio(args) -> int:
             "anyone who can reach it can edit and save designs in the design folder",
             file=sys.stderr,
         )
-    session = StudioSession.start(args.design, out=args.out)
+    session = StudioSession.start(args.design, out=args.out, allowed=args.allow_dir or ())
     app = Studio(session, host=args.host, port=args.port)
     print(
         f"compas_ccu studio: {app.url}  (design folder {session.files.design_folder}, "
@@ -80,6 +80,13 @@ COMMANDS = (
                 help="interface to listen on (default 127.0.0.1: this machine only)",
             ),
             option("--no-browser", action="store_true", help="do not open a browser"),
+            option(
+                "--allow-dir",
+                action="append",
+                metavar="DIR",
+                help="a further folder curve files named by a design may be read from "
+                "(repeatable; default: the design folder only)",
+            ),
         ),
         studio,
     ),

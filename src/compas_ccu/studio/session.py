@@ -21,7 +21,6 @@ is testable in Python:
 
 from __future__ import annotations
 
-import copy
 import logging
 import threading
 import time
@@ -91,6 +90,16 @@ def _parse(name: str, text: str) -> dict:
     except (ValueError, RecursionError) as exc:
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise OptionError(f"{name}: not valid TOML: {first}") from None
+
+
+def _clone(value):
+    """A deep copy of a TOML document or value (dicts, lists and scalars; several times faster
+    than :func:`copy.deepcopy` on a 10,000-point list)."""
+    if isinstance(value, dict):
+        return {k: _clone(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_clone(v) if isinstance(v, (dict, list)) else v for v in value]
+    return value
 
 
 def _keys(a: dict, b: dict) -> list:
@@ -320,12 +329,12 @@ class StudioSession:
     @property
     def document(self) -> dict:
         """A copy of the design the fields show: the valid design with the pending values."""
-        return copy.deepcopy(self._fields)
+        return _clone(self._fields)
 
     @property
     def valid_document(self) -> dict:
         """A copy of the last valid design (what Save writes)."""
-        return copy.deepcopy(self._document)
+        return _clone(self._document)
 
     @property
     def _fields(self) -> dict:
@@ -341,7 +350,7 @@ class StudioSession:
         table = self._fields.get(section)
         if not isinstance(table, dict) or name not in table:
             return UNSET
-        return copy.deepcopy(table[name])
+        return _clone(table[name])
 
     def edit(self, section: str, name: str, value) -> Problem | None:
         """Set ``section.name`` to ``value`` (:data:`UNSET` removes it) and rebuild.
@@ -373,7 +382,7 @@ class StudioSession:
         with self.lock:
             if document == self._fields:
                 return self.problem
-            document = copy.deepcopy(document)
+            document = _clone(document)
             if document == self._document:  # typed back to the valid design
                 self._draft = None
                 self.problem = self._valid_problem
@@ -448,7 +457,7 @@ class StudioSession:
 
     def _set_model(self, model, document: dict) -> None:
         self.model = model
-        self.model_document = copy.deepcopy(document)
+        self.model_document = _clone(document)
         self.generation += 1
 
     # -- saving --------------------------------------------------------------------------------

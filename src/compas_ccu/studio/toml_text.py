@@ -10,6 +10,7 @@ placeholder after tomlkit has written the rest. The time is linear in the text.
 
 from __future__ import annotations
 
+import json
 import math
 import re
 import uuid
@@ -78,13 +79,21 @@ def _number(v) -> str:
         return "nan"
     if math.isinf(v):
         return "inf" if v > 0 else "-inf"
-    text = repr(float(v))
-    return text
+    return repr(float(v))
 
 
 def _array_text(value) -> str:
+    """Compact TOML of a (nested) list of numbers (JSON's, in C, when every number is finite:
+    the same text)."""
+    try:
+        return json.dumps(value, allow_nan=False)
+    except ValueError:
+        return _slow_array_text(value)
+
+
+def _slow_array_text(value) -> str:
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(map(_array_text, value)) + "]"
+        return "[" + ", ".join(map(_slow_array_text, value)) + "]"
     return _number(value)
 
 
