@@ -13,6 +13,7 @@ only for those types: :func:`applies`.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
 
@@ -205,11 +206,35 @@ def parse_value(control: Control, text: str):
         return UNSET
     if control.widget == "dropdown" or control.kind == "str":
         return text
+    fast = _number_array(text)
+    if fast is not None:
+        return fast
     try:
         return parse_toml(f"value = {text}")["value"]
     except (ValueError, RecursionError):
         # not a TOML value (tomllib.TOMLDecodeError): the schema names the key and the text
         return text
+
+
+def _number_array(text: str):
+    """The value of a long array of numbers through the JSON parser (in C; on arrays of
+    numbers JSON is a subset of TOML with the same values), or None to parse it as TOML."""
+    if len(text) < 1000 or not text.startswith("["):
+        return None
+    try:
+        value = json.loads(text)
+    except (ValueError, RecursionError):
+        return None
+    stack = [value]
+    while stack:
+        v = stack.pop()
+        if isinstance(v, list):
+            stack.extend(v)
+        elif isinstance(v, bool) or isinstance(v, float):
+            continue
+        elif not isinstance(v, int) or not -(2**63) <= v < 2**63:
+            return None
+    return value
 
 
 def check_field_text(control: Control, text) -> None:

@@ -192,6 +192,7 @@ class StudioSession:
     def _load(self, text: str, *, name: str, origin: str, saved: bool) -> None:
         document = _parse(name, text)
         self.source = text
+        self._source_values = _clone(document)
         self.base_sha256 = sha256(text)  # the content the edits start from
         self.name = name
         self.origin = origin
@@ -261,6 +262,7 @@ class StudioSession:
             self._document, self.problem = document, problem
             self._valid_problem = problem
             self.source = offer.text
+            self._source_values = _clone(document)
             if model is not None:
                 self._set_model(model, document)
             self.saved = False
@@ -464,12 +466,12 @@ class StudioSession:
     def text(self) -> str:
         """TOML text of the valid design (the comments of the file it came from are kept)."""
         with self.lock:
-            return document_text(self._document, self.source)
+            return document_text(self._document, self.source, self._source_values)
 
     def fields_text(self) -> str:
         """TOML text of the fields (the valid design with the pending values)."""
         with self.lock:
-            return document_text(self._fields, self.source)
+            return document_text(self._fields, self.source, self._source_values)
 
     def save(self) -> Path:
         """Write the valid design to its name in the design folder (atomically)."""
@@ -494,6 +496,7 @@ class StudioSession:
             self.files.clear_recovery(before)
             self.files.clear_recovery(path)
             self.source = text
+            self._source_values = _clone(self._document)
             self.base_sha256 = sha256(text)
             self.name = str(path.relative_to(self.files.design_folder))
             self.origin = self.name

@@ -26,9 +26,10 @@ _KEY_LINE = re.compile(r"^[ \t]*[A-Za-z0-9_\-.\"' ]+?[ \t]*=[ \t]*\[", re.MULTIL
 _NUMERIC = re.compile(r"[0-9eE+\-.,\[\] \t\r\n_a-z]*")  # digits, inf, nan, true, false
 
 
-def document_text(document: dict, source: str | None = None) -> str:
+def document_text(document: dict, source: str | None = None, parsed: dict | None = None) -> str:
     """TOML text of ``document``; with ``source`` (the text it was read from) the comments,
-    order and layout of the unchanged keys are kept (tomlkit).
+    order and layout of the unchanged keys are kept (tomlkit). ``parsed``, the values of
+    ``source`` if known, saves parsing its long arrays again.
 
     Raises
     ------
@@ -47,7 +48,7 @@ def document_text(document: dict, source: str | None = None) -> str:
                 raise DesignError(
                     f"a {type(value).__name__} cannot be written to a TOML file", key=key
                 )
-    return _document_text(document, source)
+    return _document_text(document, source, parsed)
 
 
 def _writable(value) -> bool:
@@ -134,16 +135,19 @@ def _mask(source: str, token: str):
     return "".join(out), raw
 
 
-def _document_text(document: dict, source: str | None) -> str:
+def _document_text(document: dict, source: str | None, parsed: dict | None) -> str:
     import tomlkit
 
     token = f"ccu-array-{uuid.uuid4().hex}-"
     masked, raw = _mask(source, token) if source else ("", {})
     doc = tomlkit.parse(masked) if source else tomlkit.document()
 
-    def current(item):
+    def current(item, section, name):
         value = item.unwrap() if hasattr(item, "unwrap") else item
         if isinstance(value, str) and value in raw:
+            table = (parsed or {}).get(section)
+            if isinstance(table, dict) and name in table:
+                return table[name]
             return parse_toml(f"v = {raw[value]}")["v"]
         return value
 
@@ -171,7 +175,7 @@ def _document_text(document: dict, source: str | None) -> str:
             if name not in values:
                 del table[name]
         for name, value in values.items():
-            if name not in table or not _identical(current(table[name]), value):
+            if name not in table or not _identical(current(table[name], section, name), value):
                 put(table, name, value)
     text = tomlkit.dumps(doc)
     if raw:
