@@ -95,6 +95,20 @@ def export_job(document: dict, *, name: str, base, out, alpha: float, what, desi
     return os.getpid(), written
 
 
+#: How much lower than the studio the export process runs (``os.nice``): the studio's page and
+#: slider come first, the export takes the rest of the machine.
+NICE = 19
+
+
+def background() -> None:
+    """Run this process (the export process) at a lower priority than the studio."""
+    if hasattr(os, "nice"):
+        try:
+            os.nice(NICE)
+        except OSError:  # not allowed here: the export runs at the studio's priority
+            pass
+
+
 class ExportProcess:
     """One export process for a studio, started at the first export (``spawn``: a fresh
     interpreter, whatever threads the studio runs) and reused; :meth:`stop` ends it."""
@@ -119,7 +133,9 @@ class ExportProcess:
         with self._lock:
             if self._pool is None:
                 context = multiprocessing.get_context("spawn")
-                self._pool = ProcessPoolExecutor(max_workers=1, mp_context=context)
+                self._pool = ProcessPoolExecutor(
+                    max_workers=1, mp_context=context, initializer=background
+                )
             return self._pool.submit(
                 export_job, design.document, name=design.name, base=design.base, out=str(out),
                 alpha=alpha, what=tuple(what), design_text=design_text,

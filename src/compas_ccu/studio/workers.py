@@ -93,6 +93,7 @@ class LoopProbe:
         self.interval = interval
         self.largest = 0.0
         self.beats = 0
+        self.gaps = []  # every gap, s
         self._running = False
         self._future = None
 
@@ -103,7 +104,9 @@ class LoopProbe:
         while self._running:
             t0 = time.perf_counter()
             await asyncio.sleep(self.interval)
-            self.largest = max(self.largest, time.perf_counter() - t0 - self.interval)
+            gap = time.perf_counter() - t0 - self.interval
+            self.largest = max(self.largest, gap)
+            self.gaps.append(gap)
             self.beats += 1
 
     def start(self) -> LoopProbe:
