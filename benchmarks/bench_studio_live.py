@@ -1,6 +1,6 @@
 """The studio stays live: a 10,000-point list edit, and the event loop during an export.
 
-Run from the repository root (``make bench-studio-live``)::
+Run from the repository root::
 
     .venv/bin/python benchmarks/bench_studio_live.py                 # both cases
     .venv/bin/python benchmarks/bench_studio_live.py --what edit     # the list edit only
@@ -206,8 +206,9 @@ def main(argv=None) -> int:
                 f"{1000 * r['edit_median_s']:.0f} ms median, {1000 * r['edit_max_s']:.0f} ms max "
                 f"(parse {1000 * r['parse_median_s']:.0f} ms), save {1000 * r['save_s']:.0f} ms;"
                 " tomlkit element by element: "
-                + ", ".join(f"{m:,} points {s:.2f} s" for m, s in
-                            r["tomlkit_element_by_element_s"].items())  # fmt: skip
+                + ", ".join(
+                    f"{m:,} points {s:.2f} s" for m, s in r["tomlkit_element_by_element_s"].items()
+                )  # fmt: skip
                 + f"  {'ok' if r['ok'] else 'MISSED'} (< 1 s)",
                 flush=True,
             )

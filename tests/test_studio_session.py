@@ -624,7 +624,7 @@ PARABOLA_CSV = "".join(f"{x!r} {y!r}\n" for x, y in PARABOLA)
 def _curve_design(points: str) -> str:
     return (
         f'[crease]\nprofile = "polyline"\npoints = {points}\n[rulings]\ntype = "orthogonal"\n'
-        '[deployment]\nalpha = 30.0\n[layout]\nplates = 2\nwidth = 0.3\n'
+        "[deployment]\nalpha = 30.0\n[layout]\nplates = 2\nwidth = 0.3\n"
     )
 
 
@@ -765,7 +765,29 @@ def test_the_loop_probe_sees_a_blocked_event_loop():
         loop.call_soon_threadsafe(time.sleep, 0.3)  # a callback that holds the loop
         time.sleep(0.5)
         gap = probe.stop()
-        assert gap > 0.25 and probe.beats >= 1  # the 0.3 s the loop was held (and more on a busy machine)
+        assert gap > 0.25 and probe.beats >= 1  # the 0.3 s it was held (more on a busy machine)
     finally:
         loop.call_soon_threadsafe(loop.stop)
         thread.join(5)
+
+
+def test_opening_a_file_from_the_menu_restores_its_own_recovery_copy(session, folders):
+    design, out = folders
+    session.edit("crease", "rise", 0.85)
+    session.open_file("cone.toml")
+    assert session.name == "cone.toml" and session.saved and session.notice == ""
+    session.open_file("vault.toml")
+    assert session.model.design.crease.rise == 0.85 and not session.saved
+    assert session.notice.startswith("restored unsaved edits of vault.toml")
+
+
+def test_a_curve_file_reached_through_a_link_out_of_the_folder_is_refused(tmp_path):
+    folder, other = tmp_path / "designs", tmp_path / "elsewhere"
+    folder.mkdir()
+    other.mkdir()
+    (other / "c.csv").write_text(PARABOLA_CSV)
+    os.symlink(other / "c.csv", folder / "c.csv")
+    (folder / "d.toml").write_text(_curve_design('"c.csv"'))
+    problem = StudioSession.start(folder / "d.toml", out=tmp_path / "o").problem
+    assert problem.key == "crease.points"
+    assert f"'c.csv' ({other / 'c.csv'}) is outside the design folder" in problem.message
