@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 import threading
+from pathlib import Path
 
 from compas_ccu.cli.common import VIZ, need_extra
 from compas_ccu.cli.parser import Command, option
@@ -28,6 +29,9 @@ def studio(args) -> int:
             "anyone who can reach it can edit and save designs in the design folder",
             file=sys.stderr,
         )
+    for folder in args.allow_dir or ():
+        if not Path(folder).expanduser().is_dir():
+            raise OptionError(f"--allow-dir {folder}: no such folder")
     session = StudioSession.start(args.design, out=args.out, allowed=args.allow_dir or ())
     app = Studio(session, host=args.host, port=args.port)
     print(
