@@ -8,6 +8,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -791,3 +792,28 @@ def test_a_curve_file_reached_through_a_link_out_of_the_folder_is_refused(tmp_pa
     problem = StudioSession.start(folder / "d.toml", out=tmp_path / "o").problem
     assert problem.key == "crease.points"
     assert f"'c.csv' ({other / 'c.csv'}) is outside the design folder" in problem.message
+
+
+def test_a_killed_export_process_is_said_and_started_again(session, folders):
+    import signal
+
+    from compas_ccu.studio.export import ExportProcess
+
+    _, out = folders
+    exporter = ExportProcess()
+    try:
+        pid, _ = exporter.submit(session.model, out, alpha=30.0, what=("structure",),
+                                 design_text=None).result(timeout=300)  # fmt: skip
+        os.kill(pid, signal.SIGKILL)  # the export process dies (out of memory, killed)
+        time.sleep(1.0)
+        future = exporter.submit(session.model, out, alpha=30.0, what=("structure",),
+                                 design_text=None)  # fmt: skip
+        try:
+            again, _ = future.result(timeout=300)
+        except Exception as exc:  # the pool noticed the death only now: it is broken once
+            assert type(exc).__name__ == "BrokenProcessPool"
+            again, _ = exporter.submit(session.model, out, alpha=30.0, what=("structure",),
+                                       design_text=None).result(timeout=300)  # fmt: skip
+        assert again not in (pid, os.getpid())
+    finally:
+        exporter.stop()

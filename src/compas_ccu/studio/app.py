@@ -405,8 +405,13 @@ class Studio:
         what = [w for w, box in self.export_what.items() if box.value]
         self._say(f"exporting {', '.join(what)} ...", "info")
         self.last_export = None
-        future = self._exporter.submit(model, s.files.out, alpha=alpha, what=what,
-                                       design_text=text)  # fmt: skip
+        try:
+            future = self._exporter.submit(model, s.files.out, alpha=alpha, what=what,
+                                           design_text=text)  # fmt: skip
+        except Exception as exc:  # the process cannot be started: said on the page
+            log.error("studio export process", exc_info=exc)
+            self._say(f"export failed: {exc}", "fail")
+            return None
         future.add_done_callback(self._exported)
         return future
 

@@ -126,21 +126,28 @@ class ExportProcess:
             Of :func:`export_job`'s ``(pid, written)``.
         """
         from concurrent.futures import ProcessPoolExecutor
+        from concurrent.futures.process import BrokenProcessPool
 
         from compas_ccu.limits import LIMITS
 
         design = model.design
+        job = dict(
+            name=design.name, base=design.base, out=str(out), alpha=alpha, what=tuple(what),
+            design_text=design_text, limits=dataclasses.asdict(LIMITS),
+        )  # fmt: skip
         with self._lock:
-            if self._pool is None:
-                context = multiprocessing.get_context("spawn")
-                self._pool = ProcessPoolExecutor(
-                    max_workers=1, mp_context=context, initializer=background
-                )
-            return self._pool.submit(
-                export_job, design.document, name=design.name, base=design.base, out=str(out),
-                alpha=alpha, what=tuple(what), design_text=design_text,
-                limits=dataclasses.asdict(LIMITS),
-            )  # fmt: skip
+            for _ in range(2):  # a process that died (killed, out of memory) is started again
+                if self._pool is None:
+                    context = multiprocessing.get_context("spawn")
+                    self._pool = ProcessPoolExecutor(
+                        max_workers=1, mp_context=context, initializer=background
+                    )
+                try:
+                    return self._pool.submit(export_job, design.document, **job)
+                except BrokenProcessPool:
+                    self._pool.shutdown(wait=False)
+                    self._pool = None
+            raise RuntimeError("the export process cannot be started")
 
     def stop(self) -> None:
         """Let the process end after the export under way, if any (queued ones are cancelled)."""
