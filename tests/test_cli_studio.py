@@ -89,6 +89,7 @@ def test_another_host_prints_a_warning(tmp_path):
     [
         (["missing.toml"], "missing.toml: no such design file"),
         (["--port", "0"], "--port must be >= 1, got 0"),
+        (["--allow-dir", "no/such/dir"], "--allow-dir no/such/dir: no such folder"),
     ],
 )
 def test_ccu_studio_refuses_with_one_line(tmp_path, args, message):

@@ -289,6 +289,32 @@ def test_the_recovery_copy_survives_a_restart(browser, studio, folders):
         again.stop()
 
 
+def test_a_stale_recovery_copy_is_offered_on_the_page(browser, tmp_path):
+    """A recovery copy older than the file is not restored: the page says so and offers both."""
+    path = tmp_path / "vault.toml"
+    shutil.copy(EXAMPLES / "vault.toml", path)
+    StudioSession.start(path, out=tmp_path / "out").edit("crease", "rise", 0.85)
+    path.write_text(path.read_text() + "\n# changed by someone else\n")
+    app = Studio(StudioSession.start(path, out=tmp_path / "out"), port=free_port())
+    try:
+        assert app.wait_idle(60)
+        assert app.session.recovery is not None and app.session.model.design.crease.rise == 1.0
+        page = open_page(browser, app.url)
+        try:
+            page.get_by_text("is older than the file (it changed since)").wait_for(timeout=10_000)
+            tab(page, "File")
+            page.get_by_role("button", name="Restore it", exact=True).click()
+            _wait(lambda: app.session.model.design.crease.rise == 0.85, what="the restore")
+            page.get_by_text("restored the recovery copy of vault.toml").first.wait_for(
+                timeout=10_000
+            )
+            assert app.session.recovery is None and not app.session.saved
+        finally:
+            page.close()
+    finally:
+        app.stop()
+
+
 def test_an_inclined_layout_shows_the_rigid_model_then_the_relaxed_one(browser, tmp_path):
     design = tmp_path / "fig12a.toml"
     design.write_text(catalog_path("fig12a-asymmetric").read_text())

@@ -8,6 +8,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -17,14 +18,15 @@ import strategies
 from compas_ccu.catalog import catalog_path
 from compas_ccu.design.document import parse_toml
 from compas_ccu.design.schema import SCHEMA
-from compas_ccu.errors import DesignError, OptionError
+from compas_ccu.errors import DesignError, LimitError, OptionError
 from compas_ccu.key_figures import key_figures
+from compas_ccu.limits import LIMITS
 from compas_ccu.model import load_model
 from compas_ccu.studio import StudioSession
 from compas_ccu.studio.checks import design_checks, first_collision
 from compas_ccu.studio.controls import UNSET, applies, design_controls, format_value, parse_value
 from compas_ccu.studio.export import export
-from compas_ccu.studio.files import MAX_UPLOAD, StudioFiles
+from compas_ccu.studio.files import StudioFiles
 from compas_ccu.studio.session import document_text
 from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, view_state
 from compas_ccu.thickness import ThickModel
@@ -109,7 +111,7 @@ def test_an_invalid_value_names_the_key_as_the_cli_does_and_keeps_the_last_model
     assert session.model is model  # the last valid model stays
     # the ccu command prints the same message for the same file
     bad = tmp_path / "bad.toml"
-    bad.write_text(session.text())
+    bad.write_text(session.fields_text())
     run = subprocess.run(
         [sys.executable, "-m", "compas_ccu.cli", "info", str(bad)], capture_output=True, text=True
     )
@@ -230,8 +232,8 @@ def test_open_catalog_upload_and_bad_uploads(session):
     assert session.name == "mine.toml" and session.model.plates.count == 2
     with pytest.raises(OptionError, match="not a text file"):
         session.open_upload("x.toml", b"\x89PNG\r\n\x1a\n\x00\x00")
-    with pytest.raises(OptionError, match="at most"):
-        session.open_upload("x.toml", b"#" * (MAX_UPLOAD + 1))
+    with pytest.raises(LimitError, match="at most 1,000,000 bytes .the limit upload_bytes"):
+        session.open_upload("x.toml", b"#" * (LIMITS.upload_bytes + 1))
     with pytest.raises(OptionError, match="not valid TOML"):
         session.open_upload("x.toml", b"[crease\nspan = ")
     with pytest.raises(OptionError, match=".toml"):
@@ -258,7 +260,7 @@ def test_a_value_toml_cannot_hold_is_named(session):
         document_text({"deployment": {"alpha": None}})
     session.replace({**session.document, "deployment": {"alpha": None}})
     assert session.problem.key == "deployment.alpha"
-    assert "could not write the recovery copy" in session.notice
+    assert session.notice == ""  # an invalid design never reaches the recovery copy
 
 
 def test_document_text_without_a_source():
@@ -416,14 +418,16 @@ def test_any_design_is_a_model_or_a_problem_and_saves_as_it_reads(tmp_path_facto
     else:
         assert problem.kind != "bug", problem.message
         assert session.model is vault  # the last valid model stays
-    # what Save writes reads back as the document (over the vault file's comments), or a value
-    # TOML cannot hold is named
+    # the fields' text reads back as the document (over the vault file's comments), or a value
+    # TOML cannot hold is named; Save writes the last valid design
     try:
-        text = session.text()
+        text = session.fields_text()
     except DesignError as exc:
         assert "cannot be written to a TOML file" in str(exc) and exc.key
-        assert "could not write the recovery copy" in session.notice
+        assert problem is not None
         return
+    assert _same(parse_toml(session.text()), session.model_document if problem is None
+                 else parse_toml((folder / "vault.toml").read_text()))  # fmt: skip
     assert _same(parse_toml(text), document)
     # and every control shows a value that edits back to the same document value
     for control in design_controls():
@@ -467,3 +471,349 @@ def test_the_exported_report_records_the_design_as_edited(session, folders):
     assert manifest["design_sha256"] == sha
     sheets = manifest["workshop"]["sheet_count"]
     assert f"cut patterns: {sheets} sheets, 40 parts" in (report / "viewer.html").read_text("utf-8")
+
+
+# -- nothing lost (issue 27) --------------------------------------------------------------------
+def _recovery_text(session) -> str:
+    return (session.files.recovery_of(session.path) / "recovery.toml").read_text("utf-8")
+
+
+def test_two_folders_with_the_same_file_name_never_exchange_edits(tmp_path):
+    out = tmp_path / "out"
+    for name in ("a", "b"):
+        (tmp_path / name).mkdir()
+        shutil.copy(EXAMPLES / "vault.toml", tmp_path / name / "vault.toml")
+    a = StudioSession.start(tmp_path / "a" / "vault.toml", out=out)
+    a.edit("crease", "rise", 0.85)
+    b = StudioSession.start(tmp_path / "b" / "vault.toml", out=out)
+    assert b.model.design.crease.rise == 1.0 and b.saved and b.notice == ""
+    b.edit("layout", "plates", 6)
+    again = StudioSession.start(tmp_path / "a" / "vault.toml", out=out)
+    assert again.model.design.crease.rise == 0.85 and again.model.plates.count == 10
+    assert "restored unsaved edits" in again.notice
+    b2 = StudioSession.start(tmp_path / "b" / "vault.toml", out=out)
+    assert b2.model.design.crease.rise == 1.0 and b2.model.plates.count == 6
+    assert len(list((out / ".ccu-studio").iterdir())) == 2  # one recovery copy per file
+
+
+def test_a_recovery_copy_older_than_the_file_is_offered_not_restored(folders):
+    design, out = folders
+    session = StudioSession.start(design / "vault.toml", out=out)
+    session.edit("crease", "rise", 0.85)
+    del session  # killed; then the file is changed by someone else
+    text = (design / "vault.toml").read_text().replace("rise = 1.0", "rise = 0.7")
+    (design / "vault.toml").write_text(text)
+    again = StudioSession.start(design / "vault.toml", out=out)
+    assert again.model.design.crease.rise == 0.7 and again.saved  # the file, not the copy
+    assert again.recovery is not None and "rise = 0.85" in again.recovery.text
+    assert again.notice.startswith("a recovery copy of vault.toml from ")
+    assert "is older than the file (it changed since)" in again.notice
+    # a restart before choosing offers it again
+    third = StudioSession.start(design / "vault.toml", out=out)
+    assert third.recovery is not None and third.model.design.crease.rise == 0.7
+    third.restore_recovery()
+    assert third.model.design.crease.rise == 0.85 and not third.saved
+    assert third.recovery is None and third.notice.startswith("restored the recovery copy")
+    assert third.undo() and third.model.design.crease.rise == 0.7  # back to the file
+    with pytest.raises(OptionError, match="no recovery copy of vault.toml is waiting"):
+        third.restore_recovery()
+
+
+def test_keeping_the_file_deletes_the_offered_copy(folders):
+    design, out = folders
+    StudioSession.start(design / "vault.toml", out=out).edit("crease", "rise", 0.85)
+    (design / "vault.toml").write_text((design / "vault.toml").read_text() + "\n# changed\n")
+    session = StudioSession.start(design / "vault.toml", out=out)
+    assert session.recovery is not None
+    session.discard_recovery()
+    assert session.recovery is None and session.model.design.crease.rise == 1.0
+    assert "the recovery copy from" in session.notice and "is deleted" in session.notice
+    again = StudioSession.start(design / "vault.toml", out=out)
+    assert again.recovery is None and again.notice == ""
+    with pytest.raises(OptionError, match="no recovery copy"):
+        again.discard_recovery()
+
+
+def test_save_as_can_never_target_the_studios_own_folder(tmp_path):
+    session = StudioSession.start(out=tmp_path)  # design folder == output folder
+    assert session.files.design_folder == session.files.out
+    for name in (".ccu-studio/x.toml", ".ccu-studio/sub/y.toml", "a/.ccu-studio/z.toml"):
+        with pytest.raises(OptionError, match=r"\.ccu-studio/ is the studio's own folder"):
+            session.save_as(name)
+    session.edit("crease", "rise", 0.5)
+    recovery = session.files.recovery_of(session.path)
+    os.symlink(recovery, tmp_path / "link")
+    with pytest.raises(OptionError, match="the studio's own folder"):
+        session.save_as("link/recovery.toml")  # a link into it is refused too
+    assert "rise = 0.5" in (recovery / "recovery.toml").read_text()
+
+
+def test_a_save_keeps_the_permission_bits(session, folders):
+    design, _ = folders
+    path = design / "vault.toml"
+    os.chmod(path, 0o640)
+    session.edit("crease", "rise", 0.9)
+    session.save()
+    assert oct(os.stat(path).st_mode & 0o777) == oct(0o640)
+    umask = os.umask(0o022)
+    try:
+        new = session.save_as("new.toml")
+    finally:
+        os.umask(umask)
+    assert oct(os.stat(new).st_mode & 0o777) == oct(0o644)  # a new file: the umask's
+
+
+def test_a_failed_save_leaves_the_old_file(session, folders, monkeypatch):
+    design, _ = folders
+    before = (design / "vault.toml").read_bytes()
+    session.edit("crease", "rise", 0.9)
+
+    def refuse(src, dst):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr("compas_ccu.studio.files.os.replace", refuse)
+    with pytest.raises(OSError, match="No space left"):
+        session.save()
+    assert (design / "vault.toml").read_bytes() == before
+    assert sorted(p.name for p in design.iterdir()) == ["cone.toml", "vault.toml"]  # no temp
+    assert not session.saved and "rise = 0.9" in _recovery_text(session)
+
+
+def test_an_invalid_value_never_reaches_the_history_or_the_recovery_copy(session):
+    session.edit("crease", "rise", 0.8)
+    recovered = _recovery_text(session)
+    session._last_edit = (None, 0.0)
+    problem = session.edit("crease", "rise", -1.0)
+    assert problem.message == "crease.rise: must be > 0 and <= 1e6, got -1.0"
+    assert session.value("crease", "rise") == -1.0  # the field keeps what was typed
+    assert session.pending == ["crease.rise"]
+    assert session.valid_document["crease"]["rise"] == 0.8
+    assert parse_toml(session.text())["crease"]["rise"] == 0.8  # what Save writes
+    assert _recovery_text(session) == recovered
+    session.edit("crease", "rise", "abc")
+    assert _recovery_text(session) == recovered
+    assert session.edit("crease", "rise", 0.7) is None and session.pending == []
+    assert parse_toml(_recovery_text(session))["crease"]["rise"] == 0.7
+    assert session.undo() and session.model.design.crease.rise == 0.8
+    assert session.undo() and session.model.design.crease.rise == 1.0
+    assert not session.undo()
+    assert session.redo() and session.redo() and not session.redo()
+    assert session.model.design.crease.rise == 0.7
+    # an undo with a pending field drops it first: back to the valid design
+    session.edit("layout", "plates", 0)
+    assert session.pending == ["layout.plates"] and session.can_undo
+    assert session.undo() and session.pending == [] and session.problem is None
+    assert session.value("layout", "plates") == 10 and session.model.design.crease.rise == 0.7
+
+
+def test_two_edits_that_build_only_together_are_one_step(session):
+    problem = session.edit("crease", "profile", "polyline")
+    assert problem.key == "[crease]" and "unknown key 'span'" in problem.message
+    for key in ("span", "rise", "segments", "state"):
+        session.edit("crease", key, UNSET)
+    assert session.edit("crease", "points", PARABOLA) is None
+    assert session.model.design.crease.profile == "polyline"
+    assert session.undo() and session.model.design.crease.profile == "arc"
+
+
+#: A smooth polyline crease (a parabola over 9 points), as TOML and as a CSV curve file.
+_X = np.linspace(-1.25, 1.25, 9)
+PARABOLA = np.column_stack([_X, 0.4 * (1 - (_X / 1.25) ** 2)]).tolist()
+PARABOLA_CSV = "".join(f"{x!r} {y!r}\n" for x, y in PARABOLA)
+
+
+def _curve_design(points: str) -> str:
+    return (
+        f'[crease]\nprofile = "polyline"\npoints = {points}\n[rulings]\ntype = "orthogonal"\n'
+        "[deployment]\nalpha = 30.0\n[layout]\nplates = 2\nwidth = 0.3\n"
+    )
+
+
+def test_curve_files_outside_the_design_folder_are_refused(tmp_path):
+    folder, other = tmp_path / "designs", tmp_path / "curves"
+    folder.mkdir()
+    other.mkdir()
+    for where in (folder, other):
+        (where / "c.csv").write_text(PARABOLA_CSV)
+    (folder / "inside.toml").write_text(_curve_design('"c.csv"'))
+    assert StudioSession.start(folder / "inside.toml", out=tmp_path / "o").problem is None
+    for points in ('"../curves/c.csv"', f'"{other / "c.csv"}"', f'{{ file = "{other}/c.csv" }}'):
+        (folder / "outside.toml").write_text(_curve_design(points))
+        session = StudioSession.start(folder / "outside.toml", out=tmp_path / "o")
+        problem = session.problem
+        assert problem.key == "crease.points" and problem.kind == "DesignError"
+        assert f"({other / 'c.csv'}) is outside the design folder {folder}" in problem.message
+        assert "ccu studio --allow-dir DIR" in problem.message and "\n" not in problem.message
+    allowed = StudioSession.start(folder / "outside.toml", out=tmp_path / "o", allowed=[other])
+    assert allowed.problem is None and allowed.model.plates.count == 2
+    # an upload naming a file elsewhere is refused the same way
+    session = StudioSession.start(folder / "inside.toml", out=tmp_path / "o")
+    session.open_upload("up.toml", _curve_design('"/etc/hostname"').encode())
+    assert session.problem.key == "crease.points" and "is outside the design folder" in (
+        session.problem.message
+    )
+
+
+@pytest.mark.parametrize(
+    "content, error, message",
+    [
+        (b"a = " + b"[" * 100_000 + b"]" * 100_000, OptionError,
+         "'x.toml' nests arrays or tables 100000 deep; a design file nests at most 32 deep"),
+        (b"a = " + b"[" * 33 + b"]" * 33, OptionError, "nests arrays or tables 33 deep"),
+        (b"\x7fELF\x02\x01\x01\x00" + bytes(range(256)), OptionError,
+         "'x.toml' is not a text file (byte 136 is not UTF-8)"),
+        (b"a = 1\x00", OptionError, "'x.toml' is not a text file (it holds NUL bytes)"),
+        (b"#" * 1_000_001, LimitError, "'x.toml' is 1,000,001 bytes; a design file may have "
+         "at most 1,000,000 bytes (the limit upload_bytes; raise it with --limit "
+         "upload_bytes=1000001)"),
+        (b"[crease\nspan = ", OptionError, "x.toml: not valid TOML: "),
+        (b"[crease]\nrise = 1\nrise = 2\n", OptionError, "x.toml: not valid TOML: "),
+    ],
+)  # fmt: skip
+def test_a_bad_upload_is_refused_with_one_line(session, content, error, message):
+    before = session.text()
+    with pytest.raises(error) as info:
+        session.open_upload("x.toml", content)
+    assert message in str(info.value) and "\n" not in str(info.value)
+    assert session.name == "vault.toml" and session.text() == before
+
+
+def test_a_design_file_nested_32_deep_is_a_problem_not_a_bug(session):
+    content = b'[crease]\nprofile = "polyline"\npoints = ' + b"[" * 32 + b"]" * 32
+    session.open_upload("deep.toml", content)
+    assert session.problem.kind == "DesignError" and session.problem.key == "crease.points"
+
+
+def test_a_field_text_too_large_or_too_deep_is_refused_with_one_line():
+    from compas_ccu.studio.controls import check_field_text
+
+    points = next(c for c in design_controls() if c.key == "crease.points")
+    check_field_text(points, "[[0.0, 0.0], [1.0, 0.5]]")
+    with pytest.raises(OptionError, match="crease.points: the value nests arrays 50000 deep"):
+        check_field_text(points, "[" * 50_000 + "]" * 50_000)
+    with pytest.raises(OptionError, match=r"crease.points: the value is 1,000,001 bytes; a"):
+        check_field_text(points, "1" * 1_000_001)
+    assert parse_value(points, "[" * 50_000 + "]" * 50_000).startswith("[[[")  # no exception
+
+
+def test_a_long_point_list_edits_and_saves_as_it_reads(tmp_path):
+    """10,000 points go around tomlkit (the time is measured in bench_studio_live.py)."""
+    (tmp_path / "poly.toml").write_text("# my polyline\n" + _curve_design(f"{PARABOLA}  # m"))
+    session = StudioSession.start(tmp_path / "poly.toml", out=tmp_path / "o")
+    control = next(c for c in design_controls() if c.key == "crease.points")
+    x = np.linspace(-1.25, 1.25, 10_000)
+    points = np.column_stack([x, 0.8 * (1 - (x / 1.25) ** 2)]).tolist()
+    value = parse_value(control, format_value(control, points))
+    assert value == points  # the JSON fast path reads the same floats as TOML
+    assert parse_toml(f"v = {format_value(control, points)}")["v"] == points
+    assert session.edit("crease", "points", value) is None
+    text = session.text()
+    assert text.startswith("# my polyline\n") and parse_toml(text)["crease"]["points"] == points
+    session.save()
+    assert session.edit("layout", "plates", 3) is None  # the saved long array stays as written
+    again = session.text()
+    assert again.count("\n") == text.count("\n") and parse_toml(again)["layout"]["plates"] == 3
+    assert parse_toml(again)["crease"]["points"] == points
+    assert "[[-1.25, 0.0], [-1.2497499749974998, " in again
+
+
+def test_document_text_keeps_a_long_array_with_comments_and_special_numbers():
+    source = "[crease]\n# the points\npoints = [\n" + "".join(
+        f"  [{i}.0, {i}.5],\n" for i in range(40)) + "]  # end\nrise = 1.0\n"  # fmt: skip
+    document = parse_toml(source)
+    assert document_text(document, source) == source  # unchanged: kept as written
+    document["crease"]["rise"] = 2.0
+    assert document_text(document, source) == source.replace("rise = 1.0", "rise = 2.0")
+    document["crease"]["points"] = [[float("nan"), float("inf")]] + [[-float("inf"), 1]] * 60
+    text = document_text(document, source)
+    assert _same(parse_toml(text), document) and "[[nan, inf], [-inf, 1], " in text
+
+
+def test_the_export_runs_in_another_process(session, folders):
+    from compas_ccu.studio.export import ExportProcess
+
+    _, out = folders
+    exporter = ExportProcess()
+    try:
+        pid, written = exporter.submit(session.model, out, alpha=35.0, what=("structure",),
+                                       design_text=session.text()).result(timeout=300)  # fmt: skip
+        assert pid != os.getpid()
+        assert written == {"structure": out / "vault" / "structure"}
+        assert json.loads((out / "vault" / "structure" / "structure.json").read_text())[
+            "alpha"] == 35.0  # fmt: skip
+        (out / "blocked").write_text("a file where the folder goes")
+        future = exporter.submit(session.model, out / "blocked", alpha=35.0,
+                                 what=("structure",), design_text=None)  # fmt: skip
+        with pytest.raises(OptionError, match="blocked', which is a file"):
+            future.result(timeout=300)  # the error of the export process reaches the studio
+    finally:
+        exporter.stop()
+
+
+def test_the_loop_probe_sees_a_blocked_event_loop():
+    import asyncio
+    import threading
+    import time
+
+    from compas_ccu.studio.workers import LoopProbe
+
+    loop = asyncio.new_event_loop()
+    thread = threading.Thread(target=loop.run_forever, daemon=True)
+    thread.start()
+    try:
+        probe = LoopProbe(loop).start()
+        time.sleep(0.1)
+        loop.call_soon_threadsafe(time.sleep, 0.3)  # a callback that holds the loop
+        time.sleep(0.5)
+        gap = probe.stop()
+        assert gap > 0.25 and probe.beats >= 1  # the 0.3 s it was held (more on a busy machine)
+    finally:
+        loop.call_soon_threadsafe(loop.stop)
+        thread.join(5)
+
+
+def test_opening_a_file_from_the_menu_restores_its_own_recovery_copy(session, folders):
+    design, out = folders
+    session.edit("crease", "rise", 0.85)
+    session.open_file("cone.toml")
+    assert session.name == "cone.toml" and session.saved and session.notice == ""
+    session.open_file("vault.toml")
+    assert session.model.design.crease.rise == 0.85 and not session.saved
+    assert session.notice.startswith("restored unsaved edits of vault.toml")
+
+
+def test_a_curve_file_reached_through_a_link_out_of_the_folder_is_refused(tmp_path):
+    folder, other = tmp_path / "designs", tmp_path / "elsewhere"
+    folder.mkdir()
+    other.mkdir()
+    (other / "c.csv").write_text(PARABOLA_CSV)
+    os.symlink(other / "c.csv", folder / "c.csv")
+    (folder / "d.toml").write_text(_curve_design('"c.csv"'))
+    problem = StudioSession.start(folder / "d.toml", out=tmp_path / "o").problem
+    assert problem.key == "crease.points"
+    assert f"'c.csv' ({other / 'c.csv'}) is outside the design folder" in problem.message
+
+
+def test_a_killed_export_process_is_said_and_started_again(session, folders):
+    import signal
+
+    from compas_ccu.studio.export import ExportProcess
+
+    _, out = folders
+    exporter = ExportProcess()
+    try:
+        pid, _ = exporter.submit(session.model, out, alpha=30.0, what=("structure",),
+                                 design_text=None).result(timeout=300)  # fmt: skip
+        os.kill(pid, signal.SIGKILL)  # the export process dies (out of memory, killed)
+        time.sleep(1.0)
+        future = exporter.submit(session.model, out, alpha=30.0, what=("structure",),
+                                 design_text=None)  # fmt: skip
+        try:
+            again, _ = future.result(timeout=300)
+        except Exception as exc:  # the pool noticed the death only now: it is broken once
+            assert type(exc).__name__ == "BrokenProcessPool"
+            again, _ = exporter.submit(session.model, out, alpha=30.0, what=("structure",),
+                                       design_text=None).result(timeout=300)  # fmt: skip
+        assert again not in (pid, os.getpid())
+    finally:
+        exporter.stop()

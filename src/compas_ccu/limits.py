@@ -47,6 +47,8 @@ class Limits:
     workers: int = 256
     #: Estimated memory of one computation, GiB.
     memory_gib: float = 4.0
+    #: Bytes of a design file opened in the studio (an upload or a file of the design folder).
+    upload_bytes: int = 1_000_000
 
 
 #: The limits in force.

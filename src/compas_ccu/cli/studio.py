@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 import threading
+from pathlib import Path
 
 from compas_ccu.cli.common import VIZ, need_extra
 from compas_ccu.cli.parser import Command, option
@@ -28,7 +29,10 @@ def studio(args) -> int:
             "anyone who can reach it can edit and save designs in the design folder",
             file=sys.stderr,
         )
-    session = StudioSession.start(args.design, out=args.out)
+    for folder in args.allow_dir or ():
+        if not Path(folder).expanduser().is_dir():
+            raise OptionError(f"--allow-dir {folder}: no such folder")
+    session = StudioSession.start(args.design, out=args.out, allowed=args.allow_dir or ())
     app = Studio(session, host=args.host, port=args.port)
     print(
         f"compas_ccu studio: {app.url}  (design folder {session.files.design_folder}, "
@@ -81,6 +85,13 @@ COMMANDS = (
                 help="interface to listen on (default 127.0.0.1: this machine only)",
             ),
             option("--no-browser", action="store_true", help="do not open a browser"),
+            option(
+                "--allow-dir",
+                action="append",
+                metavar="DIR",
+                help="a further folder curve files named by a design may be read from "
+                "(repeatable; default: the design folder only)",
+            ),
         ),
         studio,
     ),

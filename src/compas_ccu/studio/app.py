@@ -9,7 +9,8 @@ Three worker threads keep the page live (:class:`~compas_ccu.studio.workers.Late
 queues up), the *checks* worker measures the key figures and the collision check of a new model,
 and the *relax* worker computes the relaxed state of a layout whose creases leave their planes
 (the page says "relaxing" until it is drawn). Edits run in viser's callback threads under the
-session's lock.
+session's lock. An export runs in a separate process (:class:`~compas_ccu.studio.export.
+ExportProcess`), so the nesting and the report's pictures never stall the page.
 """
 
 from __future__ import annotations
@@ -26,13 +27,14 @@ from compas_ccu.errors import CCUError
 from compas_ccu.studio.checks import design_checks
 from compas_ccu.studio.controls import (
     applies,
+    check_field_text,
     design_controls,
     edited_value,
     options,
     parse_value,
     shown_value,
 )
-from compas_ccu.studio.export import EXPORTS, export
+from compas_ccu.studio.export import EXPORTS, ExportProcess
 from compas_ccu.studio.panels import checks_html, message_html, patterns_html, status_html
 from compas_ccu.studio.scene import TOGGLES, StudioScene
 from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, view_state
@@ -131,6 +133,8 @@ class Studio:
         self.frames = 0
         self.render_seconds = 0.0  # Python time of all frames (benchmarks)
         self.last_view = None
+        self.last_export = None  # (pid, written) of the last export
+        self._exporter = ExportProcess()
         self._checks_generation = -1
         self._thick = (None, None)  # (generation, ThickModel or the error)
         self._relaxed = {}  # (generation, alpha) -> vertices
@@ -177,6 +181,7 @@ class Studio:
         self._playing.clear()
         for worker in (self._view, self._checker, self._relaxer):
             worker.stop()
+        self._exporter.stop()
         self.server.stop()
 
     def _on_connect(self, client) -> None:
@@ -256,15 +261,24 @@ class Studio:
         def on_update(event) -> None:
             if event.client is None:  # set from Python: a refresh of the panel
                 return
-            value = edited_value(control, handle.value)
-            self._apply(
-                lambda: self.session.edit(control.section, control.name, value), panel="design"
-            )
+
+            def edit():
+                check_field_text(control, handle.value)
+                value = edited_value(control, handle.value)
+                self.session.edit(control.section, control.name, value)
+
+            self._apply(edit, panel="design")
 
         handle.on_update(on_update)
         return control, handle, error
 
     def _build_file_tab(self, gui) -> None:
+        self.recovery_choice = gui.add_button_group(
+            "recovery copy", ("Restore it", "Keep the file"), visible=False,
+            hint="a recovery copy older than the file (it changed since): restore it or keep "
+            "the file",
+        )  # fmt: skip
+        self.recovery_choice.on_click(self._on_recovery)
         gui.add_button_group("history", ("Undo", "Redo")).on_click(self._on_history)
         gui.add_button("Save").on_click(lambda _: self._save(self.session.save))
         self.save_name = gui.add_text("save as", self.session.name, hint="a name in the folder")
@@ -359,6 +373,13 @@ class Studio:
         if done and not done[0]:
             self._say(f"nothing to {which.lower()}", "info")
 
+    def _on_recovery(self, event) -> None:
+        s = self.session
+        action = s.restore_recovery if event.target.value == "Restore it" else s.discard_recovery
+        if self._apply(action):
+            self._say(s.notice, "ok")
+            self._reset_view()
+
     def _save(self, action) -> None:
         try:
             path = action()
@@ -379,20 +400,32 @@ class Studio:
         if s.problem is not None:
             self._say(f"fix the design before exporting: {s.problem.message}", "fail")
             return
-        model, alpha, text = s.model, self.alpha, s.text()
+        with s.lock:
+            model, alpha, text = s.model, self.alpha, s.text()
         what = [w for w, box in self.export_what.items() if box.value]
         self._say(f"exporting {', '.join(what)} ...", "info")
+        self.last_export = None
+        try:
+            future = self._exporter.submit(model, s.files.out, alpha=alpha, what=what,
+                                           design_text=text)  # fmt: skip
+        except Exception as exc:  # the process cannot be started: said on the page
+            log.error("studio export process", exc_info=exc)
+            self._say(f"export failed: {exc}", "fail")
+            return None
+        future.add_done_callback(self._exported)
+        return future
 
-        def run():
-            try:
-                written = export(model, s.files.out, alpha=alpha, what=what, design_text=text)
-            except Exception as exc:  # shown on the page; the server carries on
-                log.exception("studio export")
-                self._say(f"export failed: {exc}", "fail")
-                return
-            self._say("exported " + ", ".join(f"{k} to {v}" for k, v in written.items()), "ok")
-
-        threading.Thread(target=run, name="studio-export", daemon=True).start()
+    def _exported(self, future) -> None:
+        if future.cancelled():
+            return
+        try:
+            pid, written = future.result()
+        except Exception as exc:  # shown on the page; the server carries on
+            log.error("studio export failed", exc_info=exc)
+            self._say(f"export failed: {exc}", "fail")
+            return
+        self.last_export = (pid, written)
+        self._say("exported " + ", ".join(f"{k} to {v}" for k, v in written.items()), "ok")
 
     def _failed(self, exc: BaseException) -> None:
         log.error("studio job failed", exc_info=exc)
@@ -408,6 +441,7 @@ class Studio:
         s = self.session
         with s.lock:
             document, problem, name, saved = s.document, s.problem, s.name, s.saved
+            pending, offered = s.pending, s.recovery is not None
             values = {k: s.value(c.section, c.name) for k, (c, _, _) in self.controls.items()}
         for key, (control, handle, error) in self.controls.items():
             value = values[key]
@@ -429,9 +463,13 @@ class Studio:
         else:
             own = problem.key not in self.controls
             text = (problem.message + " — " if own else "") + "the last valid model is shown"
+            if pending:
+                text += " (not applied: " + ", ".join(pending) + ")"
             self.design_error.content = message_html(text, "fail", size="0.9em")
         if saved and self.save_name.value != name:
             self.save_name.value = name
+        if self.recovery_choice.visible != offered:
+            self.recovery_choice.visible = offered
 
     def _model_changed(self, *, reset_alpha: bool = False) -> None:
         model = self.session.model

@@ -13,6 +13,7 @@ only for those types: :func:`applies`.
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
 
@@ -20,7 +21,7 @@ from compas_ccu.design.document import parse_toml
 from compas_ccu.design.schema import SCHEMA
 
 __all__ = ["Control", "UNSET", "design_controls", "applies", "format_value", "parse_value"]
-__all__ += ["options", "shown_value", "edited_value"]
+__all__ += ["options", "shown_value", "edited_value", "check_field_text"]
 
 #: The value of a field that is empty: the key is removed from the design.
 UNSET = object()
@@ -205,12 +206,66 @@ def parse_value(control: Control, text: str):
         return UNSET
     if control.widget == "dropdown" or control.kind == "str":
         return text
+    fast = _number_array(text)
+    if fast is not None:
+        return fast
     try:
         return parse_toml(f"value = {text}")["value"]
-    except (
-        ValueError
-    ):  # not a TOML value (tomllib.TOMLDecodeError): the schema names the key and the text
+    except (ValueError, RecursionError):
+        # not a TOML value (tomllib.TOMLDecodeError): the schema names the key and the text
         return text
+
+
+def _number_array(text: str):
+    """The value of a long array of numbers through the JSON parser (in C; on arrays of
+    numbers JSON is a subset of TOML with the same values), or None to parse it as TOML."""
+    if len(text) < 1000 or not text.startswith("["):
+        return None
+    try:
+        value = json.loads(text)
+    except (ValueError, RecursionError):
+        return None
+    stack = [value]
+    while stack:
+        v = stack.pop()
+        if isinstance(v, list):
+            stack.extend(v)
+        elif isinstance(v, bool) or isinstance(v, float):
+            continue
+        elif not isinstance(v, int) or not -(2**63) <= v < 2**63:
+            return None
+    return value
+
+
+def check_field_text(control: Control, text) -> None:
+    """Refuse the text of a field that cannot be a design value before it is parsed: longer
+    than a design file may be (the limit ``upload_bytes``) or nested deeper than
+    :data:`compas_ccu.studio.files.MAX_DEPTH`.
+
+    Raises
+    ------
+    OptionError
+        One line naming the key and the size or depth.
+    """
+    from compas_ccu.errors import OptionError
+    from compas_ccu.limits import LIMITS
+    from compas_ccu.studio.files import MAX_DEPTH, nesting_depth
+
+    if control.widget != "text":
+        return
+    text = str(text)
+    size = len(text.encode("utf-8"))
+    if size > LIMITS.upload_bytes:
+        raise OptionError(
+            f"{control.key}: the value is {size:,} bytes; a design file may have at most "
+            f"{LIMITS.upload_bytes:,} bytes (the limit upload_bytes)"
+        )
+    depth = nesting_depth(f"value = {text}")
+    if depth > MAX_DEPTH:
+        raise OptionError(
+            f"{control.key}: the value nests arrays {depth} deep; a design value nests at "
+            f"most {MAX_DEPTH} deep"
+        )
 
 
 def options(control: Control) -> tuple:

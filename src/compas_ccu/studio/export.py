@@ -1,9 +1,18 @@
-"""Export from the studio: the files the ``ccu`` commands write, into the output folder only."""
+"""Export from the studio: the files the ``ccu`` commands write, into the output folder only.
+
+:class:`ExportProcess` runs an export in a separate process (``spawn``): the nesting (spyrrow)
+and the report's pictures (matplotlib) hold the GIL for seconds, which in the studio's process
+would stall its event loop and so every page and the α slider.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
+import multiprocessing
+import os
 import tempfile
+import threading
 from pathlib import Path
 
 from compas_ccu.fabrication.fabricate import fabricate
@@ -11,7 +20,7 @@ from compas_ccu.io import write_compas_json, write_obj, write_structure_json
 from compas_ccu.outputs import staged_folder
 from compas_ccu.viz.report import write_report
 
-__all__ = ["EXPORTS", "export"]
+__all__ = ["EXPORTS", "export", "export_job", "ExportProcess"]
 
 #: What the studio exports, each into its own subfolder of ``OUT/<design name>/``.
 EXPORTS = ("structure", "fabrication", "report")
@@ -64,3 +73,85 @@ def export(model, out, *, alpha: float, what=EXPORTS, design_text: str | None = 
             )
         written["report"] = root / "report"
     return written
+
+
+def export_job(document: dict, *, name: str, base, out, alpha: float, what, design_text,
+               limits: dict) -> tuple:  # fmt: skip
+    """Build the model of design ``document`` (curve files read from ``base``) under ``limits``
+    and :func:`export` it; what :class:`ExportProcess` runs in its process.
+
+    Returns
+    -------
+    tuple
+        ``(pid, written)``: the id of the process that exported, and :func:`export`'s dict.
+    """
+    from compas_ccu.design import Design
+    from compas_ccu.limits import raised
+    from compas_ccu.model import CCUModel
+
+    with raised(**limits):
+        model = CCUModel(Design(document, name=name, base=base))
+        written = export(model, out, alpha=alpha, what=what, design_text=design_text)
+    return os.getpid(), written
+
+
+#: How much lower than the studio the export process runs (``os.nice``): the studio's page and
+#: slider come first, the export takes the rest of the machine.
+NICE = 19
+
+
+def background() -> None:
+    """Run this process (the export process) at a lower priority than the studio."""
+    if hasattr(os, "nice"):
+        try:
+            os.nice(NICE)
+        except OSError:  # not allowed here: the export runs at the studio's priority
+            pass
+
+
+class ExportProcess:
+    """One export process for a studio, started at the first export (``spawn``: a fresh
+    interpreter, whatever threads the studio runs) and reused; :meth:`stop` ends it."""
+
+    def __init__(self):
+        self._pool = None
+        self._lock = threading.Lock()
+
+    def submit(self, model, out, *, alpha: float, what, design_text: str | None):
+        """Export ``model`` (rebuilt in the export process from its design) into ``out``.
+
+        Returns
+        -------
+        concurrent.futures.Future
+            Of :func:`export_job`'s ``(pid, written)``.
+        """
+        from concurrent.futures import ProcessPoolExecutor
+        from concurrent.futures.process import BrokenProcessPool
+
+        from compas_ccu.limits import LIMITS
+
+        design = model.design
+        job = dict(
+            name=design.name, base=design.base, out=str(out), alpha=alpha, what=tuple(what),
+            design_text=design_text, limits=dataclasses.asdict(LIMITS),
+        )  # fmt: skip
+        with self._lock:
+            for _ in range(2):  # a process that died (killed, out of memory) is started again
+                if self._pool is None:
+                    context = multiprocessing.get_context("spawn")
+                    self._pool = ProcessPoolExecutor(
+                        max_workers=1, mp_context=context, initializer=background
+                    )
+                try:
+                    return self._pool.submit(export_job, design.document, **job)
+                except BrokenProcessPool:
+                    self._pool.shutdown(wait=False)
+                    self._pool = None
+            raise RuntimeError("the export process cannot be started")
+
+    def stop(self) -> None:
+        """Let the process end after the export under way, if any (queued ones are cancelled)."""
+        with self._lock:
+            pool, self._pool = self._pool, None
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)

@@ -1,36 +1,66 @@
-"""The studio's file access: two folders, atomic writes and the recovery copy.
+"""The studio's file access: two folders, atomic writes and the recovery copies.
 
 The studio reads and writes only inside the folder of the design it opened (the *design
 folder*) and the output folder the user chose. Every name that comes from the page (a file to
 open, a "save as" name) is resolved by :meth:`StudioFiles.inside`, which refuses absolute paths,
-``..`` components and symbolic links that lead out of the folder, naming the value.
+``..`` components, the studio's own folder ``.ccu-studio/`` and symbolic links that lead out of
+the folder, naming the value. Curve files named by a design are read only inside the design
+folder or a folder named on the command line (:meth:`StudioFiles.check_curve_files`).
+
+The recovery copy belongs to one design file: ``OUT/.ccu-studio/<hash of its absolute
+path>/``, with the hash of the file's content it was made from, so two folders with a
+``vault.toml`` sharing one output folder never exchange edits, and a copy older than the file
+on disk is offered rather than restored.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
+import stat
 import tempfile
 from pathlib import Path
 
-from compas_ccu.errors import OptionError
+from compas_ccu.design.schema import CURVE_FILE_PLACES
+from compas_ccu.errors import DesignError, OptionError
 
-__all__ = ["StudioFiles", "atomic_write", "MAX_UPLOAD", "decode_upload"]
+__all__ = ["StudioFiles", "atomic_write", "MAX_DEPTH", "decode_upload", "nesting_depth", "sha256"]
 
-#: The largest design file the studio opens from an upload, bytes.
-MAX_UPLOAD = 1_000_000
+#: The deepest nesting of arrays and tables a design file may have (a design needs 4).
+MAX_DEPTH = 32
+
+
+def sha256(text: str) -> str:
+    """Hex SHA-256 of ``text`` (UTF-8)."""
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def _new_file_mode() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
 
 
 def atomic_write(path: Path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename, so
-    a reader sees the old file or the new one, never a part."""
+    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename.
+
+    A reader sees the old file or the new one, never a part; if anything fails the old file is
+    left as it was (nothing is removed but the temporary file). The new file keeps the
+    permission bits of the file it replaces (a new file gets the umask's).
+    """
     path = Path(path)
+    try:
+        mode = stat.S_IMODE(os.stat(path).st_mode)
+    except FileNotFoundError:
+        mode = _new_file_mode()
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
             f.write(text)
             f.flush()
             os.fsync(f.fileno())
+        os.chmod(tmp, mode)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -38,18 +68,62 @@ def atomic_write(path: Path, text: str) -> Path:
     return path
 
 
+def nesting_depth(text: str) -> int:
+    """The deepest nesting of ``[`` / ``{`` brackets in TOML ``text`` outside strings and
+    comments (a linear scan: a file nested 10⁵ deep is measured, not parsed).
+
+    >>> nesting_depth("a = [[1, 2], [3]]  # [[[")
+    2
+    """
+    depth = deepest = 0
+    i, n = 0, len(text)
+    at_line_start = True
+    while i < n:
+        c = text[i]
+        if c in "\"'":
+            triple = text.startswith(c * 3, i)
+            end = text.find(c * 3, i + 3) if triple else i + 1
+            if not triple:
+                while end < n and text[end] != c and text[end] != "\n":
+                    end += 2 if (c == '"' and text[end] == "\\") else 1
+            i = (end + (3 if triple else 1)) if end >= 0 else n
+            at_line_start = False
+            continue
+        if c == "#":
+            end = text.find("\n", i)
+            i = n if end < 0 else end
+            continue
+        if c == "\n":
+            at_line_start = True
+        elif c in "[{" and not (at_line_start and depth == 0 and c == "["):
+            depth += 1
+            deepest = max(deepest, depth)
+        elif c in "]}" and depth > 0:
+            depth -= 1
+        elif c == "=" or not c.isspace():
+            at_line_start = at_line_start and c == "["
+        i += 1
+    return deepest
+
+
 def decode_upload(name: str, content: bytes) -> str:
-    """The text of an uploaded design file.
+    """The text of a design file (an upload or a file of the design folder).
 
     Raises
     ------
+    LimitError
+        The file is larger than ``compas_ccu.limits.LIMITS.upload_bytes`` (1 MB).
     OptionError
-        The file is larger than :data:`MAX_UPLOAD`, or not UTF-8 text (a binary file).
+        Not UTF-8 text (a binary file), or nested deeper than :data:`MAX_DEPTH`.
     """
-    if len(content) > MAX_UPLOAD:
-        raise OptionError(
-            f"{name!r} is {len(content):,} bytes; a design file may have at most "
-            f"{MAX_UPLOAD:,} bytes"
+    from compas_ccu.errors import LimitError
+    from compas_ccu.limits import LIMITS
+
+    limit = LIMITS.upload_bytes
+    if len(content) > limit:
+        raise LimitError(
+            f"{name!r} is {len(content):,} bytes; a design file may have at most {limit:,} "
+            f"bytes (the limit upload_bytes; raise it with --limit upload_bytes={len(content)})"
         )
     try:
         text = content.decode("utf-8")
@@ -59,7 +133,17 @@ def decode_upload(name: str, content: bytes) -> str:
         ) from None
     if "\x00" in text:
         raise OptionError(f"{name!r} is not a text file (it holds NUL bytes): open a design TOML")
+    depth = nesting_depth(text)
+    if depth > MAX_DEPTH:
+        raise OptionError(
+            f"{name!r} nests arrays or tables {depth} deep; a design file nests at most "
+            f"{MAX_DEPTH} deep"
+        )
     return text
+
+
+def _is_inside(path: Path, root: Path) -> bool:
+    return path == root or root in path.parents
 
 
 class StudioFiles:
@@ -70,14 +154,17 @@ class StudioFiles:
     design_folder : path
         Folder of the opened design; designs are opened from and saved into it.
     out : path
-        Output folder: exports and the recovery copy (``.ccu-studio/``).
+        Output folder: exports and the recovery copies (``.ccu-studio/``).
+    allowed : sequence of path, optional
+        Further folders curve files may be read from (``ccu studio --allow-dir``).
     """
 
     RECOVERY = ".ccu-studio"
 
-    def __init__(self, design_folder, out):
+    def __init__(self, design_folder, out, allowed=()):
         self.design_folder = Path(design_folder).expanduser().resolve()
         self.out = Path(out).expanduser().resolve()
+        self.allowed = tuple(Path(a).expanduser().resolve() for a in allowed)
 
     def inside(self, name, *, folder: str = "design", suffix: str | None = ".toml") -> Path:
         """The path of ``name`` inside the design (or output) folder.
@@ -85,8 +172,9 @@ class StudioFiles:
         Raises
         ------
         OptionError
-            ``name`` is empty, absolute, has a ``..`` component, has the wrong suffix, or
-            resolves (through a symbolic link) to a place outside the folder.
+            ``name`` is empty, absolute, has a ``..`` component, has the wrong suffix, lies in
+            the studio's own folder ``.ccu-studio/``, or resolves (through a symbolic link) to
+            a place outside the folder.
         """
         root = self.design_folder if folder == "design" else self.out
         text = str(name).strip()
@@ -100,9 +188,14 @@ class StudioFiles:
         if suffix is not None and rel.suffix.lower() != suffix:
             raise OptionError(f"{text!r}: the file name must end with {suffix}")
         path = (root / rel).resolve()
-        if path != root and root not in path.parents:
+        if not _is_inside(path, root):
             raise OptionError(
                 f"{text!r} leads outside the {folder} folder {root} (a symbolic link?)"
+            )
+        if self.RECOVERY in rel.parts or _is_inside(path, self.recovery_folder):
+            raise OptionError(
+                f"{text!r}: {self.RECOVERY}/ is the studio's own folder (recovery copies); "
+                "give a name outside it"
             )
         return path
 
@@ -133,28 +226,78 @@ class StudioFiles:
         path.parent.mkdir(parents=True, exist_ok=True)
         return atomic_write(path, text)
 
-    # -- the recovery copy ---------------------------------------------------------------------
+    def check_curve_files(self, document: dict) -> None:
+        """Refuse a document whose curve files lie outside the design folder and the allowed
+        folders (a design opened in the studio may come from anyone).
+
+        Raises
+        ------
+        DesignError
+            Naming the key, the file and the folders it may be in.
+        """
+        roots = (self.design_folder,) + self.allowed
+        for place in CURVE_FILE_PLACES:
+            section, key = place.split(".")
+            table = document.get(section)
+            value = table.get(key) if isinstance(table, dict) else None
+            if isinstance(value, dict):
+                value = value.get("file")
+            if not isinstance(value, str):
+                continue
+            path = Path(value).expanduser()
+            path = (path if path.is_absolute() else self.design_folder / path).resolve()
+            if not any(_is_inside(path, root) for root in roots):
+                where = " or ".join(str(r) for r in roots)
+                raise DesignError(
+                    f"curve file {value!r} ({path}) is outside the design folder {where}; the "
+                    "studio reads curve files only there (name another folder with "
+                    "ccu studio --allow-dir DIR)",
+                    key=place,
+                )
+
+    # -- the recovery copies -------------------------------------------------------------------
     @property
     def recovery_folder(self) -> Path:
         return self.out / self.RECOVERY
 
-    def save_recovery(self, text: str, meta: dict) -> None:
+    def recovery_of(self, path) -> Path:
+        """The folder of the recovery copy of design file ``path`` (absolute)."""
+        key = sha256(str(Path(path).resolve()))[:24]
+        return self.recovery_folder / key
+
+    def save_recovery(self, path, text: str, meta: dict) -> None:
         """Keep ``text`` (the design being edited) and ``meta`` so a restart restores it."""
-        folder = self.recovery_folder
+        folder = self.recovery_of(path)
         folder.mkdir(parents=True, exist_ok=True)
+        meta = {**meta, "path": str(Path(path).resolve())}
         atomic_write(folder / "recovery.toml", text)
         atomic_write(folder / "recovery.json", json.dumps(meta, indent=1) + "\n")
 
-    def load_recovery(self):
-        """``(text, meta)`` of the recovery copy, or None."""
-        folder = self.recovery_folder
+    def load_recovery(self, path, kind: str = "recovery"):
+        """``(text, meta)`` of the recovery copy of ``path`` (``kind="offered"``: the copy set
+        aside because the file changed since), or None."""
+        folder = self.recovery_of(path)
         try:
-            text = (folder / "recovery.toml").read_text("utf-8")
-            meta = json.loads((folder / "recovery.json").read_text("utf-8"))
+            text = (folder / f"{kind}.toml").read_text("utf-8")
+            meta = json.loads((folder / f"{kind}.json").read_text("utf-8"))
         except (OSError, ValueError):
             return None
-        return (text, meta) if isinstance(meta, dict) else None
+        if not isinstance(meta, dict) or meta.get("path") != str(Path(path).resolve()):
+            return None
+        return text, meta
 
-    def clear_recovery(self) -> None:
-        for name in ("recovery.toml", "recovery.json"):
-            (self.recovery_folder / name).unlink(missing_ok=True)
+    def set_aside(self, path) -> None:
+        """Keep the recovery copy of ``path`` as the *offered* one (the file changed since it
+        was made: the user chooses)."""
+        folder = self.recovery_of(path)
+        for suffix in (".toml", ".json"):
+            os.replace(folder / f"recovery{suffix}", folder / f"offered{suffix}")
+
+    def clear_recovery(self, path, kind: str = "recovery") -> None:
+        folder = self.recovery_of(path)
+        for suffix in (".toml", ".json"):
+            (folder / f"{kind}{suffix}").unlink(missing_ok=True)
+        try:
+            folder.rmdir()
+        except OSError:  # not empty (the other kind) or gone
+            pass

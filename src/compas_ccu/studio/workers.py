@@ -6,7 +6,7 @@ from __future__ import annotations
 import logging
 import threading
 
-__all__ = ["LatestWorker"]
+__all__ = ["LatestWorker", "LoopProbe"]
 
 log = logging.getLogger(__name__)
 
@@ -72,3 +72,53 @@ class LatestWorker:
                 with self._cond:
                     self._busy = False
                     self._cond.notify_all()
+
+
+class LoopProbe:
+    """The largest gap of an asyncio event loop: a heartbeat that sleeps ``interval`` seconds
+    on the loop and records how much later than asked it woke (the studio's page and slider
+    are served by viser's loop; a gap is the time nothing reached any tab).
+
+    Examples
+    --------
+    ::
+
+        probe = LoopProbe(studio.server.get_event_loop()).start()
+        ...                      # an export
+        gap = probe.stop()       # seconds
+    """
+
+    def __init__(self, loop, interval: float = 0.005):
+        self.loop = loop
+        self.interval = interval
+        self.largest = 0.0
+        self.beats = 0
+        self.gaps = []  # every gap, s
+        self._running = False
+        self._future = None
+
+    async def _beat(self) -> None:
+        import asyncio
+        import time
+
+        while self._running:
+            t0 = time.perf_counter()
+            await asyncio.sleep(self.interval)
+            gap = time.perf_counter() - t0 - self.interval
+            self.largest = max(self.largest, gap)
+            self.gaps.append(gap)
+            self.beats += 1
+
+    def start(self) -> LoopProbe:
+        import asyncio
+
+        self._running = True
+        self._future = asyncio.run_coroutine_threadsafe(self._beat(), self.loop)
+        return self
+
+    def stop(self) -> float:
+        """Stop the heartbeat; the largest gap seen, seconds."""
+        self._running = False
+        if self._future is not None:
+            self._future.result(timeout=10.0)
+        return self.largest
