@@ -61,12 +61,13 @@ RELAXED = "relaxed model (the creases leave their planes; least-squares relaxati
 
 #: Slider marks closer than this fraction of the range share one label (the more telling one).
 MARK_GAP = 0.08
-_MARK_RANK = {"collision": 0, "overlap": 1, "design": 2, "limit": 3, "0": 4}
+_MARK_RANK = {"collision": 0, "crossing": 1, "overlap": 2, "design": 3, "limit": 4, "0": 5}
 
 
 def slider_marks(model, collision, top: float) -> list:
-    """``[(alpha, label), ...]`` of the α slider: 0, the design α, the overlap and collision
-    angles and the limit ``top``; of marks closer than :data:`MARK_GAP` of the range only the
+    """``[(alpha, label), ...]`` of the α slider: 0, the design α, the overlap angle, the angle
+    where two plates first cross (when before the overlap), the thick plates' collision and the
+    limit ``top``; of marks closer than :data:`MARK_GAP` of the range only the
     more telling one keeps its label (collision, overlap, design, limit, 0), so none overlap.
 
     >>> from compas_ccu.model import load_model
@@ -76,6 +77,8 @@ def slider_marks(model, collision, top: float) -> list:
     marks = [(0.0, "0"), (float(model.alpha_design), "design"), (float(top), "limit")]
     if model.overlap_alpha < model.alpha_limit:
         marks.append((float(model.overlap_alpha), "overlap"))
+    if model.collision_free_alpha < model.overlap_alpha:  # two plates cross first
+        marks.append((float(model.collision_free_alpha), "crossing"))
     if collision is not None:
         marks.append((float(collision["alpha"]), "collision"))
     labelled = []
@@ -328,7 +331,7 @@ class Studio:
         direction = 1.0
         while self._playing.is_set() and self.session.model is not None:
             model = self.session.model
-            top = min(model.alpha_limit, model.overlap_alpha) * 0.999
+            top = min(model.alpha_limit, model.collision_free_alpha) * 0.999
             alpha = (self.alpha or 0.0) + direction * top / (PLAY_SECONDS * PLAY_FPS)
             if not 0.0 < alpha < top:
                 direction = -direction

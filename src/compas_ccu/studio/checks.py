@@ -130,17 +130,27 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
             + ("" if overlap_ok else f": below the design α {design:g}°"),
         )
     )
+    free = g.collision_free_alpha
+    rows.append(
+        Check(
+            "plates crossing",
+            _f(free, 5, "deg"),
+            "ok" if free > design else "fail",
+            "largest α from the flat stack without two plates crossing"
+            + ("" if free > design else f": below the design α {design:g}°"),
+        )
+    )
     collision = None
     utilisation = {}
     if thick is not None:
-        collision = first_collision(thick, min(g.overlap_alpha, g.alpha_limit))
+        collision = first_collision(thick, min(free, g.alpha_limit))
         if collision is None:
             rows.append(
                 Check(
                     "collision",
                     "none",
                     "ok",
-                    f"thick plates clear from 0° to {min(g.overlap_alpha, g.alpha_limit):.4g}°",
+                    f"thick plates clear from 0° to {min(free, g.alpha_limit):.4g}°",
                 )
             )
         else:

@@ -48,9 +48,16 @@ def status_html(session, view, *, state: str, message: str = "", failed=()) -> s
     ]
     model = session.model
     if model is not None and view is not None:
+        crossing = model.collision_free_alpha < model.overlap_alpha
         over = (
-            f" <span style='color:{STATUS_COLORS['fail']}'>beyond the overlap angle "
-            f"{model.overlap_alpha:.4g}°: a crease overlaps itself</span>"
+            f" <span style='color:{STATUS_COLORS['fail']}'>"
+            + (
+                f"beyond {model.collision_free_alpha:.4g}°: two plates pass through each other"
+                if crossing
+                else f"beyond the overlap angle {model.overlap_alpha:.4g}°: a crease overlaps "
+                "itself"
+            )
+            + "</span>"
             if view.overlapping
             else ""
         )

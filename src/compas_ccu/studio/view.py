@@ -229,7 +229,7 @@ def view_state(
         span=structure.metrics["span"],
         rise=structure.metrics["rise"],
         legend=legend,
-        overlapping=alpha > model.overlap_alpha,
+        overlapping=alpha > model.collision_free_alpha,
         plate_ids=list(model.plate_ids),
     )
     if solids and thick is not None:
