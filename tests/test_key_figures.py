@@ -107,7 +107,8 @@ def test_the_invariant_figure_is_relative_once():
     k = key_figures(model, s)
     assert k.invariant_max_relative == pytest.approx(absolute / model.size, rel=1e-12)
     assert k.invariant_max_relative == s.max_invariant_error
-    assert 4e-16 < k.invariant_max_relative < 5e-16  # 4.5e-16, not 1.5e-16 = 4.5e-16 / 2.96 m
+    # round-off (a few 1e-16: its last digits differ between CPUs and plane fits)
+    assert 1e-17 < k.invariant_max_relative < 1e-14
     assert catalog_metrics(model, steps=2, relax=False)["invariant_max_relative"] == (
         k.invariant_max_relative
     )

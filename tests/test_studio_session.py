@@ -441,11 +441,17 @@ def test_crowded_slider_marks_keep_the_more_telling_label():
 
     from compas_ccu.studio.app import slider_marks
 
-    model = SimpleNamespace(alpha_design=30.0, overlap_alpha=79.2, alpha_limit=82.0)
+    model = SimpleNamespace(
+        alpha_design=30.0, overlap_alpha=79.2, alpha_limit=82.0, collision_free_alpha=79.2
+    )
     marks = slider_marks(model, {"alpha": 77.0}, 81.99)
     assert [m[0] for m in marks] == [0.0, 30.0, 77.0, 79.2, 81.99]  # every tick stays
     assert [m[1] for m in marks] == ["0", "design", "collision", "", ""]
     assert slider_marks(model, None, 81.99)[-2:] == [(79.2, "overlap"), (81.99, "")]
+    # two plates crossing before any crease overlaps: its own mark, more telling than overlap
+    model.collision_free_alpha = 75.9
+    marks = slider_marks(model, None, 81.99)
+    assert (75.9, "crossing") in marks and 79.2 in [m[0] for m in marks]
 
 
 @pytest.mark.slow
