@@ -134,10 +134,11 @@ def test_stack_obj_is_sum_of_thicknesses(fabricated, vault_model):
 @pytest.mark.parametrize(
     "option, message",
     [
-        (["--thickness", "0"], "thickness must be a finite length > 0"),
-        (["--thickness", "0.3"], "more than half the narrowest plate width"),
+        (["--thickness", "0"], "--thickness must be > 0, got 0.0"),
+        (["--thickness", "0.3"], "--thickness must be <= 0.1, got 0.3"),
+        (["--thickness", "nan"], "--thickness must be a finite number, got nan"),
         (["--material", "balsa"], "unknown material 'balsa'"),
-        (["--hinge-width", "-0.01"], "hinge width must be a finite number > 0"),
+        (["--hinge-width", "-0.01"], "--hinge-width must be > 0, got -0.01"),
     ],
 )
 def test_bad_values_refused(tmp_path, capsys, option, message):

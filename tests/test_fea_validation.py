@@ -310,7 +310,7 @@ def test_ccu_validate_writes_results_and_info_shows_them(tmp_path, monkeypatch, 
 def test_ccu_validate_reports_a_bad_option(tmp_path, capsys):
     code = main(["validate", CONE, "--out", str(tmp_path), "--element-size", "-1"])
     assert code == 2
-    assert "element_size must be > 0" in capsys.readouterr().err
+    assert "--element-size must be > 0, got -1.0" in capsys.readouterr().err
 
 
 @pytest.mark.slow

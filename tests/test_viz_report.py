@@ -116,7 +116,7 @@ def test_report_cli_is_quiet_with_quiet(tmp_path, capsys):
 def test_report_refuses_bad_steps(tmp_path, capsys):
     code = main(["report", str(EXAMPLES / "cone.toml"), "--out", str(tmp_path), "--steps", "0"])
     assert code == 2
-    assert "steps must be an integer >= 1, got 0" in capsys.readouterr().err
+    assert "--steps must be >= 1, got 0" in capsys.readouterr().err
     assert not (Path(tmp_path) / "index.html").exists()
 
 
