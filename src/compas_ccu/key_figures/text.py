@@ -62,7 +62,7 @@ def figure_rows(k) -> list:
     >>> from compas_ccu.model import load_model
     >>> from compas_ccu.key_figures import key_figures
     >>> rows = figure_rows(key_figures(load_model("examples/vault.toml"), path=4))
-    >>> rows[7]
+    >>> rows[8]
     ('span', '2.5000 m (leading crease chord)')
     """
     rows = [
