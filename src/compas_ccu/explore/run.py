@@ -296,6 +296,7 @@ def reach_scheduler(scheduler: str, timeout: float = PROBE_SECONDS) -> None:
     from distributed.comm import connect as open_comm
     from distributed.comm import parse_address, parse_host_port
     from distributed.comm.registry import get_backend
+    from dask.utils import parse_timedelta
 
     where = f"cannot connect to the Dask scheduler at {scheduler!r}"
     try:
@@ -314,14 +315,20 @@ def reach_scheduler(scheduler: str, timeout: float = PROBE_SECONDS) -> None:
         except OSError as exc:  # refused, unreachable, an unknown host
             raise SweepError(f"{where}: {exc.strerror or exc}") from None
 
-    async def handshake():
-        comm = await open_comm(scheduler, timeout=CONNECT_TIMEOUT)
+    seconds = parse_timedelta(CONNECT_TIMEOUT)
+
+    async def handshake():  # bounded: a server that accepts and stays silent would hang Dask
+        comm = await asyncio.wait_for(open_comm(scheduler, timeout=seconds), seconds + 1.0)
         await comm.close()
 
     # in a thread of its own: asyncio.run needs a thread without a running event loop
     with ThreadPoolExecutor(1) as pool:
         try:
             pool.submit(asyncio.run, handshake()).result()
+        except asyncio.TimeoutError:
+            raise SweepError(
+                f"{where}: it does not answer as a Dask scheduler (no handshake in {seconds:g} s)"
+            ) from None
         except Exception as exc:  # anything but a Dask scheduler's answer  # noqa: BLE001
             raise SweepError(
                 f"{where}: it does not answer as a Dask scheduler ({_cause(exc)})"
