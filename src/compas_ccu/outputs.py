@@ -5,7 +5,10 @@ only when everything is written are the files moved into the output folder, the 
 previous run listed in its manifest (``.ccu-files.json``) and this run did not write are removed,
 and the new manifest is written. A run that fails leaves the output folder as it was (the previous
 complete run's files) and removes its staging folder. Files in the output folder that no run of
-compas_ccu wrote are never touched.
+compas_ccu wrote are never touched. Ctrl-C and SIGTERM (which ``ccu`` turns into a
+:class:`KeyboardInterrupt`) are a failure like any other: the staging folder is removed; one that
+arrives while the files are moved in or the staging folder is removed waits until that is done,
+so a folder is never left half moved.
 
 >>> import tempfile, pathlib
 >>> out = pathlib.Path(tempfile.mkdtemp()) / "run"
@@ -21,12 +24,14 @@ import json
 import math
 import os
 import shutil
+import signal
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 
 from compas_ccu.errors import GeometryError, OptionError
 
-__all__ = ["MANIFEST", "check_output_folder", "staged_folder", "manifest_files"]
+__all__ = ["MANIFEST", "check_output_folder", "staged_folder", "manifest_files", "signals_held"]
 __all__ += ["json_text", "write_json", "first_non_finite"]
 
 #: The manifest of the files of the last complete run, inside the output folder.
@@ -146,6 +151,31 @@ def _commit(stage: Path, out: Path) -> list:
 
 
 @contextmanager
+def signals_held():
+    """Hold Ctrl-C (SIGINT) and SIGTERM until the block ends, then deliver the first one.
+
+    In the main thread only (elsewhere, and for a signal whose handler Python did not set, the
+    block runs as it is).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held = []
+    previous = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        handler = signal.getsignal(sig)
+        if handler is not None:
+            previous[sig] = signal.signal(sig, lambda signum, frame: held.append(signum))
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        if held:
+            signal.raise_signal(held[0])
+
+
+@contextmanager
 def staged_folder(out, *, option: str = "--out"):
     """Write into a staging folder; move its files into ``out`` when the block succeeds.
 
@@ -170,6 +200,8 @@ def staged_folder(out, *, option: str = "--out"):
     stage.mkdir()
     try:
         yield stage
-        _commit(stage, out)
+        with signals_held():
+            _commit(stage, out)
     finally:
-        shutil.rmtree(stage, ignore_errors=True)
+        with signals_held():
+            shutil.rmtree(stage, ignore_errors=True)

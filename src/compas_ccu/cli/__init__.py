@@ -12,6 +12,10 @@ Errors: a :class:`compas_ccu.errors.CCUError` (a bad design, option or state; a 
 or an OSError on the user's files is printed as one line ``ccu: error: ...`` naming the cause
 and the value, with exit status 2, like argparse's usage errors. Anything else is a bug in
 compas_ccu: the traceback and a request to report it, exit status 1.
+
+Process habits (:mod:`.process`): a reader that leaves (``ccu ... | head``) ends nothing early
+and prints no "Broken pipe"; Ctrl-C and SIGTERM print one line and exit 130 / 143, removing the
+staging folder of the output folder being written.
 """
 
 from __future__ import annotations
@@ -34,6 +38,7 @@ from compas_ccu.cli import (
 )
 from compas_ccu.cli.parser import OUT, check_options
 from compas_ccu.cli.parser import build_parser as _build_parser
+from compas_ccu.cli.process import process_habits, stop_report
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.errors import CCUError, CCUWarning
 from compas_ccu.limits import apply, raised
@@ -112,8 +117,20 @@ def main(argv=None) -> int:
     """Entry point of the ``ccu`` command: the exit status.
 
     compas_ccu warnings (:class:`compas_ccu.errors.CCUWarning`, e.g. a length implausible for
-    the design's units) are printed to stderr as ``ccu: warning: ...``.
+    the design's units) are printed to stderr as ``ccu: warning: ...``. Ctrl-C and SIGTERM
+    are one line on stderr and the exit status 130 / 143; a closed stdout is not an error
+    (:mod:`compas_ccu.cli.process`).
     """
+    with process_habits():
+        try:
+            return _main(argv)
+        except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (process.Terminated)
+            line, status = stop_report(exc)
+            print(line, file=sys.stderr)
+            return status
+
+
+def _main(argv) -> int:
     args = build_parser().parse_args(argv)
     try:
         with raised(**apply(args.limit)), warnings.catch_warnings():

@@ -4,6 +4,10 @@ from __future__ import annotations
 
 import sys
 
-from compas_ccu.cli import main
+try:
+    from compas_ccu.cli import main
+except KeyboardInterrupt:  # Ctrl-C while the command is still loading
+    print("ccu: interrupted", file=sys.stderr)
+    sys.exit(130)
 
 sys.exit(main())

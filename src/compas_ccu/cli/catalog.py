@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from compas_ccu.catalog import write_catalog
-from compas_ccu.cli.common import missing_modules, say
+from compas_ccu.cli.common import missing_modules, progress, say
 from compas_ccu.cli.parser import OUT, QUIET, Command, option
 
 __all__ = ["COMMANDS"]
@@ -19,7 +19,7 @@ def catalog(args) -> int:
         steps=args.steps,
         relax=not args.no_relax,
         figures=figures,
-        progress=None if args.quiet else (lambda name: print(f"measuring {name}", flush=True)),
+        progress=None if args.quiet else (lambda name: progress(args, f"measuring {name}")),
     )
     for row in result["rows"]:
         expected = row["expected"] or "-"

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import importlib.util
+import sys
 
 from compas_ccu.errors import MissingExtraError, OptionError
 from compas_ccu.model import load_model
 
-__all__ = ["load_model", "say", "missing_modules", "need_extra", "need_viz", "comma_list"]
+__all__ = ["load_model", "say", "progress", "missing_modules", "need_extra", "need_viz"]
+__all__ += ["comma_list"]
 
 #: Modules of the optional extras the commands check for before they import them.
 VIZ = ("matplotlib", "plotly", "tqdm")
@@ -15,13 +17,21 @@ FAB = ("ezdxf", "rhino3dm", "trimesh")
 
 
 def say(args, text: str) -> None:
-    """Print ``text`` unless the command runs with ``--quiet``.
+    """Print ``text`` (a result: a figure, a table row, a file written) on stdout unless the
+    command runs with ``--quiet``.
 
     Paths in the staging folder are printed as the output folder they are moved into.
     """
     if not getattr(args, "quiet", False):
         staging = getattr(args, "staging", None)
         print(text.replace(staging, args.final_out) if staging else text)
+
+
+def progress(args, text: str) -> None:
+    """Print ``text`` (what the command is doing: "validating ...") on stderr unless the
+    command runs with ``--quiet``: stdout carries results only."""
+    if not getattr(args, "quiet", False):
+        print(text, file=sys.stderr, flush=True)
 
 
 def missing_modules(names) -> list:

@@ -6,7 +6,7 @@ import hashlib
 import sys
 from pathlib import Path
 
-from compas_ccu.cli.common import FAB, load_model, need_extra, say
+from compas_ccu.cli.common import FAB, load_model, need_extra, progress, say
 from compas_ccu.cli.parser import DESIGN, MAX_THICKNESS, OUT, QUIET, Command, option
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.design import load_design
@@ -26,7 +26,7 @@ def fabricate(args) -> int:
     need_extra("fabricate", "viz", ("matplotlib",))  # the assembly sheet
 
     model = load_model(args.design)
-    say(
+    progress(
         args, f"{model.design.name}: thick plates, collision and bending checks, then the files ..."
     )
     workshop = WorkshopOptions.from_section(

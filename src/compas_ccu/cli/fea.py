@@ -9,7 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from compas_ccu.cli.common import load_model, missing_modules, say
+from compas_ccu.cli.common import load_model, missing_modules, progress, say
 from compas_ccu.cli.parser import DESIGN, MAX_THICKNESS, OUT, QUIET, Command, option
 from compas_ccu.cli.text import basis_text, load_case_lines
 from compas_ccu.fea.loads import CASE_NAMES
@@ -58,7 +58,7 @@ def validate(args) -> int:
     )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    say(args, f"validating {model.design.name} with {args.engine} ({args.mode}) ...")
+    progress(args, f"validating {model.design.name} with {args.engine} ({args.mode}) ...")
     try:
         v = run_validation(model, **options)
     except ConvergenceError as exc:
@@ -71,7 +71,7 @@ def validate(args) -> int:
     summary = v.summary()
     if args.compare:
         other = "opensees" if args.engine == "kratos" else "kratos"
-        say(args, f"cross-checking with {other} ...")
+        progress(args, f"cross-checking with {other} ...")
         w = run_validation(model, **{**options, "engine": other})
         w.write(out / other, figures=False)
         summary["agreement"] = agreement(v, w)

@@ -11,7 +11,7 @@ import json
 import sys
 from pathlib import Path
 
-from compas_ccu.cli.common import comma_list, load_model, need_viz, say
+from compas_ccu.cli.common import comma_list, load_model, need_viz, progress, say
 from compas_ccu.cli.parser import DESIGN, OUT, QUIET, QUIET_PROGRESS, Command, option
 from compas_ccu.errors import OptionError
 from compas_ccu.fea.record import last_validation
@@ -196,9 +196,9 @@ def report(args) -> int:
     model = load_model(args.design)
     validation, pictures = _last_validation(args.design)
     if validation is not None:
-        say(args, f"with the FE validation in {validation['_folder']}")
+        progress(args, f"with the FE validation in {validation['_folder']}")
     if args.fabrication is not None:
-        say(args, f"with the fabrication files in {args.fabrication}")
+        progress(args, f"with the fabrication files in {args.fabrication}")
     written = write_report(
         model,
         args.out,

@@ -16,8 +16,10 @@ import itertools
 import json
 import logging
 import os
+import socket
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -35,6 +37,7 @@ from compas_ccu.outputs import write_json
 __all__ = ["run_sweep", "SweepResult", "columns", "local_cluster", "CLUSTER_ERRORS", "WORKER_ENV"]
 __all__ += ["runner_label"]
 __all__ += ["connect", "dask_client", "check_runner", "read_manifest", "write_manifest"]
+__all__ += ["reach_scheduler"]
 __all__ += ["cluster_failure", "progress_bar"]
 
 #: How often the client looks for finished variants and for a stop request, seconds.
@@ -51,6 +54,7 @@ CLUSTER_ERRORS = ("KilledWorker", "CancelledError", "FutureCancelledError", "Com
 #: cluster (``distributed.nanny.pre-spawn-environ``).
 WORKER_ENV = {"MALLOC_MMAP_THRESHOLD_": str(2**25), "MALLOC_TRIM_THRESHOLD_": str(2**28)}
 CONNECT_TIMEOUT = "20s"  # to reach a --scheduler
+PROBE_SECONDS = 10.0  # for a --scheduler's host to accept a TCP connection (reach_scheduler)
 WORKER_TIMEOUT = 60.0  # s for a first worker to join it
 MANIFEST = "sweep.json"
 JOURNAL = "journal.jsonl"
@@ -218,9 +222,9 @@ def connect(scheduler: str | None, workers: int | None, todo: int, dashboard: bo
     if scheduler is not None:
         try:
             client = Client(scheduler, timeout=CONNECT_TIMEOUT)
-        except (OSError, TimeoutError) as exc:
+        except Exception as exc:  # a refused connection, a server that is not Dask's  # noqa: BLE001
             raise SweepError(
-                f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}"
+                f"cannot connect to the Dask scheduler at {scheduler!r}: {_cause(exc)}"
             ) from exc
         try:
             client.wait_for_workers(1, timeout=60)
@@ -264,7 +268,8 @@ def dask_client(client=None, *, scheduler=None, workers=None, todo: int = 1, das
 
 
 def check_runner(workers, scheduler) -> None:
-    """Refuse a worker count below 1, and ``workers`` with ``scheduler``, before anything runs."""
+    """Refuse a worker count below 1, ``workers`` with ``scheduler``, and a scheduler that
+    cannot be reached (:func:`reach_scheduler`), before anything runs or is written."""
     if workers is not None and (isinstance(workers, bool) or workers < 1):
         raise SweepError(f"--workers must be >= 1, got {workers}")
     if scheduler is not None and workers is not None:
@@ -272,6 +277,62 @@ def check_runner(workers, scheduler) -> None:
             "--workers sizes the local cluster; with --scheduler the cluster's own workers "
             f"are used (got --workers {workers} and --scheduler {scheduler})"
         )
+    if scheduler is not None:
+        reach_scheduler(scheduler)
+
+
+def _cause(exc: BaseException) -> str:
+    """One line on why a connection failed."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0][:200]}" if text else type(exc).__name__
+
+
+def reach_scheduler(scheduler: str, timeout: float = PROBE_SECONDS) -> None:
+    """SweepError unless ``scheduler`` is a Dask scheduler that answers, checked before a run
+    writes anything: the address is parsed, the host of a ``tcp://`` or ``tls://`` address
+    must accept a TCP connection within ``timeout`` seconds (Dask would retry a refused
+    connection until its own timeout), and Dask's handshake must succeed within
+    :data:`CONNECT_TIMEOUT` (the run then connects again)."""
+    from dask.utils import parse_timedelta
+    from distributed.comm import connect as open_comm
+    from distributed.comm import parse_address, parse_host_port
+    from distributed.comm.registry import get_backend
+
+    where = f"cannot connect to the Dask scheduler at {scheduler!r}"
+    try:
+        scheme, location = parse_address(scheduler)
+        get_backend(scheme)
+        host, port = parse_host_port(location) if scheme in ("tcp", "tls") else (None, None)
+    except (ValueError, TypeError) as exc:
+        raise SweepError(
+            f"--scheduler {scheduler!r} is not a Dask scheduler address: {exc}"
+        ) from None
+    if host is not None:
+        try:
+            socket.create_connection((host, port), timeout=timeout).close()
+        except socket.timeout:
+            raise SweepError(f"{where}: no answer in {timeout:g} s") from None
+        except OSError as exc:  # refused, unreachable, an unknown host
+            raise SweepError(f"{where}: {exc.strerror or exc}") from None
+
+    seconds = parse_timedelta(CONNECT_TIMEOUT)
+
+    async def handshake():  # bounded: a server that accepts and stays silent would hang Dask
+        comm = await asyncio.wait_for(open_comm(scheduler, timeout=seconds), seconds + 1.0)
+        await comm.close()
+
+    # in a thread of its own: asyncio.run needs a thread without a running event loop
+    with ThreadPoolExecutor(1) as pool:
+        try:
+            pool.submit(asyncio.run, handshake()).result()
+        except asyncio.TimeoutError:
+            raise SweepError(
+                f"{where}: it does not answer as a Dask scheduler (no handshake in {seconds:g} s)"
+            ) from None
+        except Exception as exc:  # anything but a Dask scheduler's answer  # noqa: BLE001
+            raise SweepError(
+                f"{where}: it does not answer as a Dask scheduler ({_cause(exc)})"
+            ) from None
 
 
 def local_cluster(workers: int, *, dashboard: bool = False):

@@ -24,12 +24,18 @@ and the folded hinge (see the tests):
   rotated frames and an orthotropic plate in ``tests/test_fea_engine_opensees.py``). Without
   ``-local`` OpenSees picks its own in-plane axes, which is why moments may *look* named by
   the axis they act about.
+
+OpenSeesPy prints "Process 0 Terminating" on stderr when the interpreter exits, from C after
+Python's own exit handlers; once it is imported, an exit handler points stderr (file descriptor
+2) at the null device after flushing Python's streams, so the message never reaches the user.
 """
 
 from __future__ import annotations
 
+import atexit
 import importlib
 import os
+import sys
 import time
 
 import numpy as np
@@ -52,6 +58,30 @@ SYSTEM = "UmfPack"
 _MIN_IN_PLANE = 1e-3
 
 
+def _null_stderr() -> None:
+    """Flush Python's streams and point file descriptor 2 at the null device (at exit)."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (AttributeError, OSError, ValueError):  # closed, or no stream
+            pass
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, 2)
+        os.close(null)
+    except OSError:  # pragma: no cover - no null device
+        pass
+
+
+_QUIET_EXIT = []  # the exit handler, once registered
+
+
+def _quiet_exit() -> None:
+    """Keep OpenSees' "Process 0 Terminating" (printed at exit) from the user's terminal."""
+    if not _QUIET_EXIT:
+        _QUIET_EXIT.append(atexit.register(_null_stderr))
+
+
 def _import_opensees():
     """The ``openseespy.opensees`` module, or an :class:`FEError` that says why not."""
     ok, info = available()
@@ -71,6 +101,7 @@ def available() -> tuple:
     """
     try:
         ops = importlib.import_module("openseespy.opensees")
+        _quiet_exit()
     except (ImportError, RuntimeError, OSError) as exc:
         text = str(exc)
         if "blas" in text.lower() or "lapack" in text.lower():
