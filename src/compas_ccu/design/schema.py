@@ -1003,9 +1003,7 @@ def _curve_file(where: str, value) -> dict:
     if table.get("index") is not None and table["index"] < 0:
         raise DesignError(f"must be >= 0, got {table['index']}", key=f"{where}.index")
     if "scale" in table and not 0.0 < table["scale"] <= MAX_LENGTH:
-        raise DesignError(
-            f"must be > 0 and <= 1e6, got {table['scale']}", key=f"{where}.scale"
-        )
+        raise DesignError(f"must be > 0 and <= 1e6, got {table['scale']}", key=f"{where}.scale")
     return {k: table.get(k, 1.0 if k == "scale" else None) for k in CURVE_FILE_KEYS}
 
 
