@@ -73,7 +73,15 @@ def cli_outcome(argv: list, out: Path) -> tuple:
     # argparse's own usage errors are "usage: ..." lines and one "error:" line
     last = text.splitlines()[-1] if text else ""
     usage = text.startswith("usage:") and last.startswith("ccu") and "error:" in last
-    one_line = text.count("\n") == 0 and text.startswith("ccu: error: ")
+    # the refusal is one line, the last: progress and warnings ("ccu: warning: ...") on stderr
+    # may come before it, but no traceback and no second error
+    lines = text.splitlines()
+    one_line = (
+        bool(lines)
+        and lines[-1].startswith("ccu: error: ")
+        and sum(line.startswith("ccu: error: ") for line in lines) == 1
+        and not any(line.startswith("Traceback") for line in lines)
+    )
     left_behind = out.exists()  # the campaign never creates it beforehand
     if code == 2 and (one_line or usage) and not left_behind:
         return "refused", re.sub(r"/tmp/\S+", "<file>", text.splitlines()[-1])[:70]

@@ -80,7 +80,9 @@ def build_parser():
 
 
 def _fail(message: str) -> int:
-    print(f"ccu: error: {message}", file=sys.stderr)
+    """One line on stderr, exit 2: a message quoted from a library (ezdxf's "Invalid group
+    code ... at line") can hold line breaks, which are folded."""
+    print("ccu: error: " + " ".join(str(message).split()), file=sys.stderr)
     return 2
 
 
@@ -136,6 +138,9 @@ def _main(argv) -> int:
         with raised(**apply(args.limit)), warnings.catch_warnings():
             warnings.showwarning = _show_warning
             warnings.simplefilter("default", CCUWarning)
+            # NumPy's floating-point warnings on extreme input (an overflow in a norm) are not
+            # for the user: the value is checked and refused by name where it matters
+            warnings.filterwarnings("ignore", category=RuntimeWarning, module="numpy")
             check_options(args.spec, args)
             return _run(args)
     except CCUError as exc:
