@@ -19,6 +19,9 @@ from dataclasses import dataclass
 
 from compas_ccu.design.document import parse_toml
 from compas_ccu.design.schema import SCHEMA
+from compas_ccu.errors import OptionError
+from compas_ccu.limits import LIMITS
+from compas_ccu.studio.files import MAX_DEPTH, nesting_depth
 
 __all__ = ["Control", "UNSET", "design_controls", "applies", "format_value", "parse_value"]
 __all__ += ["options", "shown_value", "edited_value", "check_field_text"]
@@ -247,10 +250,6 @@ def check_field_text(control: Control, text) -> None:
     OptionError
         One line naming the key and the size or depth.
     """
-    from compas_ccu.errors import OptionError
-    from compas_ccu.limits import LIMITS
-    from compas_ccu.studio.files import MAX_DEPTH, nesting_depth
-
     if control.widget != "text":
         return
     text = str(text)

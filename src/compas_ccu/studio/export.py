@@ -15,8 +15,11 @@ import tempfile
 import threading
 from pathlib import Path
 
+from compas_ccu.design import Design
 from compas_ccu.fabrication.fabricate import fabricate
 from compas_ccu.io import write_compas_json, write_obj, write_structure_json
+from compas_ccu.limits import LIMITS, raised
+from compas_ccu.model import CCUModel
 from compas_ccu.outputs import staged_folder
 from compas_ccu.viz.report import write_report
 
@@ -85,10 +88,6 @@ def export_job(document: dict, *, name: str, base, out, alpha: float, what, desi
     tuple
         ``(pid, written)``: the id of the process that exported, and :func:`export`'s dict.
     """
-    from compas_ccu.design import Design
-    from compas_ccu.limits import raised
-    from compas_ccu.model import CCUModel
-
     with raised(**limits):
         model = CCUModel(Design(document, name=name, base=base))
         written = export(model, out, alpha=alpha, what=what, design_text=design_text)
@@ -127,8 +126,6 @@ class ExportProcess:
         """
         from concurrent.futures import ProcessPoolExecutor
         from concurrent.futures.process import BrokenProcessPool
-
-        from compas_ccu.limits import LIMITS
 
         design = model.design
         job = dict(

@@ -23,7 +23,8 @@ import tempfile
 from pathlib import Path
 
 from compas_ccu.design.schema import CURVE_FILE_PLACES
-from compas_ccu.errors import DesignError, OptionError
+from compas_ccu.errors import DesignError, LimitError, OptionError
+from compas_ccu.limits import LIMITS
 
 __all__ = ["StudioFiles", "atomic_write", "MAX_DEPTH", "decode_upload", "nesting_depth", "sha256"]
 
@@ -116,9 +117,6 @@ def decode_upload(name: str, content: bytes) -> str:
     OptionError
         Not UTF-8 text (a binary file), or nested deeper than :data:`MAX_DEPTH`.
     """
-    from compas_ccu.errors import LimitError
-    from compas_ccu.limits import LIMITS
-
     limit = LIMITS.upload_bytes
     if len(content) > limit:
         raise LimitError(
