@@ -117,7 +117,6 @@ def decode_upload(name: str, content: bytes) -> str:
     OptionError
         Not UTF-8 text (a binary file), or nested deeper than :data:`MAX_DEPTH`.
     """
-
     limit = LIMITS.upload_bytes
     if len(content) > limit:
         raise LimitError(
