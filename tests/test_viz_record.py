@@ -6,6 +6,7 @@ from __future__ import annotations
 import datetime
 import hashlib
 import json
+import re
 
 import pytest
 
@@ -215,8 +216,10 @@ def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, vault_
     assert rows["sheets"].startswith(
         f"{work['sheet_count']} of 2500 x 1250 mm (20 of 8 mm, 1 of 3 mm)"
     )
-    assert rows["splice bending"].startswith(
-        "** utilisation 1.96 (characteristic 0.979) at P7 ruling 32"
+    # the worst splice: plates 0 and 7 tie to round-off (the vault is symmetric)
+    assert re.match(
+        r"\*\* utilisation 1\.96 \(characteristic 0\.979\) at P[07] ruling 32",
+        rows["splice bending"],
     )
     assert f["failed_checks"] == manifest["failed_checks"] and len(f["failed_checks"]) == 2
     assert "splice plates: bending utilisation 1.96 > 1" in f["failed_checks"][1]
