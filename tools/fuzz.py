@@ -36,7 +36,7 @@ import strategies  # noqa: E402
 from compas_ccu.cli import main as ccu  # noqa: E402
 
 
-class Hang(Exception):
+class Hang(BaseException):  # not caught by the CLI's handler of unexpected errors
     pass
 
 
@@ -362,6 +362,8 @@ def option_cases(plates: Path) -> list:
             if kind not in (int, float) or o.flags[-1] == "--to" and command.name != "scale":
                 continue
             for value in BAD_NUMBERS:
+                if command.name == "validate" and value in ("10000000", "1000000000000"):
+                    continue  # a large but valid load is a whole nonlinear FE run, not a refusal
                 flag = o.flags[-1]
                 args = [a for a in base]
                 if flag == "--to":
