@@ -6,8 +6,22 @@ import hashlib
 import sys
 from pathlib import Path
 
+<<<<<<< HEAD
 from compas_ccu.cli.common import FAB, load_model, need_extra, progress, say
 from compas_ccu.cli.parser import DESIGN, MAX_THICKNESS, OUT, QUIET, Command, option
+=======
+from compas_ccu.cli.common import FAB, load_model, need_extra, say
+from compas_ccu.cli.parser import (
+    DESIGN,
+    MAX_LENGTH,
+    MAX_SHEET,
+    MAX_THICKNESS,
+    OUT,
+    QUIET,
+    Command,
+    option,
+)
+>>>>>>> campaign
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.design import load_design
 from compas_ccu.design.writer import design_toml
@@ -176,11 +190,19 @@ COMMANDS = (
                 help="plate thickness, m",
             ),
             option("--material", default=None, help="material name (docs/thickness.md)"),
-            option("--grain", type=float, default=None, help="grain direction, degrees"),
+            option(
+                "--grain",
+                type=float,
+                minimum=-360.0,
+                maximum=360.0,
+                default=None,
+                help="grain direction, degrees",
+            ),
             option(
                 "--hinge-width",
                 type=float,
                 positive=True,
+                maximum=MAX_LENGTH,
                 default=None,
                 help="hinge strip width, m",
             ),
@@ -196,13 +218,14 @@ COMMANDS = (
                 "--sheet",
                 type=float,
                 positive=True,
+                maximum=MAX_SHEET,
                 nargs=2,
                 action="append",
                 default=None,
                 metavar=("LENGTH", "WIDTH"),
                 help="a sheet size in stock, m (repeat for several; default [fabrication] sheets)",
             ),
-            option("--kerf", type=float, minimum=0.0, default=None, help="kerf, m"),
+            option("--kerf", type=float, minimum=0.0, maximum=0.1, default=None, help="kerf, m"),
             option(
                 "--nesting",
                 default=None,

@@ -10,7 +10,16 @@ import sys
 from pathlib import Path
 
 from compas_ccu.cli.common import load_model, missing_modules, progress, say
-from compas_ccu.cli.parser import DESIGN, MAX_THICKNESS, OUT, QUIET, Command, option
+from compas_ccu.cli.parser import (
+    DESIGN,
+    MAX_AREA_LOAD,
+    MAX_HINGE_STIFFNESS,
+    MAX_THICKNESS,
+    OUT,
+    QUIET,
+    Command,
+    option,
+)
 from compas_ccu.cli.text import basis_text, load_case_lines
 from compas_ccu.fea.loads import CASE_NAMES
 from compas_ccu.fea.problem import ConvergenceError
@@ -182,6 +191,7 @@ COMMANDS = (
                 "--hinge-stiffness",
                 type=float,
                 minimum=0.0,
+                maximum=MAX_HINGE_STIFFNESS,
                 default=None,
                 help="rotational hinge spring, Nm/rad/m (default: the design's [hinges])",
             ),
@@ -201,6 +211,7 @@ COMMANDS = (
                 "--area-load",
                 type=float,
                 minimum=0.0,
+                maximum=MAX_AREA_LOAD,
                 default=None,
                 help="an extra uniform load case on the plates, N/m2 (default: 1500 if the "
                 "design's [loads] define no action, else none)",

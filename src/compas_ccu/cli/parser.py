@@ -24,10 +24,16 @@ from compas_ccu.limits import LIMITS, check
 
 __all__ = ["Option", "Command", "option", "DESIGN", "OUT", "QUIET", "QUIET_PROGRESS"]
 __all__ += ["build_parser", "check_options", "numbers", "COUNT_LIMITS"]
-__all__ += ["MAX_LENGTH", "MAX_THICKNESS"]
+__all__ += ["MAX_LENGTH", "MAX_THICKNESS", "MAX_SHEET", "MAX_AREA_LOAD", "MAX_HINGE_STIFFNESS"]
 
 #: The largest plate thickness an option takes, m (the bound of ``plates.thickness``).
 MAX_THICKNESS = 0.1
+#: The largest sheet length, m (the bound of ``fabrication.sheets``).
+MAX_SHEET = 100.0
+#: The largest uniform area load, N/m² (the bound of ``loads.live``).
+MAX_AREA_LOAD = 1.0e5
+#: The largest rotational hinge stiffness, Nm/rad/m (``hinges.rotational_stiffness``).
+MAX_HINGE_STIFFNESS = 1.0e12
 
 #: What an integer count option counts against: the limit, and what the count adds (a path of
 #: N steps has N + 1 states: the flat stack and N more).

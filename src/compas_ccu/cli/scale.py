@@ -7,6 +7,7 @@ from pathlib import Path
 from compas_ccu.cli.common import load_model, missing_modules, say
 from compas_ccu.cli.parser import (
     DESIGN,
+    MAX_AREA_LOAD,
     MAX_LENGTH,
     MAX_THICKNESS,
     OUT,
@@ -148,6 +149,7 @@ COMMANDS = (
                 "--area-load",
                 type=float,
                 minimum=0.0,
+                maximum=MAX_AREA_LOAD,
                 default=None,
                 help="with --fe: a uniform load case, N/m2 (default 1500 if the design's [loads] "
                 "define no action)",

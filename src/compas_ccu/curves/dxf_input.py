@@ -25,6 +25,8 @@ __all__ = [
     "dxf_point_count",
     "check_dxf_points",
     "check_finite",
+    "extent",
+    "one_line",
     "spline_sampler",
     "straight_polyline_points",
 ]
@@ -93,6 +95,26 @@ def check_finite(points, label: str):
     return pts
 
 
+def one_line(exc) -> str:
+    """An exception's message on one line (ezdxf's can hold the offending line's newline)."""
+    return " ".join(str(exc).split())
+
+
+def extent(points, label: str) -> float:
+    """The bounding-box diagonal of finite ``points`` (k, 3), or a ProfileError if it exceeds
+    what a float holds (coordinates near 1e308)."""
+    if not len(points):
+        return 0.0
+    with np.errstate(over="ignore", invalid="ignore"):
+        size = float(np.linalg.norm(np.ptp(points, axis=0)))
+    if not math.isfinite(size):
+        raise ProfileError(
+            f"{label}: its extent overflows a float (coordinates up to "
+            f"{float(np.abs(points).max()):g})"
+        )
+    return size
+
+
 def spline_sampler(e):
     """A function ``tolerance -> (n, 3) points`` of a DXF SPLINE (file units).
 
@@ -153,7 +175,13 @@ def spline_sampler(e):
             if tol is None:
                 return np.array([tuple(v) for v in spline.control_points], dtype=float)
             return np.array([tuple(v) for v in spline.flattening(tol, segments=16)], dtype=float)
-        except (ValueError, ArithmeticError, IndexError, np.linalg.LinAlgError) as exc:
+        except (
+            ValueError,
+            ArithmeticError,
+            IndexError,
+            np.linalg.LinAlgError,
+            RecursionError,
+        ) as exc:
             raise ProfileError(f"{label}: its curve cannot be evaluated ({exc})") from None
 
     return sample

@@ -48,6 +48,8 @@ from compas_ccu.curves.dxf_input import (
     check_dxf_points,
     check_finite,
     dxf_units,
+    extent,
+    one_line,
     spline_sampler,
     straight_polyline_points,
 )
@@ -185,7 +187,7 @@ def read_curve(
         )
     factor = UNITS[used] if units is not None or file_factor is None else file_factor
     rough = check_finite(chosen.sample(None), f"{str(path)!r}: {chosen.label}").reshape(-1, 3)
-    size = float(np.linalg.norm(np.ptp(rough, axis=0))) if len(rough) else 0.0
+    size = extent(rough, f"{str(path)!r}: {chosen.label}")
     points = check_finite(chosen.sample(tolerance * size), f"{str(path)!r}: {chosen.label}")
     limits.check("points", len(points), what=f"points of {chosen.label} in {path.name}")
     if len(points) > 1:  # drop repeated points (joints of segments)
@@ -430,8 +432,8 @@ def _dxf(path: Path, units=None):
     check_dxf_points(path)
     try:
         doc = ezdxf.readfile(str(path))
-    except (OSError, ezdxf.DXFError) as exc:
-        raise ProfileError(f"cannot read DXF file {str(path)!r}: {exc}") from exc
+    except (OSError, ezdxf.DXFError, StopIteration, ValueError) as exc:  # ValueError: decoding
+        raise ProfileError(f"cannot read DXF file {str(path)!r}: {one_line(exc)}") from None
     file_units = units if units is not None else dxf_units(doc, path)  # None: unitless
     candidates = []
     lines = []

@@ -414,6 +414,8 @@ SCHEMA: dict = {
             "Face-grain direction (material direction 1) in every cut pattern, degrees from "
             "the plane x axis; matters for the orthotropic plywoods.",
             default=0.0,
+            check=lambda v: -360.0 <= v <= 360.0,
+            check_doc="-360 ... 360",
         ),
         "hinge_width": Key(
             "float",
@@ -804,7 +806,10 @@ for _section, _units in _UNITS.items():
 
 
 def _pa(doc: str, **kw) -> Key:
-    return Key("float", doc, check=lambda v: 0.0 < v <= 1.0e13, check_doc="> 0 Pa", unit="Pa", **kw)
+    check_doc = "> 0 and <= 1e13 Pa"
+    return Key(
+        "float", doc, check=lambda v: 0.0 < v <= 1.0e13, check_doc=check_doc, unit="Pa", **kw
+    )
 
 
 #: The keys of one ``[materials.NAME]`` table: the values of :class:`compas_ccu.materials.

@@ -39,7 +39,13 @@ from pathlib import Path
 
 import numpy as np
 
-from compas_ccu.curves.dxf_input import check_dxf_points, check_finite, dxf_units
+from compas_ccu.curves.dxf_input import (
+    check_dxf_points,
+    check_finite,
+    dxf_units,
+    extent,
+    one_line,
+)
 from compas_ccu.curves.readers import UNITS, dxf_line_chains, dxf_sampler
 from compas_ccu.design import Design
 from compas_ccu.design.build import build
@@ -164,8 +170,8 @@ def read_plate_drawing(path, *, units: str | None = None) -> PlateDrawing:
     check_dxf_points(path)
     try:
         doc = ezdxf.readfile(str(path))
-    except (OSError, ezdxf.DXFError) as exc:
-        raise DesignError(f"cannot read plate file {str(path)!r}: {exc}") from exc
+    except (OSError, ezdxf.DXFError, StopIteration, ValueError) as exc:  # ValueError: decoding
+        raise DesignError(f"cannot read plate file {str(path)!r}: {one_line(exc)}") from None
     if units is None:
         try:
             units = dxf_units(doc, path.name) or "mm"  # unitless: as ccu fabricate writes
@@ -200,7 +206,7 @@ def _plate_drawing(path: Path, doc, k: float) -> PlateDrawing:
     closed = cut.closed if cut.dxftype() == "LWPOLYLINE" else cut.is_closed
     sample = dxf_sampler(cut)
     rough = check_finite(sample(None), f"CUT #{cut.dxf.handle}")[:, :2]
-    size = float(np.linalg.norm(np.ptp(rough, axis=0)))
+    size = extent(rough, f"CUT #{cut.dxf.handle}")
     outline = _dedupe(np.asarray(sample(SAMPLING * size))[:, :2] * k, SNAP * size * k)
     if np.linalg.norm(outline[0] - outline[-1]) <= SNAP * size * k:
         outline, closed = outline[:-1], True
