@@ -293,10 +293,10 @@ def reach_scheduler(scheduler: str, timeout: float = PROBE_SECONDS) -> None:
     must accept a TCP connection within ``timeout`` seconds (Dask would retry a refused
     connection until its own timeout), and Dask's handshake must succeed within
     :data:`CONNECT_TIMEOUT` (the run then connects again)."""
+    from dask.utils import parse_timedelta
     from distributed.comm import connect as open_comm
     from distributed.comm import parse_address, parse_host_port
     from distributed.comm.registry import get_backend
-    from dask.utils import parse_timedelta
 
     where = f"cannot connect to the Dask scheduler at {scheduler!r}"
     try:
