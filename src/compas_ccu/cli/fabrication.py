@@ -6,11 +6,7 @@ import hashlib
 import sys
 from pathlib import Path
 
-<<<<<<< HEAD
 from compas_ccu.cli.common import FAB, load_model, need_extra, progress, say
-from compas_ccu.cli.parser import DESIGN, MAX_THICKNESS, OUT, QUIET, Command, option
-=======
-from compas_ccu.cli.common import FAB, load_model, need_extra, say
 from compas_ccu.cli.parser import (
     DESIGN,
     MAX_LENGTH,
@@ -21,7 +17,6 @@ from compas_ccu.cli.parser import (
     Command,
     option,
 )
->>>>>>> campaign
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.design import load_design
 from compas_ccu.design.writer import design_toml
