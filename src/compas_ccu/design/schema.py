@@ -721,10 +721,29 @@ SCHEMA: dict = {
         ),
         "nesting_time": Key(
             "float",
-            "Time the nesting library (spyrrow) may take per packing, s (whole seconds).",
-            default=1.0,
-            check=lambda v: 0.0 < v <= 3600.0,
-            check_doc="> 0 and <= 3600",
+            "Safety limit of one packing, s: a packing that has not searched its "
+            "nesting_steps by then is refused (never cut short: the files do not depend on "
+            "the machine's speed or load).",
+            default=600.0,
+            check=lambda v: 0.0 < v <= 86400.0,
+            check_doc="> 0 and <= 86400",
+        ),
+        "nesting_seed": Key(
+            "int",
+            "Random seed of the nesting search (spyrrow): the same seed and steps give the "
+            "same nesting; another seed searches other layouts.",
+            default=0,
+            check=lambda v: 0 <= v <= 2**32 - 1,
+            check_doc="0 ... 4294967295",
+        ),
+        "nesting_steps": Key(
+            "int",
+            "Steps the nesting search takes per packing (sparrow's separations; a packing "
+            "stops sooner after 10 failed steps in a row): more steps, shorter strips and "
+            "more time.",
+            default=500,
+            check=lambda v: 1 <= v <= 100_000,
+            check_doc="1 ... 100000",
         ),
         "currency": Key("str", "Currency of the prices below (text).", default="EUR"),
         "sheet_price": Key(
@@ -794,7 +813,7 @@ _UNITS = {
     "fabrication": {
         "sheets": "m", "kerf": "m", "tool_diameter": "m", "bridge": "m", "margin": "m",
         "splice_width": "m", "splice_thickness": "m", "fasteners_per_splice": "1",
-        "roll_width": "m", "nesting_time": "s",
+        "roll_width": "m", "nesting_time": "s", "nesting_seed": "1", "nesting_steps": "1",
         "sheet_price": "currency", "textile_price": "currency/m", "glue_price": "currency/m",
         "fastener_price": "currency",
     },

@@ -68,7 +68,13 @@ def _new_doc(layers: dict):
 
 
 def _save(doc, path: Path) -> None:
-    """Set the header / model space extents and the initial view from the entities, and save."""
+    """Set the header / model space extents and the initial view from the entities, and save.
+
+    The file depends on the drawing only: ezdxf's fixed metadata (creation and update dates
+    2000-01-01, zero GUIDs, no clock in its marker) instead of the time of writing, so the same
+    design and options write the same bytes (docs/robustness.md).
+    """
+    import ezdxf
     from ezdxf import bbox, zoom
 
     msp = doc.modelspace()
@@ -79,7 +85,12 @@ def _save(doc, path: Path) -> None:
         doc.header["$EXTMAX"] = (hi.x, hi.y, hi.z)
         msp.reset_extents((lo.x, lo.y, lo.z), (hi.x, hi.y, hi.z))
         zoom.center(msp, box.center, box.size)
-    doc.saveas(path)
+    fixed = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        doc.saveas(path)
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = fixed
 
 
 def _xy(points) -> list:

@@ -32,6 +32,7 @@ import numpy as np
 
 from compas_ccu.errors import CCUWarning, GeometryError, MissingExtraError
 from compas_ccu.fabrication.dxf import APPID, MM, _new_doc, _save, _xy, label_frame
+from compas_ccu.fabrication.packing import PATIENCE, SOLVER, solver_version, strip_pack
 
 __all__ = [
     "WorkshopOptions",
@@ -77,7 +78,9 @@ class WorkshopOptions:
     roll_width: float = 1.4
     score_rulings: bool = False
     nesting: str = "spyrrow"
-    nesting_time: float = 1.0
+    nesting_time: float = 600.0
+    nesting_seed: int = 0
+    nesting_steps: int = 500
     currency: str = "EUR"
     sheet_price: float = 60.0
     textile_price: float = 12.0
@@ -201,6 +204,8 @@ class WorkshopPlan:
         The design's name (:meth:`layout` records it).
     model_plate_ids : list of int or None
         The model's plate id of every workshop plate id (``fabrication.json`` ``model_ids``).
+    nesting_search : dict or None
+        What the nesting searched (:func:`nesting_search`): solver, version, seed, steps.
     """
 
     options: WorkshopOptions
@@ -213,6 +218,7 @@ class WorkshopPlan:
     splice_bending: dict | None = None
     design: str | None = None
     model_plate_ids: list | None = None
+    nesting_search: dict | None = None
 
     @property
     def utilisation(self) -> float:
@@ -232,6 +238,7 @@ class WorkshopPlan:
             "grain": o.grain,
             "score_rulings": o.score_rulings,
             "nesting": o.nesting,
+            "nesting_search": self.nesting_search,
             "sheet_count": len(self.sheets),
             "utilisation": self.utilisation,
             "sheets": self.sheets,
@@ -616,55 +623,31 @@ def splice_bending(
 # --------------------------------------------------------------------------------- nesting
 
 
-def _spyrrow():
-    try:
-        import spyrrow
-    except ImportError as exc:  # pragma: no cover - the fab extra installs it
-        raise MissingExtraError(
-            "nesting the parts onto sheets needs spyrrow: pip install 'compas_ccu[fab]' (or "
-            "[fabrication] nesting = 'shelf', bounding boxes in rows)"
-        ) from exc
-    return spyrrow
+#: Failed packing steps in a row that end a merge attempt (the question "do these parts fit
+#: on one sheet?"): fewer than a whole strip's :data:`compas_ccu.fabrication.packing.PATIENCE`.
+MERGE_PATIENCE = 3
 
 
-def _strip_pack(shapes: dict, orientations: dict, height: float, gap: float, seconds: float):
-    """spyrrow strip packing of ``shapes`` (name -> (m, 2) mm, centred) in a strip ``height``
-    high: name -> (rotation deg, (tx, ty) mm), and the strip length used (mm)."""
-    sp = _spyrrow()
-    items = [
-        sp.Item(
-            name,
-            [tuple(p) for p in pts.tolist()],
-            demand=1,
-            allowed_orientations=orientations[name],
-        )
-        for name, pts in shapes.items()
-    ]
-    # sparrow keeps the separation from the strip's edges too: widen the strip by it on both
-    # sides and move the result back, so the parts may reach the usable area's edges
-    pad = float(gap) if gap > 0 else 0.0
-    instance = sp.StripPackingInstance("ccu", strip_height=float(height) + 2.0 * pad, items=items)
-    config = sp.StripPackingConfig(
-        early_termination=True,
-        total_computation_time=max(1, int(round(seconds))),
-        min_items_separation=float(gap) if gap > 0 else None,
-        seed=0,
-        num_workers=1,
+def _strip_pack(shapes: dict, orientations: dict, height: float, gap: float, options, log,
+                *, fit=None, patience=PATIENCE):  # fmt: skip
+    """:func:`~compas_ccu.fabrication.packing.strip_pack` of ``shapes`` (name -> (m, 2) mm,
+    centred) in a strip ``height`` high with the options' seed, steps and time limit: name ->
+    (rotation deg, (tx, ty) mm), and the strip length used (mm). ``log`` collects every
+    :class:`~compas_ccu.fabrication.packing.Packing`."""
+    packing = strip_pack(
+        shapes,
+        orientations,
+        height=height,
+        gap=gap,
+        seed=options.nesting_seed,
+        steps=options.nesting_steps,
+        time_limit=options.nesting_time,
+        fit=fit,
+        patience=patience,
     )
-    try:
-        solution = instance.solve(config)
-    except (KeyboardInterrupt, SystemExit):  # pragma: no cover
-        raise
-    except BaseException as exc:  # sparrow panics (a PanicException) on a part that cannot fit
-        raise GeometryError(
-            f"the nesting (spyrrow) failed on the parts {', '.join(sorted(shapes))} in a strip "
-            f"{height:g} mm wide: {exc}"
-        ) from None
-    out = {
-        p.id: (float(p.rotation), (float(p.translation[0]) - pad, float(p.translation[1]) - pad))
-        for p in solution.placed_items
-    }
-    return out, float(solution.width) - 2.0 * pad
+    if log is not None:
+        log.append(packing)
+    return packing.placements, packing.width
 
 
 def _moved(pts: np.ndarray, rotation: float, translation) -> np.ndarray:
@@ -673,19 +656,16 @@ def _moved(pts: np.ndarray, rotation: float, translation) -> np.ndarray:
     return pts @ r.T + np.asarray(translation)
 
 
-def _window_sheets(shapes, orientations, length, width, options) -> list:
+def _window_sheets(shapes, orientations, length, width, options, log) -> list:
     """Every part strip-packed once into the sheets' usable width, then the strip cut into
     sheets: a sheet starts at the leftmost part not yet placed and takes every part lying wholly
     within its usable length. Returns one ``name -> (rotation, translation, points)`` per sheet
     (mm, the sheet's origin at its usable area's corner).
 
-    One packing of ``nesting_time`` seconds per sheet's worth of area (at least one), instead
-    of one to three packings per sheet as the sheets were filled before: the vault's strip in
-    6 s instead of 43 s of packings, with as many sheets.
+    One packing of ``nesting_steps`` steps, instead of one to three packings per sheet as the
+    sheets were filled before.
     """
-    area = sum(_area(v) for v in shapes.values())
-    seconds = max(1.0, options.nesting_time * math.ceil(area / (length * width)))
-    place, _ = _strip_pack(shapes, orientations, width, options.spacing * MM, seconds)
+    place, _ = _strip_pack(shapes, orientations, width, options.spacing * MM, options, log)
     pts = {m: _moved(shapes[m], *place[m]) for m in place}
     left, out = set(pts), []
     while left:
@@ -737,10 +717,11 @@ def _shelf_sheet(shapes, orientations, length, width, gap):
     return on
 
 
-def nest_parts(parts: list, options: WorkshopOptions) -> list:
+def nest_parts(parts: list, options: WorkshopOptions, *, log=None) -> list:
     """Nest ``parts`` onto sheets (sets their ``sheet``, ``rotation``, ``translation``).
 
     Parts of different thickness go on different sheets (the plates and thinner splice plates).
+    ``log`` (a list) collects every :class:`~compas_ccu.fabrication.packing.Packing` searched.
 
     Returns
     -------
@@ -766,7 +747,7 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
         shapes = {m: (p.outline - centres[m]) * MM for m, p in left.items()}
         orient = {m: _orientations(options, p.grain) for m, p in left.items()}
         if options.nesting != "shelf":  # one strip of every part, cut into sheet lengths
-            windows = _window_sheets(shapes, orient, length, width, options)
+            windows = _window_sheets(shapes, orient, length, width, options, log)
         while left:
             if options.nesting == "shelf":
                 rest = {m: shapes[m] for m in left}
@@ -787,7 +768,7 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
                 names.append(m)
             sheets.append({"size": list(options.sheets[k]), "thickness": thickness, "parts": names})
         if options.nesting != "shelf":
-            _merge_sheets(sheets, parts, centres, options, k, thickness, length, width)
+            _merge_sheets(sheets, parts, centres, options, k, thickness, length, width, log)
     for index, sheet in enumerate(sheets):
         for p in parts:
             if p.name in sheet["parts"]:
@@ -803,7 +784,7 @@ def nest_parts(parts: list, options: WorkshopOptions) -> list:
 MERGE_ATTEMPTS = 8
 
 
-def _merge_sheets(sheets, parts, centres, options, k, thickness, length, width) -> None:
+def _merge_sheets(sheets, parts, centres, options, k, thickness, length, width, log) -> None:
     """Empty the emptiest sheets of size ``k`` and ``thickness``: merge pairs of sheets whose
     parts fit on one, then move the parts of the emptiest sheet onto the others, where they
     fit."""
@@ -821,7 +802,10 @@ def _merge_sheets(sheets, parts, centres, options, k, thickness, length, width) 
         budget[0] -= 1
         shapes = {m: (by_name[m].outline - centres[m]) * MM for m in names}
         orient = {m: _orientations(options, by_name[m].grain) for m in names}
-        place, used = _strip_pack(shapes, orient, width, options.spacing * MM, options.nesting_time)
+        place, used = _strip_pack(
+            shapes, orient, width, options.spacing * MM, options, log, fit=length,
+            patience=MERGE_PATIENCE,
+        )  # fmt: skip
         if used > length + 1e-6 or len(place) != len(names):
             return False
         x0 = min(_moved(shapes[m], *place[m])[:, 0].min() for m in names)
@@ -869,10 +853,10 @@ def _merge_sheets(sheets, parts, centres, options, k, thickness, length, width) 
             sheets.remove(last)
 
 
-def nest_roll(strips, options: WorkshopOptions) -> dict:
+def nest_roll(strips, options: WorkshopOptions, *, log=None) -> dict:
     """The hinge strips strip-packed on the textile roll, each along the roll (0 or 180 deg
     after turning its chord along it): ``width``, ``length`` (m used), ``strips`` (per crease:
-    length of its centre line, m)."""
+    length of its centre line, m). ``log`` (a list) collects the packing."""
     if not strips:
         return {"width": options.roll_width, "length": 0.0, "strips": {}}
     shapes, orient, lengths = {}, {}, {}
@@ -900,7 +884,7 @@ def nest_roll(strips, options: WorkshopOptions) -> dict:
             "length": used / MM + 2.0 * options.margin,
             "strips": lengths,
         }
-    _, used = _strip_pack(shapes, orient, height, options.spacing * MM, 3 * options.nesting_time)
+    _, used = _strip_pack(shapes, orient, height, options.spacing * MM, options, log)
     return {
         "width": options.roll_width,
         "length": used / MM + 2.0 * options.margin,
@@ -1105,8 +1089,9 @@ def plan_workshop(
         )
         options = replace(options, nesting="shelf")
     parts, splits = make_parts(data, options)
-    sheets = nest_parts(parts, options)
-    roll = nest_roll(strips, options)
+    log: list = []
+    sheets = nest_parts(parts, options, log=log)
+    roll = nest_roll(strips, options, log=log)
     plan = WorkshopPlan(
         options=options,
         parts=parts,
@@ -1115,6 +1100,7 @@ def plan_workshop(
         roll=roll,
         design=data.name,
         model_plate_ids=data.metadata.get("model_plate_ids"),
+        nesting_search=nesting_search(options, log),
     )
     plan.bom = bill_of_materials(data, parts, sheets, roll, options, density)
     plan.assembly = assembly_steps(data, splits, pairing)
@@ -1123,6 +1109,27 @@ def plan_workshop(
             data, splits, utilisation, options, strength_factor=strength_factor
         )
     return plan
+
+
+def nesting_search(options: WorkshopOptions, packings: list) -> dict:
+    """What the nesting searched (``fabrication.json`` ``workshop.nesting_search``): the solver
+    and its version, the seed, the steps per packing, the time limit (a safety limit only), the
+    packings and the steps they searched. The shelf packing searches nothing (only ``solver``
+    is set)."""
+    if options.nesting == "shelf":
+        return {"solver": "shelf", "version": None, "seed": None, "steps": None,
+                "time_limit": None, "packings": 0, "steps_searched": 0}  # fmt: skip
+    return {
+        "solver": SOLVER,
+        "version": solver_version(),
+        "seed": int(options.nesting_seed),
+        "steps": int(options.nesting_steps),
+        "patience": PATIENCE,
+        "merge_patience": MERGE_PATIENCE,
+        "time_limit": float(options.nesting_time),
+        "packings": len(packings),
+        "steps_searched": int(sum(p.steps for p in packings)),
+    }
 
 
 # --------------------------------------------------------------------------------- writers
