@@ -27,6 +27,7 @@ ezdxf is imported inside the functions (``pip install ezdxf``).
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -54,10 +55,25 @@ APPID = "COMPAS_CCU"
 MM = 1000.0  # DXF units per metre
 
 
+@contextmanager
+def _fixed_metadata():
+    """ezdxf's fixed metadata for the block (creation and update dates 2000-01-01, zero GUIDs,
+    its marker without the clock), so a file depends on its drawing only."""
+    import ezdxf
+
+    fixed = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        yield
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = fixed
+
+
 def _new_doc(layers: dict):
     import ezdxf
 
-    doc = ezdxf.new("R2010")
+    with _fixed_metadata():  # the marker of its creation: no clock either
+        doc = ezdxf.new("R2010")
     doc.units = ezdxf.units.MM  # $INSUNITS = 4
     doc.header["$MEASUREMENT"] = 1  # metric
     doc.header["$LUNITS"] = 2  # decimal
@@ -74,7 +90,6 @@ def _save(doc, path: Path) -> None:
     2000-01-01, zero GUIDs, no clock in its marker) instead of the time of writing, so the same
     design and options write the same bytes (docs/robustness.md).
     """
-    import ezdxf
     from ezdxf import bbox, zoom
 
     msp = doc.modelspace()
@@ -85,12 +100,8 @@ def _save(doc, path: Path) -> None:
         doc.header["$EXTMAX"] = (hi.x, hi.y, hi.z)
         msp.reset_extents((lo.x, lo.y, lo.z), (hi.x, hi.y, hi.z))
         zoom.center(msp, box.center, box.size)
-    fixed = ezdxf.options.write_fixed_meta_data_for_testing
-    ezdxf.options.write_fixed_meta_data_for_testing = True
-    try:
+    with _fixed_metadata():
         doc.saveas(path)
-    finally:
-        ezdxf.options.write_fixed_meta_data_for_testing = fixed
 
 
 def _xy(points) -> list:

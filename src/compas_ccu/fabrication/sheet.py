@@ -369,7 +369,13 @@ def write_assembly_sheet(data, path) -> Path:
     order = _stack_order(data)
     p = len(order)
     t = float(data.thickness) * 1000.0
-    rc = {"svg.fonttype": "none", "pdf.fonttype": 42, "font.family": "DejaVu Sans"}
+    # a fixed salt for the SVG's ids and no date in the PDF: the same design, the same bytes
+    rc = {
+        "svg.fonttype": "none",
+        "pdf.fonttype": 42,
+        "font.family": "DejaVu Sans",
+        "svg.hashsalt": "compas_ccu",
+    }
     with matplotlib.rc_context(rc):
         fig = Figure(figsize=A3_LANDSCAPE, dpi=100)
         gs = fig.add_gridspec(
@@ -418,7 +424,11 @@ def write_assembly_sheet(data, path) -> Path:
             linespacing=1.45,
         )
         _legend(ax, data)
-        metadata = {"Title": f"{data.name} assembly sheet", "Creator": "compas_ccu"}
+        metadata = {
+            "Title": f"{data.name} assembly sheet",
+            "Creator": "compas_ccu",
+            "CreationDate": None,
+        }
         if suffix == ".svg":
             metadata = {"Title": metadata["Title"], "Creator": "compas_ccu", "Date": None}
         elif suffix == ".png":
