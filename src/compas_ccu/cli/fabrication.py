@@ -44,6 +44,8 @@ def fabricate(args) -> int:
         kerf=args.kerf,
         score_rulings=True if args.score_rulings else None,
         nesting=args.nesting,
+        nesting_seed=args.nesting_seed,
+        nesting_steps=args.nesting_steps,
     )
     manifest = write_fabrication(
         model,
@@ -226,6 +228,23 @@ COMMANDS = (
                 default=None,
                 choices=("spyrrow", "shelf"),
                 help="true-shape nesting (spyrrow) or bounding boxes in rows (shelf, fast)",
+            ),
+            option(
+                "--nesting-seed",
+                type=int,
+                minimum=0,
+                maximum=2**32 - 1,
+                default=None,
+                help="seed of the nesting search (default [fabrication] nesting_seed, 0)",
+            ),
+            option(
+                "--nesting-steps",
+                type=int,
+                minimum=1,
+                maximum=100_000,
+                default=None,
+                help="steps per packing of the nesting search (default [fabrication] "
+                "nesting_steps, 500)",
             ),
             option("--score-rulings", action="store_true", help="score the rulings on the sheets"),
             QUIET,

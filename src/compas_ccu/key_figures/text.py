@@ -516,6 +516,18 @@ def workshop_rows(manifest: dict) -> list:
             else "none: every plate fits a sheet",
         ),
     ]
+    search = w.get("nesting_search")
+    if search and search.get("seed") is not None:
+        rows.append(
+            (
+                "nesting",
+                f"{search['solver']} {search['version']}, seed {search['seed']}, "
+                f"{search['steps']} steps per packing ({search['packings']} packings, "
+                f"{search['steps_searched']} steps; the same seed and steps give the same sheets)",
+            )
+        )
+    elif search:
+        rows.append(("nesting", f"{search['solver']}: bounding boxes in rows (no search)"))
     check = w.get("splice_bending")
     if check and check.get("cuts"):
         worst = max(check["cuts"], key=lambda c: c["utilisation"])
