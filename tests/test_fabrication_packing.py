@@ -92,8 +92,11 @@ def test_a_part_too_large_for_the_strip_is_refused_naming_it():
 
 
 def test_the_time_limit_refuses_never_returns_a_shorter_search():
-    with pytest.raises(LimitError, match=r"reached \d+ of 100000 search steps in the time limit "
-                       r"of 0\.05 s; raise \[fabrication\] nesting_time or lower nesting_steps"):
+    with pytest.raises(
+        LimitError,
+        match=r"reached \d+ of 100000 search steps in the time limit "
+        r"of 0\.05 s; raise \[fabrication\] nesting_time or lower nesting_steps",
+    ):
         strip_pack(SHAPES, FREE, height=1000.0, gap=10.0, steps=100_000, time_limit=0.05)
 
 

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from compas_ccu.errors import CCUWarning, GeometryError, MissingExtraError
+from compas_ccu.errors import CCUWarning, GeometryError
 from compas_ccu.fabrication.dxf import APPID, MM, _new_doc, _save, _xy, label_frame
 from compas_ccu.fabrication.packing import PATIENCE, SOLVER, solver_version, strip_pack
 
