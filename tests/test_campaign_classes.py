@@ -244,6 +244,9 @@ def test_a_design_naming_a_huge_curve_file_is_refused_naming_the_file(tmp_path, 
 #: Integer options that are no count of work, with the bound they have instead.
 NOT_COUNTS = {("figures", "--dpi"), ("optimize", "--seed"), ("studio", "--port")}
 NOT_COUNTS |= {("sheet", "--columns")}  # at most the number of designs (checked by the command)
+# the nesting's seed, and its steps per packing: bounded as the design file's keys
+# (fabrication.nesting_seed, nesting_steps <= 100000), the time guarded by nesting_time
+NOT_COUNTS |= {("fabricate", "--nesting-seed"), ("fabricate", "--nesting-steps")}
 
 
 def _int_options():
