@@ -183,13 +183,19 @@ def test_file_material_in_fe_settings():
             {"myply": {"base": "plywood", "E1": -1.0}},
             r"materials\.myply\.E1: must be > 0 and <= 1e\+?13 Pa, got -1\.0",
         ),
-        ({"myply": {"base": "plywood", "E2": 0}}, r"materials\.myply\.E2: must be > 0 and <= 1e\+?13 Pa, got 0\.0"),
+        (
+            {"myply": {"base": "plywood", "E2": 0}},
+            r"materials\.myply\.E2: must be > 0 and <= 1e\+?13 Pa, got 0\.0",
+        ),
         ({"myply": {"base": "plywood", "G12": "3e9"}}, r"materials\.myply\.G12: must be a finite"),
         (
             {"myply": {"base": "plywood", "f": float("inf")}},
             r"materials\.myply\.f: must be a finite",
         ),
-        ({"myply": {"base": "plywood", "f1": -2.0}}, r"materials\.myply\.f1: must be > 0 and <= 1e\+?13 Pa, got -2\.0"),
+        (
+            {"myply": {"base": "plywood", "f1": -2.0}},
+            r"materials\.myply\.f1: must be > 0 and <= 1e\+?13 Pa, got -2\.0",
+        ),
         ({"myply": {"base": "plywood", "density": 0.0}}, r"materials\.myply\.density: must be > 0"),
         ({"myply": {"base": "plywood", "nu12": 0.5}}, r"materials\.myply\.nu12: must be -1 < nu12"),
         (
