@@ -106,7 +106,7 @@ def test_no_parts_no_search():
 
 
 def test_bad_counts_are_refused():
-    with pytest.raises(ValueError, match="steps and patience must be >= 1, got 0 and 10"):
+    with pytest.raises(ValueError, match="steps and patience must be >= 1, got 0 and 2"):
         strip_pack(SHAPES, FREE, height=1000.0, gap=10.0, steps=0)
     with pytest.raises(ValueError, match="time_limit must be > 0 s, got nan"):
         strip_pack(SHAPES, FREE, height=1000.0, gap=10.0, time_limit=float("nan"))

@@ -739,7 +739,7 @@ SCHEMA: dict = {
         "nesting_steps": Key(
             "int",
             "Steps the nesting search takes per packing (sparrow's separations; a packing "
-            "stops sooner after 10 failed steps in a row): more steps, shorter strips and "
+            "stops sooner at its second failed step): more steps, shorter strips and "
             "more time.",
             default=500,
             check=lambda v: 1 <= v <= 100_000,

@@ -11,7 +11,7 @@ thread is a daemon: the process ending stops it).
 The search stops at the first of, counted on the reports alone (never on the clock):
 
 * ``steps`` steps;
-* ``patience`` infeasible steps in a row (sparrow's own early termination, counted here);
+* ``patience`` infeasible steps in all (once the strip is tight, each step costs seconds);
 * a feasible strip of width ``fit`` or less, when ``fit`` is given.
 
 The reports arrive in the solver's order, whenever the queue is drained, so what is sent back
@@ -88,7 +88,6 @@ def search(problem: dict) -> dict:
                 continue  # improving (infeasible) layouts within a step, compression, final
             steps += 1
             if kind == feasible:
-                fails = 0
                 best = solution
                 if fit is not None and solution.width <= fit:
                     return {"done": True, "steps": steps, "stopped": "fit", **_solution(best)}

@@ -8,8 +8,8 @@ disrupted), driven by one random generator seeded by ``seed`` (one worker thread
 bounds the search by seconds only, so a busy machine searched fewer steps and the result
 changed with the load. Here the search is bounded by a count of steps: spyrrow runs in a child
 process (``nesting_worker.py``) that counts the steps on spyrrow's progress reports and sends
-back the best layout reported up to step ``steps`` (or sooner: ``patience`` failed steps in a
-row, or a strip of width ``fit`` or less); the child is then ended. The clock only guards:
+back the best layout reported up to step ``steps`` (or sooner: ``patience`` failed steps in
+all, or a strip of width ``fit`` or less); the child is then ended. The clock only guards:
 a search that has not reached its stop within ``time_limit`` seconds is refused (a
 :class:`~compas_ccu.errors.LimitError` naming the steps reached), never returned.
 
@@ -37,8 +37,11 @@ __all__ = ["Packing", "strip_pack", "solver_version", "SOLVER", "PATIENCE"]
 
 #: The solver's package.
 SOLVER = "spyrrow"
-#: Failed steps in a row that end a search (sparrow's ``DEFAULT_MAX_CONSEQ_FAILS_EXPL``).
-PATIENCE = 10
+#: Failed steps (in all, not only in a row) that end a search. A failed step means the strip
+#: has become tight, and from there on one step costs seconds (measured on a 40-part vault
+#: with a 0.9 m rise: 437 steps to the first failure in 18 s, the next 33 steps in 150 s for
+#: 0.9 % of strip length), so the search stops at the second failure.
+PATIENCE = 2
 
 _WORKER = Path(__file__).with_name("nesting_worker.py")
 
@@ -142,7 +145,7 @@ def strip_pack(
     fit : float, optional
         Stop at the first layout at most this long, mm (the question "do they fit?").
     patience : int
-        Failed steps in a row that end the search.
+        Failed steps (in all) that end the search.
 
     Returns
     -------

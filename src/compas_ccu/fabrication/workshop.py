@@ -623,13 +623,20 @@ def splice_bending(
 # --------------------------------------------------------------------------------- nesting
 
 
-#: Failed packing steps in a row that end a merge attempt (the question "do these parts fit
-#: on one sheet?"): fewer than a whole strip's :data:`compas_ccu.fabrication.packing.PATIENCE`.
-MERGE_PATIENCE = 3
+#: Failed packing steps that end a merge attempt (the question "do these parts fit on one
+#: sheet?"): the first failure answers no.
+MERGE_PATIENCE = 1
+
+#: Most steps the hinge strips' packing on the textile roll searches (fewer than the sheets'
+#: ``nesting_steps`` when those are more). Long curved strips interlock: once the strip is
+#: tight, one step of sparrow's separation costs seconds to a minute (a 12-crease vault with a
+#: 0.9 m rise: 150 steps in 0.5 s, steps 400-437 in 180 s), while the roll is the cheapest
+#: line of the bill. The cap keeps the roll's packing far from that regime.
+ROLL_STEPS = 150
 
 
 def _strip_pack(shapes: dict, orientations: dict, height: float, gap: float, options, log,
-                *, fit=None, patience=PATIENCE):  # fmt: skip
+                *, fit=None, patience=PATIENCE, steps=None):  # fmt: skip
     """:func:`~compas_ccu.fabrication.packing.strip_pack` of ``shapes`` (name -> (m, 2) mm,
     centred) in a strip ``height`` high with the options' seed, steps and time limit: name ->
     (rotation deg, (tx, ty) mm), and the strip length used (mm). ``log`` collects every
@@ -640,7 +647,7 @@ def _strip_pack(shapes: dict, orientations: dict, height: float, gap: float, opt
         height=height,
         gap=gap,
         seed=options.nesting_seed,
-        steps=options.nesting_steps,
+        steps=options.nesting_steps if steps is None else steps,
         time_limit=options.nesting_time,
         fit=fit,
         patience=patience,
@@ -884,7 +891,8 @@ def nest_roll(strips, options: WorkshopOptions, *, log=None) -> dict:
             "length": used / MM + 2.0 * options.margin,
             "strips": lengths,
         }
-    _, used = _strip_pack(shapes, orient, height, options.spacing * MM, options, log)
+    _, used = _strip_pack(shapes, orient, height, options.spacing * MM, options, log,
+                          steps=roll_steps(options))  # fmt: skip
     return {
         "width": options.roll_width,
         "length": used / MM + 2.0 * options.margin,
@@ -1111,6 +1119,12 @@ def plan_workshop(
     return plan
 
 
+def roll_steps(options: WorkshopOptions) -> int:
+    """Steps the hinge strips' packing on the roll searches: ``nesting_steps``, at most
+    :data:`ROLL_STEPS`."""
+    return min(int(options.nesting_steps), ROLL_STEPS)
+
+
 def nesting_search(options: WorkshopOptions, packings: list) -> dict:
     """What the nesting searched (``fabrication.json`` ``workshop.nesting_search``): the solver
     and its version, the seed, the steps per packing, the time limit (a safety limit only), the
@@ -1118,12 +1132,14 @@ def nesting_search(options: WorkshopOptions, packings: list) -> dict:
     is set)."""
     if options.nesting == "shelf":
         return {"solver": "shelf", "version": None, "seed": None, "steps": None,
-                "time_limit": None, "packings": 0, "steps_searched": 0}  # fmt: skip
+                "roll_steps": None, "time_limit": None, "packings": 0,
+                "steps_searched": 0}  # fmt: skip
     return {
         "solver": SOLVER,
         "version": solver_version(),
         "seed": int(options.nesting_seed),
         "steps": int(options.nesting_steps),
+        "roll_steps": roll_steps(options),
         "patience": PATIENCE,
         "merge_patience": MERGE_PATIENCE,
         "time_limit": float(options.nesting_time),
