@@ -152,3 +152,20 @@ def test_cut_patterns_are_the_outlines_side_by_side(data, written):
     boxes.sort()
     for (_, hi), (lo, _) in zip(boxes[:-1], boxes[1:]):
         assert lo > hi + 0.05  # side by side, no overlap
+
+
+def test_two_writes_give_the_same_objects_and_bytes_but_the_time_stamp(data, tmp_path):
+    """Fixed ids (no random UUIDs): two writes of the vault to one path read back with the
+    same ids, and their bytes differ at most in the revision history at the file's start
+    (the minute written, which rhino3dm stamps)."""
+    path = tmp_path / "vault.3dm"
+    first = write_3dm(data, path).read_bytes()
+    ids = [str(o.Attributes.Id) for o in rhino3dm.File3dm.Read(str(path)).Objects]
+    second = write_3dm(data, path).read_bytes()
+    model = rhino3dm.File3dm.Read(str(path))
+    assert [str(o.Attributes.Id) for o in model.Objects] == ids
+    assert len(set(ids)) == len(ids) > 100  # one id per object
+    assert len({str(lay.Id) for lay in model.Layers}) == len(LAYERS)
+    assert len(first) == len(second)
+    differ = np.flatnonzero(np.frombuffer(first, np.uint8) != np.frombuffer(second, np.uint8))
+    assert differ.size == 0 or differ.max() < 1024, differ[:10]

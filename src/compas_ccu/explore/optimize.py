@@ -606,27 +606,38 @@ def run_study(
 
 
 def _trials(ostudy, study, runner, todo, distributions, cache, names, finish, stop) -> None:
-    """Ask for trials and evaluate them, up to ``runner.window`` in flight, until ``todo``
-    trials are told or a stop is requested; trials still in flight then are failed."""
+    """Ask for trials in batches of ``runner.window`` and evaluate them, until ``todo`` trials
+    are told or a stop is requested; trials still in flight then are failed.
+
+    A batch is told to the sampler only when all of it has finished, in trial order: the
+    sampler sees the same history whatever order the workers finish in, so the same study,
+    seed and window (the worker threads) give the same trials on any machine and load.
+    """
     import optuna
 
     asked, in_flight = 0, {}
     try:
-        while todo and not stop.requested:
-            while len(in_flight) < runner.window and asked < todo and not stop.requested:
+        while asked < todo and not stop.requested:
+            batch = []
+            while len(batch) < runner.window and asked < todo:
                 trial = ostudy.ask(distributions)
                 asked += 1
                 variant = study.variant(study.settings_of(trial.params), trial.number)
-                if variant.id in cache:  # proposed again: the same numbers, no evaluation
+                batch.append((trial, variant))
+                if variant.id not in cache:
+                    runner.submit(trial.number, study.document_for(variant))
+                    in_flight[trial.number] = (trial, variant)
+            done = {}
+            while True:  # what has finished is kept, a stop or not
+                done.update(runner.collect())
+                if len(done) >= len(in_flight) or stop.requested:
+                    break
+            for trial, variant in batch:  # in trial order
+                if trial.number in done:
+                    del in_flight[trial.number]
+                    finish(trial, variant, done[trial.number], False)
+                elif variant.id in cache:  # proposed again: the same numbers, no evaluation
                     finish(trial, variant, _evaluation(cache[variant.id], names, study), True)
-                    continue
-                runner.submit(trial.number, study.document_for(variant))
-                in_flight[trial.number] = (trial, variant)
-            if not in_flight:
-                break
-            for key, row in runner.collect():
-                trial, variant = in_flight.pop(key)
-                finish(trial, variant, row, False)
     finally:
         for number, (trial, _) in in_flight.items():  # never finished: forgotten
             runner.cancel(number)

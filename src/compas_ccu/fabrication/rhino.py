@@ -29,10 +29,17 @@ of :mod:`compas_ccu.fabrication.data`); ``solids`` / ``stack`` meshes have the
 :func:`~compas_ccu.fabrication.meshes.solid_mesh` vertex order (lower face, then upper face).
 Document user text: ``design``, ``alpha`` (deg), ``thickness`` (m), ``material``,
 ``hinge_width`` (m), ``units``, ``creator``.
+
+Every layer and object has a fixed id (a name-based UUID of the design's name and the
+object's name, :func:`object_id`), where rhino3dm would draw a random one, so two writes of one
+design give the same objects. What still differs between two writes is what rhino3dm stamps
+and offers no setter for: the file's path and the minute it was created and last edited
+(openNURBS' revision history).
 """
 
 from __future__ import annotations
 
+import uuid
 from pathlib import Path
 
 import numpy as np
@@ -106,12 +113,14 @@ def write_3dm(data, path, *, gap: float = 0.1, version: int = 8) -> Path:
         lay = rhino3dm.Layer()
         lay.Name = name
         lay.Color = colour
+        lay.Id = object_id(data.name, f"layer {name}")
         layer[name] = model.Layers.Add(lay)
 
     def attributes(layer_name, name, **strings):
         att = rhino3dm.ObjectAttributes()
         att.LayerIndex = layer[layer_name]
         att.Name = name
+        att.Id = object_id(data.name, name)
         for k, v in strings.items():
             att.SetUserString(k, str(v))
         return att
@@ -167,6 +176,21 @@ def write_3dm(data, path, *, gap: float = 0.1, version: int = 8) -> Path:
     if not model.Write(str(path), version):
         raise OSError(f"rhino3dm could not write {path}")
     return path
+
+
+#: The namespace of :func:`object_id` (a name-based UUID of ``compas_ccu``).
+NAMESPACE = uuid.uuid5(uuid.NAMESPACE_DNS, "compas-ccu.org")
+
+
+def object_id(design: str, name: str) -> uuid.UUID:
+    """The fixed id of object (or layer) ``name`` of design ``design`` in a 3DM file.
+
+    >>> str(object_id("vault", "plate 0")) == str(object_id("vault", "plate 0"))
+    True
+    >>> object_id("vault", "plate 0") == object_id("dome", "plate 0")
+    False
+    """
+    return uuid.uuid5(NAMESPACE, f"{design}/{name}")
 
 
 def read_3dm_summary(path) -> dict:
