@@ -190,3 +190,26 @@ def test_sweep_and_catalog_columns_are_key_figures():
                 f.unit,
             )
     assert set(COLUMNS) - {"name", "figure", "expected"} <= set(by_name)
+
+
+def test_a_dome_reports_the_plan_diameter_and_height_of_the_whole_structure(tmp_path):
+    """A radial layout's size rows are the whole structure's (the leading crease's chord and
+    rise say little of a dome); the plan diameter is the largest plan distance between two
+    deployed vertices, computed here pair by pair."""
+    from compas_ccu.design.presets import write_preset
+
+    write_preset("dome", tmp_path / "dome.toml")
+    model = load_model(tmp_path / "dome.toml")
+    k = key_figures(model)
+    xy = np.asarray(model.deploy().deployed, dtype=float).reshape(-1, 3)[:, :2]
+    brute = max(float(np.linalg.norm(xy - q, axis=1).max()) for q in xy)
+    assert k.plan_diameter == pytest.approx(brute, rel=1e-12)
+    assert k.plan_diameter > 1.5 * k.crease_span  # the dome, not its leading crease
+    rows = dict(figure_rows(k))
+    assert rows["plan diameter"] == f"{k.plan_diameter:.4f} m (the whole structure in plan)"
+    assert rows["height"] == f"{k.height:.4f} m (the whole structure)"
+    assert "span" not in rows and rows["leading crease"].startswith("chord ")
+    vault = key_figures(load_model(EXAMPLES / "vault.toml"))
+    assert dict(figure_rows(vault))["span"] == "2.5000 m (leading crease chord)"
+    assert vault.plan_diameter == pytest.approx(float(np.hypot(vault.plan_x, vault.plan_y)),
+                                                rel=0.05)  # fmt: skip

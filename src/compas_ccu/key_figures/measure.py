@@ -217,6 +217,7 @@ def design_state_figures(model, structure=None) -> dict:
             "plan_x": plan_x,
             "plan_y": plan_y,
             "height": height,
+            "plan_diameter": plan_diameter(structure.points("deployed")),
             "plan_area": plan_x * plan_y,
             "plate_area": plate_area(model),
             "size": m["size"],
@@ -284,6 +285,32 @@ def _plane_figures(model) -> dict:
             curvature_ratio=float(g.ratio),
         )
     return out
+
+
+def plan_diameter(points: np.ndarray) -> float:
+    """The largest distance in plan (x-y) between two of ``points``, m.
+
+    Parameters
+    ----------
+    points : (..., 3) float
+        The deployed vertices.
+
+    Examples
+    --------
+    >>> phi = np.radians(np.arange(0.0, 330.0, 15.0))  # a ring of 22 points, 330 deg
+    >>> ring = np.c_[2.0 * np.cos(phi), 2.0 * np.sin(phi), np.ones_like(phi)]
+    >>> round(plan_diameter(ring), 9)
+    4.0
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    xy = np.unique(np.asarray(points, dtype=float).reshape(-1, 3)[:, :2], axis=0)
+    try:  # the diameter is between two corners of the convex hull
+        xy = xy[ConvexHull(xy).vertices]
+    except (QhullError, ValueError):  # collinear or too few points: all of them
+        pass
+    d = xy[:, None, :] - xy[None, :, :]
+    return float(np.sqrt((d**2).sum(axis=-1)).max()) if len(xy) > 1 else 0.0
 
 
 def plate_area(model) -> float:

@@ -107,6 +107,13 @@ FIGURES = (
             ("plan_x", "float", "m", "Extent of the deployed structure along world x."),
             ("plan_y", "float", "m", "Extent along world y."),
             ("height", "float", "m", "Extent along world z."),
+            (
+                "plan_diameter",
+                "float",
+                "m",
+                "Largest distance in plan (world x-y) between two points of the deployed "
+                "structure: the diameter of a dome or funnel.",
+            ),
             ("plan_area", "float", "m2", "plan_x * plan_y."),
             ("plate_area", "float", "m2", "Area of all cut patterns (one face)."),
             (

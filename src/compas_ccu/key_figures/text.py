@@ -53,6 +53,24 @@ def row_failed(text: str) -> bool:
     return "** " in text and " **" in text
 
 
+def _size_rows(k) -> list:
+    """The span and rise of a vault (its leading crease), the plan diameter and height of a
+    radial layout (the whole dome or funnel: its leading crease's chord says little)."""
+    if k.layout == "radial":
+        return [
+            ("plan diameter", f"{k.plan_diameter:.4f} m (the whole structure in plan)"),
+            ("height", f"{k.height:.4f} m (the whole structure)"),
+            (
+                "leading crease",
+                f"chord {k.crease_span:.4f} m, rise {k.crease_rise:.4f} m",
+            ),
+        ]
+    return [
+        ("span", f"{k.crease_span:.4f} m (leading crease chord)"),
+        ("rise", f"{k.crease_rise:.4f} m"),
+    ]
+
+
 def figure_rows(k) -> list:
     """Rows of the key figures ``k`` (:class:`compas_ccu.key_figures.KeyFigures` with the path
     figures): design, limits, shape, stack, invariants, layout, planarity.
@@ -90,8 +108,7 @@ def figure_rows(k) -> list:
             f"{k.collision_free_alpha:.4f} deg (largest alpha from the flat stack without two "
             "plates crossing)",
         ),
-        ("span", f"{k.crease_span:.4f} m (leading crease chord)"),
-        ("rise", f"{k.crease_rise:.4f} m"),
+        *_size_rows(k),
         ("bounding box", f"{k.plan_x:.3f} x {k.plan_y:.3f} x {k.height:.3f} m"),
         ("flat stack", f"{k.stack_x:.3f} x {k.stack_y:.3f} m footprint"),
         (
