@@ -357,11 +357,10 @@ def test_float_options_name_the_bound_they_break():
 @pytest.mark.parametrize(
     "option, text, message",
     [
-        ("--sheet", "nanx1.22", "--sheet must be finite numbers, got 'nanx1.22'"),
-        ("--sheet", "2.44xinf", "--sheet must be finite numbers, got '2.44xinf'"),
-        ("--sheet", "2.44x0", "--sheet must be numbers > 0, got '2.44x0'"),
-        ("--sheet", "2.44", "--sheet must be LENGTHxWIDTH in m, e.g. 2.44x1.22, got '2.44'"),
-        ("--sheet", "1e300x1", "--sheet must be numbers <= 1e6, got '1e300x1'"),
+        ("--sheet", ["nan", "1.22"], "--sheet must be a finite number, got nan"),
+        ("--sheet", ["2.44", "inf"], "--sheet must be a finite number, got inf"),
+        ("--sheet", ["2.44", "0"], "--sheet must be > 0, got 0.0"),
+        ("--sheet", ["1e300", "1"], "--sheet must be <= 100, got 1e+300"),
         ("--thickness", "0.008,nan", "--thickness must be finite numbers, got '0.008,nan'"),
         ("--thickness", "inf", "--thickness must be finite numbers, got 'inf'"),
         ("--thickness", "0.008,1e300", "--thickness must be numbers <= 0.1, got '0.008,1e300'"),
@@ -371,7 +370,8 @@ def test_ccu_scale_refuses_non_finite_and_out_of_range_sheet_and_thickness(
     tmp_path, capsys, option, text, message
 ):
     out = tmp_path / "scale"
-    argv = ["scale", EXAMPLES / "cone.toml", "--to", "3", option, text, "--out", out]
+    texts = text if isinstance(text, list) else [text]  # --sheet LENGTH WIDTH: two numbers
+    argv = ["scale", EXAMPLES / "cone.toml", "--to", "3", option, *texts, "--out", out]
     assert _refused(argv, capsys, out) == message
 
 

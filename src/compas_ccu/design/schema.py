@@ -56,6 +56,9 @@ class Key:
 #: The largest length a design may give, m: beyond it the profile solvers lose their precision
 #: long before a plate structure could exist.
 MAX_LENGTH = 1.0e6
+#: The stock sheet of a design that names none ([fabrication] sheets), m: length (along the face
+#: grain) and width. ``ccu fabricate``, ``ccu scale`` and the studio all start from it.
+STOCK_SHEET = (2.5, 1.25)
 
 
 def _positive(v):
@@ -631,7 +634,7 @@ SCHEMA: dict = {
             "Sheet sizes in stock, [[length, width], ...], m; the face grain runs along the "
             "length. Every part is nested onto the first size it fits (the order is the "
             "preference).",
-            default=[[2.5, 1.25]],
+            default=[list(STOCK_SHEET)],
             check=lambda v: all(0.0 < x <= 100.0 for p in v for x in p),
             check_doc="every size > 0 and <= 100",
         ),
@@ -1217,6 +1220,13 @@ def _units(document: dict) -> str:
     if not isinstance(table, dict) or "units" not in table:
         return DEFAULT_UNITS
     return _coerce("design", "units", SCHEMA["design"]["units"], table["units"])
+
+
+def design_sheet(values: dict) -> tuple:
+    """The preferred stock sheet (length, width) m of validated design ``values``: the first
+    of [fabrication] sheets (:data:`STOCK_SHEET` by default)."""
+    sheets = (values.get("fabrication") or {}).get("sheets") or [STOCK_SHEET]
+    return tuple(float(x) for x in sheets[0])
 
 
 def validate(document: dict) -> dict:

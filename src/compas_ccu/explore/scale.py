@@ -27,7 +27,7 @@ import numpy as np
 
 from compas_ccu import limits
 from compas_ccu.analysis.plate_size import fits_sheet
-from compas_ccu.design.schema import SCHEMA
+from compas_ccu.design.schema import SCHEMA, STOCK_SHEET
 from compas_ccu.errors import OptionError
 from compas_ccu.explore.evaluate import evaluate_variant
 
@@ -36,8 +36,9 @@ __all__ += ["CSV_COLUMNS", "write_csv", "plot_scale"]
 
 #: The thickness laws of a scaling study.
 THICKNESS_LAWS = ("constant", "proportional", "cuberoot", "given")
-#: The stock sheet the plates are checked against by default (2440 × 1220 mm plywood), m.
-SHEET = (2.44, 1.22)
+#: The stock sheet the plates are checked against when none is given (the design files'
+#: default, :data:`compas_ccu.design.schema.STOCK_SHEET`), m.
+SHEET = STOCK_SHEET
 
 
 def law_thickness(law: str, t0: float, ratio: float, given: float | None = None) -> float:

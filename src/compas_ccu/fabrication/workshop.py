@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.design.schema import STOCK_SHEET
 from compas_ccu.errors import CCUWarning, GeometryError
 from compas_ccu.fabrication.dxf import APPID, MM, _new_doc, _save, _xy, label_frame
 from compas_ccu.fabrication.packing import PATIENCE, SOLVER, solver_version, strip_pack
@@ -66,7 +67,7 @@ class WorkshopOptions:
     0.016
     """
 
-    sheets: tuple = ((2.5, 1.25),)
+    sheets: tuple = (STOCK_SHEET,)
     kerf: float | None = None
     tool_diameter: float = 0.006
     bridge: float = 0.01

@@ -23,6 +23,7 @@ import webbrowser
 import numpy as np
 
 from compas_ccu.catalog import catalog_entries
+from compas_ccu.design.schema import design_sheet
 from compas_ccu.errors import CCUError
 from compas_ccu.studio.checks import design_checks
 from compas_ccu.studio.controls import (
@@ -574,7 +575,7 @@ class Studio:
 
     def _measure(self, generation, model) -> None:
         checks = design_checks(model)
-        svg, too_large = cut_patterns_svg(model)
+        svg, too_large = cut_patterns_svg(model, sheet=design_sheet(model.design.values))
         if self.session.generation != generation:
             return
         self.checks = checks

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from compas_ccu.analysis.plate_size import fits_sheet, plate_rectangles
+from compas_ccu.design.schema import STOCK_SHEET
 from compas_ccu.fabrication.meshes import solid_mesh
 from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.viz import colors as C
@@ -25,8 +26,9 @@ __all__ = ["COLORINGS", "ViewState", "view_state", "legend_html", "cut_patterns_
 
 #: The colourings of the 3D view.
 COLORINGS = ("crease kind", "bending utilisation", "reflection angle", "crease planarity")
-#: A stock plywood sheet, m (drawn beside the cut patterns for scale).
-SHEET = (2.44, 1.22)
+#: A stock plywood sheet, m (drawn beside the cut patterns for scale, unless the design names
+#: its own: the studio passes the design's first [fabrication] sheet).
+SHEET = STOCK_SHEET
 #: Relative range below which a value is drawn as constant.
 CONSTANT = 1e-6
 #: Crease planarity (relative to the size) below which a crease counts as planar.
