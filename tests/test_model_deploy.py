@@ -383,3 +383,47 @@ def test_classify_is_vectorised_per_crease():
         [None, "synclastic", "straight", "anticlastic", None],
         [None, "ccf", "ccf", "ccf", None],
     ]
+
+
+@pytest.mark.parametrize(
+    "name, fold_alpha, vertex_alpha",
+    [
+        # measured: every edge of Fig. 9e folds at 60.90 deg while its design alpha (30) is the
+        # vertex angle on an inflection; Fig. 9d's point-load kink reads 29.68 at its vertex
+        ("fig09e-freeform", 30.4506, 30.0),
+        ("fig09d-funicular", 30.0116, 29.6797),
+    ],
+)
+def test_crease_records_carry_the_fold_angle_of_every_edge(name, fold_alpha, vertex_alpha):
+    """structure.json's per-edge fold angles, against the angle between the two quads'
+    normals (another formula): for mirror partners 180 - fold = the angle between normals."""
+    from compas_ccu.catalog import catalog_path
+    from compas_ccu.key_figures import key_figures
+    from compas_ccu.model import load_model
+
+    model = load_model(catalog_path(name))
+    s = model.deploy()
+    n = model.segments
+    ids = list(s.plate_ids)
+    deployed = np.asarray(s.deployed, dtype=float)
+    for c in s.creases:
+        fold = np.asarray(c["fold_angles"])
+        assert fold.shape == (n,)
+        assert np.allclose(fold / 2.0, fold_alpha, atol=5e-5)
+        a, b = (ids.index(p) for p in c["plates"])
+        normals = []
+        for plate, rows in ((a, c["vertices"][0]), (b, c["vertices"][1])):
+            v = deployed[plate]
+            rows = np.asarray(rows)
+            other = rows + (n + 1) if rows[0] <= n else rows - (n + 1)
+            p0, p1, q0 = v[rows[:-1]], v[rows[1:]], v[other[:-1]]
+            nrm = np.cross(p1 - p0, q0 - p0)
+            normals.append(nrm / np.linalg.norm(nrm, axis=1)[:, None])
+        between = np.degrees(np.arccos(np.clip((normals[0] * normals[1]).sum(1), -1, 1)))
+        assert np.allclose(np.minimum(between, 180 - between), np.minimum(fold, 180 - fold),
+                           atol=1e-9)  # fmt: skip
+    vertex = np.array([c["alpha"] for c in s.creases])
+    assert np.isclose(vertex, vertex_alpha, atol=5e-5).any()  # the vertex that reads otherwise
+    k = key_figures(model)
+    assert (k.fold_alpha_min, k.fold_alpha_max) == pytest.approx((fold_alpha, fold_alpha),
+                                                                 abs=5e-5)  # fmt: skip

@@ -21,6 +21,7 @@ from compas_ccu.errors import DesignError
 from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = [
+    "edge_fold_angles",
     "unit",
     "dot",
     "cross3",
@@ -194,3 +195,48 @@ def rigid_align(source: np.ndarray, target: np.ndarray) -> np.ndarray:
     d = np.sign(np.linalg.det(vt.T @ u.T))
     rot = vt.T @ np.diag([1.0, 1.0, d]) @ u.T
     return (source - cs) @ rot.T + ct
+
+
+def edge_fold_angles(crease: np.ndarray, side_a: np.ndarray, side_b: np.ndarray) -> np.ndarray:
+    """The angle between two planar-quad strips across every edge of their shared boundary.
+
+    Measured from the geometry alone, edge by edge (docs/geometry.md, "Fold angles"): within
+    each quad, the direction from the crease edge towards the quad's far edge, perpendicular to
+    the crease edge; the fold angle is the angle between the two strips' directions (0: folded
+    flat onto each other, 180: one plane). For two mirror-image strips it is twice the
+    reflection angle of the edge, whatever the per-vertex angles read at a kink or an
+    inflection of the crease.
+
+    Parameters
+    ----------
+    crease : (..., n + 1, 3) float
+        The shared boundary.
+    side_a, side_b : (..., n + 1, 3) float
+        The other boundary of each strip (its rulings end there).
+
+    Returns
+    -------
+    (..., n) float
+        Degrees.
+
+    Examples
+    --------
+    Two strips at right angles across a straight crease along x:
+
+    >>> crease = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    >>> up, out = crease + [0.0, 0.0, 1.0], crease + [0.0, 1.0, 0.0]
+    >>> edge_fold_angles(crease, up, out).round(12).tolist()
+    [90.0, 90.0]
+    """
+    p = np.asarray(crease, dtype=float)
+    e = unit3(p[..., 1:, :] - p[..., :-1, :])
+    mid = 0.5 * (p[..., 1:, :] + p[..., :-1, :])
+
+    def across(side):
+        q = np.asarray(side, dtype=float)
+        d = 0.5 * (q[..., 1:, :] + q[..., :-1, :]) - mid
+        return unit3(d - dot(d, e)[..., None] * e)
+
+    ua, ub = across(side_a), across(side_b)
+    # atan2 of |cross| and dot: accurate near 0 and 180 degrees, where arccos is not
+    return np.degrees(np.arctan2(norm3(cross3(ua, ub)), dot(ua, ub)))

@@ -95,7 +95,9 @@ def fabrication_data(
                 "plates": [plate_map[int(x)] for x in c["plates"]],
                 "vertices": c["vertices"],
                 "kind": c["kind"],
-                "fold_angle": 2.0 * float(np.mean(c["alpha"])),
+                # the mean of the edges' fold angles, measured from the geometry (the
+                # per-vertex reflection angles read off at a kink or an inflection)
+                "fold_angle": float(np.mean(c["fold_angles"])),
             }
         )
     creases.sort(key=lambda c: c["id"])

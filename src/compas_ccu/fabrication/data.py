@@ -51,8 +51,8 @@ class FabricationData:
         docs/structure-json.md crease records: ``id``, ``plates`` [a, b] (plate ids), ``vertices``
         [[ia ...], [ib ...]] (vertex indices in plates a and b, same order along the crease),
         ``kind`` ("synclastic" | "anticlastic" | "ccf" | "mixed" | "straight"), and
-        ``fold_angle`` (degrees, the dihedral angle between the two plates' surfaces at the
-        design state, 0 = closed flat).
+        ``fold_angle`` (degrees, the angle between the two plates' surfaces at the design
+        state, 0 = closed flat: the mean of the crease record's per-edge ``fold_angles``).
     stack_position : list of int
         Per plate: 0 for the bottom plate of the flat-folded stack, p - 1 for the top one.
     hinge_width : float

@@ -206,6 +206,8 @@ def design_state_figures(model, structure=None) -> dict:
             "reference_vertex": model.reference,
             "alpha_min": float(min(alphas)),
             "alpha_max": float(max(alphas)),
+            "fold_alpha_min": 0.5 * min(min(c["fold_angles"]) for c in structure.creases),
+            "fold_alpha_max": 0.5 * max(max(c["fold_angles"]) for c in structure.creases),
             "alpha_limit": float(model.alpha_limit),
             "limit_vertex": model.limit_vertex,
             "overlap_alpha": overlap,

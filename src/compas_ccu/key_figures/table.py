@@ -67,6 +67,20 @@ FIGURES = (
             ),
             ("alpha_max", "float", "deg", "Largest reflection angle on any crease at the design."),
             (
+                "fold_alpha_min",
+                "float",
+                "deg",
+                "Smallest reflection angle of any crease edge at the design, from the geometry: "
+                "half the angle between the two plates across the edge (structure.json "
+                "fold_angles).",
+            ),
+            (
+                "fold_alpha_max",
+                "float",
+                "deg",
+                "Largest reflection angle of any crease edge at the design (half its fold).",
+            ),
+            (
                 "alpha_limit",
                 "float",
                 "deg",

@@ -53,6 +53,16 @@ def row_failed(text: str) -> bool:
     return "** " in text and " **" in text
 
 
+def _design_alpha(k) -> str:
+    """Which α the design angle is (a vertex's), and the edges' α from their fold angles."""
+    text = f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex} (its vertex angle)"
+    if k.fold_alpha_min is None:  # a design without creases
+        return text
+    lo, hi = k.fold_alpha_min, k.fold_alpha_max
+    span = f"{lo:.2f} deg" if round(lo, 2) == round(hi, 2) else f"{lo:.2f} ... {hi:.2f} deg"
+    return f"{text}; crease edges fold at alpha {span} (half the fold between the plates)"
+
+
 def _size_rows(k) -> list:
     """The span and rise of a vault (its leading crease), the plan diameter and height of a
     radial layout (the whole dome or funnel: its leading crease's chord says little)."""
@@ -88,7 +98,7 @@ def figure_rows(k) -> list:
         ("plates", f"{k.plates}"),
         ("creases", f"{k.creases}" + (f" ({k.crease_kinds})" if k.crease_kinds else "")),
         ("segments", f"{k.segments} per crease"),
-        ("design alpha", f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex}"),
+        ("design alpha", _design_alpha(k)),
         (
             "deployment limit",
             f"{k.alpha_limit:.4f} deg ("

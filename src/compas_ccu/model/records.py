@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.geometry import edge_fold_angles
 from compas_ccu.kinematics.invariants import INVARIANT_KEYS
 from compas_ccu.strips.rulings import vertex_reflection_angles
 from compas_ccu.structure import Structure
@@ -70,6 +71,15 @@ class StateRecords:
             sum_beta[lo : lo + step] = np.degrees(rel.sum_beta[..., 1:-1])
         self._alpha, self._sum_beta = alpha, sum_beta
 
+    def fold_angles(self, k: int, crease: int) -> np.ndarray:
+        """(n,) the angle between the two plates across every edge of ``crease`` in state
+        ``k``, degrees (:func:`compas_ccu.geometry.edge_fold_angles`): the fold a builder
+        sets, twice the reflection angle of the edge."""
+        plates, states = self.model.plates, self.states
+        row, side_a = plates.crease_boundary(crease, states.near[k], states.far[k])
+        b = plates.crease_plates[crease][1]
+        return edge_fold_angles(row, side_a, states.far[k, b])
+
     def creases(self, k: int) -> list:
         """The crease records of state ``k`` (docs/structure-json.md)."""
         model, states = self.model, self.states
@@ -90,6 +100,7 @@ class StateRecords:
                 "plane": {"origin": origin.tolist(), "normal": normal.tolist()},
                 "planarity": float(planarity[k, ci]),
                 "alpha": self._alpha[k, ci].tolist(),
+                "fold_angles": self.fold_angles(k, ci).tolist(),
                 "sum_beta": self._sum_beta[k, ci].tolist(),
             }
             if kind == "mixed":
