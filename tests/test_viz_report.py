@@ -410,3 +410,17 @@ def test_the_viewer_of_the_report_shows_the_sheets_of_the_fabrication(tmp_path, 
     assert "the nesting is of 2 plates [7, 8]" in report.skipped["viewer sheets"]
     html = (out / "viewer.html").read_text(encoding="utf-8")
     assert count not in html and '"name":"cut patterns"' in html
+
+
+def test_an_unexpected_error_in_a_task_is_raised_not_skipped(vault_model, tmp_path, monkeypatch):
+    """A refusal (a CCUError) is listed under "Not produced"; any other exception is a bug and
+    reaches the caller, never a warning with exit 0."""
+    from compas_ccu.viz import report as report_module
+
+    def broken(*args, **kwargs):
+        raise ValueError("a bug in a figure")
+
+    monkeypatch.setattr(report_module, "save_figure", broken)
+    with pytest.raises(ValueError, match="a bug in a figure"):
+        report_module.write_report(vault_model, tmp_path / "r", steps=3, frames=2,
+                                   progress=False, pdf=False)  # fmt: skip

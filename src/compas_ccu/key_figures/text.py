@@ -55,12 +55,12 @@ def row_failed(text: str) -> bool:
 
 def _design_alpha(k) -> str:
     """Which α the design angle is (a vertex's), and the edges' α from their fold angles."""
-    text = f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex} (its vertex angle)"
+    text = f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex}"
     if k.fold_alpha_min is None:  # a design without creases
         return text
     lo, hi = k.fold_alpha_min, k.fold_alpha_max
     span = f"{lo:.2f} deg" if round(lo, 2) == round(hi, 2) else f"{lo:.2f} ... {hi:.2f} deg"
-    return f"{text}; crease edges fold at alpha {span} (half the fold between the plates)"
+    return f"{text} (a vertex angle); the edges fold at alpha {span}"
 
 
 def _size_rows(k) -> list:

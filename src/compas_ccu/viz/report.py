@@ -255,7 +255,7 @@ def write_report(
         bar.set_postfix_str(label)
         try:
             task()
-        except (CCUError, ValueError) as exc:
+        except CCUError as exc:  # a refusal, named; anything else is a bug and is raised
             report.skipped[label] = str(exc)
     bar.close()
     structural = ""
@@ -279,7 +279,7 @@ def write_report(
                 footer=_footer(figures_of_design, record),
             )
             report.files.append(report.pdf)
-        except (CCUError, ValueError, OSError) as exc:
+        except (CCUError, OSError) as exc:  # a refusal, or the disk
             report.skipped["report.pdf"] = str(exc)
     elapsed = time.perf_counter() - started
     page = _page(figures_of_design, structure, report, figures, elapsed, structural, checks)
