@@ -68,6 +68,29 @@ def test_no_function_local_imports_of_the_package():
     assert local == []
 
 
+def private_imports(root: Path) -> list:
+    """``path:line name`` of every ``_private`` name imported from another compas_ccu module."""
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.ImportFrom) or not (node.module or "").startswith(
+                "compas_ccu"
+            ):
+                continue
+            for alias in node.names:
+                if alias.name.startswith("_") and not alias.name.startswith("__"):
+                    found.append(f"{path.relative_to(root)}:{node.lineno} {alias.name}")
+    return found
+
+
+def test_no_private_name_is_imported_from_another_module(tmp_path):
+    """A module's ``_private`` names are its own: another module imports public ones only."""
+    assert private_imports(SRC) == []
+    # the check can fail: a module that takes another's private helper is found
+    (tmp_path / "bad.py").write_text("from compas_ccu.fabrication.dxf import _fixed_metadata\n")
+    assert private_imports(tmp_path) == ["bad.py:1 _fixed_metadata"]
+
+
 def test_the_import_contracts_are_kept():
     result = _lint(ROOT)
     assert result.returncode == 0, result.stdout[-3000:]

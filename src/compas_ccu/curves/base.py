@@ -82,7 +82,7 @@ def require_points(points: object, *, name: str = "points", min_points: int = 3)
             raw = None
     if raw is None or raw.dtype.kind not in "iuf":
         raise ProfileError(
-            f"{name} must be an (n, 2) array of real numbers (m), got {_short_repr(points)}"
+            f"{name} must be an (n, 2) array of real numbers (m), got {short_repr(points)}"
         )
     coordinates = np.array(raw, dtype=float)
     if coordinates.ndim != 2 or coordinates.shape[1] != 2:
@@ -124,7 +124,8 @@ def require_segments(segments: object) -> int:
     return int(segments)
 
 
-def _short_repr(value: object, limit: int = 60) -> str:
+def short_repr(value: object, limit: int = 60) -> str:
+    """``repr(value)``, cut to ``limit`` characters with "..." (for error messages)."""
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
@@ -293,7 +294,7 @@ class Profile(ABC):
             values = np.array(s, dtype=float)
         except (TypeError, ValueError):
             raise ProfileError(
-                f"s must be real arc lengths in [0, length] m, got {_short_repr(s)}"
+                f"s must be real arc lengths in [0, length] m, got {short_repr(s)}"
             ) from None
         length = self.length
         if not np.isfinite(values).all():

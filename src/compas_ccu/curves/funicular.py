@@ -9,10 +9,10 @@ import numpy as np
 
 from compas_ccu.curves.base import (
     SpanRiseProfile,
-    _short_repr,
     require_positive,
     require_real,
     require_segments,
+    short_repr,
 )
 from compas_ccu.errors import ProfileError
 from compas_ccu.tolerances import ZERO_LENGTH
@@ -621,11 +621,11 @@ def _require_rows(loads: object, name: str, keys: tuple, form: str) -> list:
     if isinstance(loads, np.ndarray):
         loads = loads.tolist() if loads.ndim == 2 else loads
     if not isinstance(loads, (list, tuple)):
-        raise ProfileError(f"{name} must be a list of {form} lists, got {_short_repr(loads)}")
+        raise ProfileError(f"{name} must be a list of {form} lists, got {short_repr(loads)}")
     rows = []
     for index, row in enumerate(loads):
         if not isinstance(row, (list, tuple, np.ndarray)) or len(row) != len(keys):
-            raise ProfileError(f"{name}[{index}] must be a list {form}, got {_short_repr(row)}")
+            raise ProfileError(f"{name}[{index}] must be a list {form}, got {short_repr(row)}")
         units = ["m" if key.startswith("x") else "load units" for key in keys]
         rows.append(
             [

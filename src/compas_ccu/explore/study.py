@@ -51,7 +51,6 @@ from compas_ccu.explore.metrics import metric_group
 from compas_ccu.explore.sweep import (
     SEARCH_KEYS,
     Variant,
-    _round,
     apply_settings,
     default_constraints,
     flatten,
@@ -62,6 +61,7 @@ from compas_ccu.explore.sweep import (
     parse_fe,
     parse_goals,
     parse_parameter,
+    round_setting,
     table,
 )
 
@@ -238,7 +238,7 @@ class Study:
             elif p.integer:
                 out[p.name] = int(value)
             elif p.step is not None:
-                out[p.name] = _round(value)
+                out[p.name] = round_setting(value)
             else:
                 rounded = float(f"{float(value):.{DIGITS}g}")
                 out[p.name] = min(max(rounded, p.low), p.high)

@@ -78,7 +78,7 @@ def _is_number(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def _round(value) -> float:
+def round_setting(value) -> float:
     """A sampled number to 12 significant digits (linspace gives 0.7999999999999999 for 0.8)."""
     return float(f"{float(value):.12g}")
 
@@ -145,7 +145,7 @@ class Parameter:
         values = np.linspace(self.low, self.high, self.num)
         if self.integer:
             return list(dict.fromkeys(int(round(v)) for v in values))
-        return [_round(v) for v in values]
+        return [round_setting(v) for v in values]
 
     def from_unit(self, u: np.ndarray) -> list:
         """Values for samples ``u`` in [0, 1): uniform over the range or over the choices."""
@@ -155,7 +155,7 @@ class Parameter:
         if self.integer:
             lo, hi = int(self.low), int(self.high)
             return [lo + int(i) for i in np.floor(u * (hi - lo + 1))]
-        return [_round(v) for v in self.low + u * (self.high - self.low)]
+        return [round_setting(v) for v in self.low + u * (self.high - self.low)]
 
     def column(self, value):
         """The table value of ``value`` (the label of a section table)."""

@@ -69,7 +69,9 @@ def _fixed_metadata():
         ezdxf.options.write_fixed_meta_data_for_testing = fixed
 
 
-def _new_doc(layers: dict):
+def new_document(layers: dict):
+    """A new R2010 ezdxf document in millimetres with ``layers`` (name -> ACI colour) and
+    ezdxf's fixed metadata (the same bytes every run)."""
     import ezdxf
 
     with _fixed_metadata():  # the marker of its creation: no clock either
@@ -83,7 +85,7 @@ def _new_doc(layers: dict):
     return doc
 
 
-def _save(doc, path: Path) -> None:
+def save_document(doc, path: Path) -> None:
     """Set the header / model space extents and the initial view from the entities, and save.
 
     The file depends on the drawing only: ezdxf's fixed metadata (creation and update dates
@@ -104,7 +106,8 @@ def _save(doc, path: Path) -> None:
         doc.saveas(path)
 
 
-def _xy(points) -> list:
+def xy_list(points) -> list:
+    """(m, 2) points as the list of tuples ezdxf's polylines take."""
     return [tuple(p) for p in np.asarray(points, dtype=float).tolist()]
 
 
@@ -225,7 +228,7 @@ def write_plate_dxf(data, i: int, path, *, score_rulings: bool = True) -> Path:
     layers = dict(PLATE_LAYERS)
     if not score_rulings:
         layers = {(RULING_REFERENCE if k == "RULING_SCORE" else k): v for k, v in layers.items()}
-    doc = _new_doc(layers)
+    doc = new_document(layers)
     doc.header["$PROJECTNAME"] = str(data.name)
     msp = doc.modelspace()
     flat = np.asarray(data.flat[i], dtype=float) * MM
@@ -233,7 +236,7 @@ def write_plate_dxf(data, i: int, path, *, score_rulings: bool = True) -> Path:
     outline = np.asarray(data.outline(i), dtype=float) * MM
 
     poly = Polygon(outline)
-    cut = msp.add_lwpolyline(_xy(outline), format="xy", close=True, dxfattribs={"layer": "CUT"})
+    cut = msp.add_lwpolyline(xy_list(outline), format="xy", close=True, dxfattribs={"layer": "CUT"})
     cut.set_xdata(APPID, [(1000, "plate"), (1071, int(data.plate_ids[i]))])
 
     lines = _label_lines(data, i)
@@ -250,7 +253,9 @@ def write_plate_dxf(data, i: int, path, *, score_rulings: bool = True) -> Path:
 
     for c, (cid, other, idx) in enumerate(data.plate_creases(i)):
         pts = flat[idx]
-        e = msp.add_lwpolyline(_xy(pts), format="xy", close=False, dxfattribs={"layer": "CREASE"})
+        e = msp.add_lwpolyline(
+            xy_list(pts), format="xy", close=False, dxfattribs={"layer": "CREASE"}
+        )
         e.set_xdata(APPID, [(1000, "crease"), (1071, int(cid)), (1071, int(other))])
         # a small tag along the crease, inside the plate, at 1/4 (3/4, 1/4, ...) of its vertices
         # (clear of the label block near the centre)
@@ -281,14 +286,14 @@ def write_plate_dxf(data, i: int, path, *, score_rulings: bool = True) -> Path:
             text(s, centre + 0.6 * h * u, r * h)
             tri = np.array([[-2.0, -0.6], [-0.8, -0.6], [-1.4, 0.6]]) * h
             msp.add_lwpolyline(
-                _xy(centre + tri[:, :1] * u + tri[:, 1:] * v),
+                xy_list(centre + tri[:, :1] * u + tri[:, 1:] * v),
                 format="xy",
                 close=True,
                 dxfattribs={"layer": "LABEL"},
             )
         else:
             text(s, centre, r * h)
-    _save(doc, path)
+    save_document(doc, path)
     return path
 
 
@@ -373,7 +378,7 @@ def write_hinge_dxf(strips, path, *, name: str = "hinges", gap: float | None = N
 
     strips = list(strips)
     path = Path(path)
-    doc = _new_doc(HINGE_LAYERS)
+    doc = new_document(HINGE_LAYERS)
     doc.header["$PROJECTNAME"] = str(name)
     msp = doc.modelspace()
     if gap is None:
@@ -395,7 +400,7 @@ def write_hinge_dxf(strips, path, *, name: str = "hinges", gap: float | None = N
             (1040, float(s.width) * MM),
         ]
         e = msp.add_lwpolyline(
-            _xy((s.outline + shift) * MM),
+            xy_list((s.outline + shift) * MM),
             format="xy",
             close=True,
             dxfattribs={"layer": "HINGE_CUT"},
@@ -403,7 +408,7 @@ def write_hinge_dxf(strips, path, *, name: str = "hinges", gap: float | None = N
         e.set_xdata(APPID, xdata)
         centre = (np.asarray(s.centre, dtype=float) + shift) * MM
         e = msp.add_lwpolyline(
-            _xy(centre), format="xy", close=False, dxfattribs={"layer": "HINGE_CREASE"}
+            xy_list(centre), format="xy", close=False, dxfattribs={"layer": "HINGE_CREASE"}
         )
         e.set_xdata(APPID, xdata)
         # label on the strip, beside the centre line, at half its length
@@ -429,7 +434,7 @@ def write_hinge_dxf(strips, path, *, name: str = "hinges", gap: float | None = N
             dxfattribs={"layer": "LABEL"},
         )
         title.set_placement((0.0, 0.6 * width * MM), align=TextEntityAlignment.BOTTOM_LEFT)
-    _save(doc, path)
+    save_document(doc, path)
     return moves
 
 

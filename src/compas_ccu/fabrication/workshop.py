@@ -32,7 +32,7 @@ import numpy as np
 
 from compas_ccu.design.schema import STOCK_SHEET
 from compas_ccu.errors import CCUWarning, GeometryError
-from compas_ccu.fabrication.dxf import APPID, MM, _new_doc, _save, _xy, label_frame
+from compas_ccu.fabrication.dxf import APPID, MM, label_frame, new_document, save_document, xy_list
 from compas_ccu.fabrication.packing import PATIENCE, SOLVER, solver_version, strip_pack
 
 __all__ = [
@@ -1170,7 +1170,7 @@ def write_sheet_dxf(plan: WorkshopPlan, s: int, path, *, name: str = "design") -
 
     o = plan.options
     sheet = plan.sheets[s]
-    doc = _new_doc(SHEET_LAYERS)
+    doc = new_document(SHEET_LAYERS)
     doc.header["$PROJECTNAME"] = str(name)
     msp = doc.modelspace()
     length, width = (v * MM for v in sheet["size"])
@@ -1187,7 +1187,7 @@ def write_sheet_dxf(plan: WorkshopPlan, s: int, path, *, name: str = "design") -
         poly = Polygon(outline)
         path_poly = poly.buffer(0.5 * o.cut * MM, join_style="round", quad_segs=8)
         e = msp.add_lwpolyline(
-            _xy(_ring(path_poly)), format="xy", close=True, dxfattribs={"layer": "OUTER_CUT"}
+            xy_list(_ring(path_poly)), format="xy", close=True, dxfattribs={"layer": "OUTER_CUT"}
         )
         e.set_xdata(
             APPID,
@@ -1200,7 +1200,7 @@ def write_sheet_dxf(plan: WorkshopPlan, s: int, path, *, name: str = "design") -
             ],
         )
         msp.add_lwpolyline(
-            _xy(outline), format="xy", close=True, dxfattribs={"layer": "PART_OUTLINE"}
+            xy_list(outline), format="xy", close=True, dxfattribs={"layer": "PART_OUTLINE"}
         )
         if o.score_rulings:
             for line in p.score:
@@ -1210,7 +1210,7 @@ def write_sheet_dxf(plan: WorkshopPlan, s: int, path, *, name: str = "design") -
             mark = Polygon(p.placed(rect) * MM).intersection(poly)
             if mark.geom_type == "Polygon" and not mark.is_empty:
                 msp.add_lwpolyline(
-                    _xy(_ring(mark)), format="xy", close=True, dxfattribs={"layer": "LABEL"}
+                    xy_list(_ring(mark)), format="xy", close=True, dxfattribs={"layer": "LABEL"}
                 )
         anchor, u, h = label_frame(
             outline, lines=len(p.label) + 1, chars=max(len(t) for t in p.label)
@@ -1236,7 +1236,7 @@ def write_sheet_dxf(plan: WorkshopPlan, s: int, path, *, name: str = "design") -
         dxfattribs={"layer": "LABEL"},
     )
     title.set_placement((0.0, width + 0.01 * width), align=TextEntityAlignment.BOTTOM_LEFT)
-    _save(doc, Path(path))
+    save_document(doc, Path(path))
     return Path(path)
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from compas_ccu.tolerances import DIVISION_FLOOR
 from compas_ccu.viz import colors as C
-from compas_ccu.viz.render import _shade, add_colorbar, camera, value_range
+from compas_ccu.viz.render import add_colorbar, camera, shade, value_range
 
 __all__ = ["plot_fe_shape", "plot_fe_curves", "plot_load_cases", "FE_MODES"]
 
@@ -184,7 +184,7 @@ def plot_fe_shape(
     quads = positions[elements]  # (E, 4, 3)
     normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
     normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), DIVISION_FLOOR)
-    rgb = _shade(rgb, normals, cam.axes())
+    rgb = shade(rgb, normals, cam.axes())
 
     lo, hi = positions.min(axis=0), positions.max(axis=0)
     centre = 0.5 * (lo + hi)

@@ -242,7 +242,9 @@ def _crease_width(creases, cam, centre, size, limits, ax, width: float) -> float
     return float(np.clip(0.6 * apart.min(), 0.5, width))
 
 
-def _shade(rgb: np.ndarray, normals: np.ndarray, axes: np.ndarray) -> np.ndarray:
+def shade(rgb: np.ndarray, normals: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """(m, 3) colours ``rgb`` lit by a fixed light in the camera's ``axes`` (3, 3) on faces
+    with unit ``normals`` (m, 3)."""
     light = 0.35 * axes[0] + 0.55 * axes[1] + 0.76 * axes[2]
     light /= np.linalg.norm(light)
     lambert = np.abs(normals @ light)
@@ -342,7 +344,7 @@ def draw_scene(
             face_rgb = mappable.to_rgba(values)[:, :3]
     if crease_values is not None and crease_values:
         mappable = _mappable(np.concatenate(crease_values), vmin, vmax, cmap)
-    face_rgb = _shade(face_rgb, normals, axes)
+    face_rgb = shade(face_rgb, normals, axes)
     sub = len(face_polys) // len(quads)  # sub-quads per quad
 
     xy, depth = cam.project(quads, centre, size)
