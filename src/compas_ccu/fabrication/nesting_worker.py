@@ -12,6 +12,7 @@ The search stops at the first of, counted on the reports alone (never on the clo
 
 * ``steps`` steps;
 * ``patience`` infeasible steps in all (once the strip is tight, each step costs seconds);
+* ``improvements`` improving reports in all (``ExplImproving``), when given;
 * a feasible strip of width ``fit`` or less, when ``fit`` is given.
 
 The reports arrive in the solver's order, whenever the queue is drained, so what is sent back
@@ -78,14 +79,22 @@ def search(problem: dict) -> dict:
 
     thread = threading.Thread(target=solve, daemon=True)
     thread.start()
-    steps, fails, best, reported = 0, 0, None, -1
+    steps, fails, improved, best, reported = 0, 0, 0, None, -1
     feasible, infeasible = sp.ReportType.ExplFeas, sp.ReportType.ExplInfeas
+    improving = sp.ReportType.ExplImproving
     limit, patience, fit = int(problem["steps"]), int(problem["patience"]), problem["fit"]
+    budget = problem.get("improvements")
     while True:
         ended = not thread.is_alive()  # drained once more after the thread ended
         for kind, solution in queue.drain():
+            if kind == improving:
+                improved += 1
+                if budget is not None and best is not None and improved >= budget:
+                    return {"done": True, "steps": steps, "stopped": "improvements",
+                            **_solution(best)}  # fmt: skip
+                continue
             if kind not in (feasible, infeasible):
-                continue  # improving (infeasible) layouts within a step, compression, final
+                continue  # compression, final
             steps += 1
             if kind == feasible:
                 best = solution

@@ -9,7 +9,8 @@ bounds the search by seconds only, so a busy machine searched fewer steps and th
 changed with the load. Here the search is bounded by a count of steps: spyrrow runs in a child
 process (``nesting_worker.py``) that counts the steps on spyrrow's progress reports and sends
 back the best layout reported up to step ``steps`` (or sooner: ``patience`` failed steps in
-all, or a strip of width ``fit`` or less); the child is then ended. The clock only guards:
+all, ``improvements`` improving reports in all when given, or a strip of width ``fit`` or
+less); the child is then ended. The clock only guards:
 a search that has not reached its stop within ``time_limit`` seconds is refused (a
 :class:`~compas_ccu.errors.LimitError` naming the steps reached), never returned.
 
@@ -61,7 +62,7 @@ class Packing:
     steps : int
         The steps searched.
     stopped : str
-        Why the search stopped: ``"steps"``, ``"patience"`` or ``"fit"``.
+        Why the search stopped: ``"steps"``, ``"patience"``, ``"improvements"`` or ``"fit"``.
     seed : int
         The solver's seed.
     solver, version : str
@@ -123,6 +124,7 @@ def strip_pack(
     time_limit: float = 600.0,
     fit: float | None = None,
     patience: int = PATIENCE,
+    improvements: int | None = None,
 ) -> Packing:
     """Pack ``shapes`` into a strip ``height`` high, as short as the search finds.
 
@@ -146,6 +148,10 @@ def strip_pack(
         Stop at the first layout at most this long, mm (the question "do they fit?").
     patience : int
         Failed steps (in all) that end the search.
+    improvements : int, optional
+        Improving reports (in all) that end the search: sparrow reports one each time a
+        separation of overlapping parts gets closer to feasible, so a search that needs many
+        is in a tight strip where a step costs seconds (the hinge strips on the roll).
 
     Returns
     -------
@@ -162,6 +168,8 @@ def strip_pack(
     steps, patience, seed = int(steps), int(patience), int(seed)
     if steps < 1 or patience < 1:
         raise ValueError(f"steps and patience must be >= 1, got {steps} and {patience}")
+    if improvements is not None and int(improvements) < 1:
+        raise ValueError(f"improvements must be >= 1, got {improvements}")
     if not (math.isfinite(time_limit) and time_limit > 0):
         raise ValueError(f"time_limit must be > 0 s, got {time_limit!r}")
     version = solver_version()
@@ -193,6 +201,7 @@ def strip_pack(
         "seed": seed,
         "steps": steps,
         "patience": patience,
+        "improvements": None if improvements is None else int(improvements),
         "fit": None if fit is None else float(fit) + 2.0 * pad,
         # the solver's own budget, never reached: the child is ended first
         "total_time": int(math.ceil(time_limit)) * 2 + 60,

@@ -628,16 +628,16 @@ def splice_bending(
 #: sheet?"): the first failure answers no.
 MERGE_PATIENCE = 1
 
-#: Most steps the hinge strips' packing on the textile roll searches (fewer than the sheets'
-#: ``nesting_steps`` when those are more). Long curved strips interlock: once the strip is
-#: tight, one step of sparrow's separation costs seconds to a minute (a 12-crease vault with a
-#: 0.9 m rise: 150 steps in 0.5 s, steps 400-437 in 180 s), while the roll is the cheapest
-#: line of the bill. The cap keeps the roll's packing far from that regime.
-ROLL_STEPS = 150
+#: Improving reports that end the hinge strips' packing on the textile roll. Long curved strips
+#: interlock: once the strip is tight, sparrow works through many improving layouts per step
+#: and one step costs seconds to a minute (the vault with a 0.9 m rise: 40 improvements by step
+#: 340 in 5 s, then steps 400-437 in 180 s), while the roll is the cheapest line of the bill.
+#: The vault's own roll needs 18 in its 500 steps.
+ROLL_IMPROVEMENTS = 40
 
 
 def _strip_pack(shapes: dict, orientations: dict, height: float, gap: float, options, log,
-                *, fit=None, patience=PATIENCE, steps=None):  # fmt: skip
+                *, fit=None, patience=PATIENCE, improvements=None):  # fmt: skip
     """:func:`~compas_ccu.fabrication.packing.strip_pack` of ``shapes`` (name -> (m, 2) mm,
     centred) in a strip ``height`` high with the options' seed, steps and time limit: name ->
     (rotation deg, (tx, ty) mm), and the strip length used (mm). ``log`` collects every
@@ -648,10 +648,11 @@ def _strip_pack(shapes: dict, orientations: dict, height: float, gap: float, opt
         height=height,
         gap=gap,
         seed=options.nesting_seed,
-        steps=options.nesting_steps if steps is None else steps,
+        steps=options.nesting_steps,
         time_limit=options.nesting_time,
         fit=fit,
         patience=patience,
+        improvements=improvements,
     )
     if log is not None:
         log.append(packing)
@@ -893,7 +894,7 @@ def nest_roll(strips, options: WorkshopOptions, *, log=None) -> dict:
             "strips": lengths,
         }
     _, used = _strip_pack(shapes, orient, height, options.spacing * MM, options, log,
-                          steps=roll_steps(options))  # fmt: skip
+                          improvements=ROLL_IMPROVEMENTS)  # fmt: skip
     return {
         "width": options.roll_width,
         "length": used / MM + 2.0 * options.margin,
@@ -1120,12 +1121,6 @@ def plan_workshop(
     return plan
 
 
-def roll_steps(options: WorkshopOptions) -> int:
-    """Steps the hinge strips' packing on the roll searches: ``nesting_steps``, at most
-    :data:`ROLL_STEPS`."""
-    return min(int(options.nesting_steps), ROLL_STEPS)
-
-
 def nesting_search(options: WorkshopOptions, packings: list) -> dict:
     """What the nesting searched (``fabrication.json`` ``workshop.nesting_search``): the solver
     and its version, the seed, the steps per packing, the time limit (a safety limit only), the
@@ -1133,14 +1128,14 @@ def nesting_search(options: WorkshopOptions, packings: list) -> dict:
     is set)."""
     if options.nesting == "shelf":
         return {"solver": "shelf", "version": None, "seed": None, "steps": None,
-                "roll_steps": None, "time_limit": None, "packings": 0,
+                "roll_improvements": None, "time_limit": None, "packings": 0,
                 "steps_searched": 0}  # fmt: skip
     return {
         "solver": SOLVER,
         "version": solver_version(),
         "seed": int(options.nesting_seed),
         "steps": int(options.nesting_steps),
-        "roll_steps": roll_steps(options),
+        "roll_improvements": ROLL_IMPROVEMENTS,
         "patience": PATIENCE,
         "merge_patience": MERGE_PATIENCE,
         "time_limit": float(options.nesting_time),
