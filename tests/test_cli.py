@@ -136,7 +136,7 @@ def test_info_json_has_the_numbers_of_the_text(capsys):
     assert k["alpha_limit"] == pytest.approx(88.9537576330131, abs=1e-9)
     t = data["thickness"]
     assert lines["thickness"].startswith(f"{t['thickness'] * 1e3:.4g} mm {t['material']}")
-    assert f"utilisation {t['bending']['max_utilisation']:.2f}" in lines["bending check"]
+    assert f"utilisation {t['bending']['max_utilisation']:.3f}" in lines["bending check"]
     assert data["thickness_error"] is None
 
 

@@ -328,9 +328,9 @@ def test_fabricate_exits_3_on_exceeded_bending_unless_allowed(tmp_path, capsys):
     args += ["--nesting", "shelf"]
     assert main(args) == 3
     err = capsys.readouterr().err
-    assert "check failed: bending utilisation 1.12 > 1" in err
+    assert "check failed: bending utilisation 1.118 > 1" in err
     assert (
-        "splice plates: bending utilisation 3.35 > 1 (1.68 characteristic: they would break) "
+        "splice plates: bending utilisation 3.355 > 1 (1.677 characteristic: they would break) "
         "where plate" in err
     )
     manifest = json.loads((out / "fabrication.json").read_text())  # written for inspection

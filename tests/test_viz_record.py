@@ -180,7 +180,7 @@ def test_validation_rows_mark_a_failed_check():
     rows = validation_rows(record)
     assert rows[1] == (
         "FE checks",
-        "deflection 10.00 mm (limit 5.00 mm), utilisation 0.50  ** NOT OK **",
+        "deflection 10.00 mm (limit 5.00 mm), utilisation 0.500  ** NOT OK **",
     )
 
 
@@ -218,11 +218,11 @@ def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, vault_
     )
     # the worst splice: plates 0 and 7 tie to round-off (the vault is symmetric)
     assert re.match(
-        r"\*\* utilisation 1\.96 \(characteristic 0\.979\) at P[07] ruling 32",
+        r"\*\* utilisation 1\.957 \(characteristic 0\.979\) at P[07] ruling 32",
         rows["splice bending"],
     )
     assert f["failed_checks"] == manifest["failed_checks"] and len(f["failed_checks"]) == 2
-    assert "splice plates: bending utilisation 1.96 > 1" in f["failed_checks"][1]
+    assert "splice plates: bending utilisation 1.957 > 1" in f["failed_checks"][1]
     page = _fabrication_section(f, tmp_path)
-    assert '<p class="bad">check failed: splice plates: bending utilisation 1.96' in page
+    assert '<p class="bad">check failed: splice plates: bending utilisation 1.957' in page
     assert "<th>splice bending</th>" in page and "Sheets (fabrication.json: sheets)" in page

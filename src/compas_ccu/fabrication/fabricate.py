@@ -92,7 +92,7 @@ def failed_checks(manifest: dict) -> list:
         b = manifest["bending"]
         verdict = bending_verdict(True, b.get("basis", {}))
         failed.append(
-            f"bending utilisation {b['max_utilisation']:.3g} > 1 (plate {b['worst']['plate']}): "
+            f"bending utilisation {b['max_utilisation']:.3f} > 1 (plate {b['worst']['plate']}): "
             + verdict.split(": ", 1)[1]
         )
     splices = (manifest.get("workshop") or {}).get("splice_bending") or {}
@@ -100,15 +100,15 @@ def failed_checks(manifest: dict) -> list:
         worst = max(splices["cuts"], key=lambda c: c["utilisation"])
         broken = worst["utilisation_characteristic"] > 1.0
         failed.append(
-            f"splice plates: bending utilisation {worst['utilisation']:.3g} > 1"
+            f"splice plates: bending utilisation {worst['utilisation']:.3f} > 1"
             + (
-                f" ({worst['utilisation_characteristic']:.3g} characteristic: they would break)"
+                f" ({worst['utilisation_characteristic']:.3f} characteristic: they would break)"
                 if broken
                 else ""
             )
             + f" where plate "
             f"{worst['plate']} is cut along ruling {worst['ruling']} (the plate's "
-            f"{worst['plate_utilisation']:.3g} x {splices['factor']:.3g} for splices "
+            f"{worst['plate_utilisation']:.3f} x {splices['factor']:.3g} for splices "
             f"{splices['splice_thickness'] * 1000:.3g} mm thick glued on both faces): use "
             "thinner splice plates ([fabrication] splice_thickness) or larger sheets"
         )

@@ -153,6 +153,6 @@ def load_case_titles(checks: dict) -> list:
         b = c["buckling_factor"]
         out.append(
             f"{c['name']}: {c['deflection_max_m'] * 1e3:.2f} mm, utilisation "
-            f"{c['utilisation_max']:.2f}" + ("" if b is None else f", buckling {b:.3g}")
+            f"{c['utilisation_max']:.3f}" + ("" if b is None else f", buckling {b:.3g}")
         )
     return out

@@ -344,7 +344,7 @@ def checks_component(model, alpha=None, *, thickness=None) -> ChecksResult:
     lines.append(
         f"{'WARN' if bending['exceeded'] else 'ok  '} bending ({bending['basis']['basis']}, "
         f"{summary['thickness'] * 1000:g} mm {summary['material']}): max utilisation "
-        f"{bending['max_utilisation']:.3g}"
+        f"{bending['max_utilisation']:.3f}"
     )
     return ChecksResult(bool(ok), "\n".join(lines), values)
 

@@ -216,7 +216,7 @@ def thickness_rows(summary: dict) -> list:
         (
             "bending check",
             f"max curvature {b['max_curvature']:.3g} 1/m, utilisation "
-            f"{b['max_utilisation']:.2f} (plate {worst['plate']} at alpha {worst['alpha']:.3g} "
+            f"{b['max_utilisation']:.3f} (plate {worst['plate']} at alpha {worst['alpha']:.3g} "
             f"deg; limit f{'_d' if design else '_k'}/(E t/2) >= "
             f"{b['curvature_limit_min']:.3g} 1/m)"
             + (f"  ** {bending_verdict(True, basis)} **" if b["exceeded"] else ""),
@@ -227,7 +227,7 @@ def thickness_rows(summary: dict) -> list:
         rows.append(
             (
                 "",
-                f"characteristic utilisation {b['max_utilisation_characteristic']:.2f} "
+                f"characteristic utilisation {b['max_utilisation_characteristic']:.3f} "
                 f"(f_k/(E t/2) >= {b['curvature_limit_characteristic_min']:.3g} 1/m)",
             )
         )
@@ -332,8 +332,8 @@ def load_case_table(checks: dict) -> tuple:
         cells = [
             k["name"],
             _actions_text(k["actions"]),
-            f"{k['deflection_max_m'] * 1e3:.2f} mm ({k['deflection_ratio']:.2f})",
-            f"{k['utilisation_max']:.2f} (k_mod {k['basis']['k_mod']:g}, "
+            f"{k['deflection_max_m'] * 1e3:.2f} mm ({k['deflection_ratio']:.3f})",
+            f"{k['utilisation_max']:.3f} (k_mod {k['basis']['k_mod']:g}, "
             f"{k['strength_MPa']:.3g} MPa)",
             "—" if b is None else format(b, ".3g"),
             f"{r['start_vertical_N']:.0f} / {r['start_horizontal_N']:.0f} | "
@@ -389,7 +389,7 @@ def validation_rows(record: dict | None) -> list:
             (
                 "FE checks",
                 f"deflection {c['deflection_max_m'] * 1e3:.2f} mm (limit "
-                f"{c['deflection_limit_m'] * 1e3:.2f} mm), utilisation {c['utilisation_max']:.2f}"
+                f"{c['deflection_limit_m'] * 1e3:.2f} mm), utilisation {c['utilisation_max']:.3f}"
                 + (
                     f", buckling factor {c['buckling_factor']:.3g}"
                     if c.get("buckling_factor") is not None
@@ -559,9 +559,9 @@ def workshop_rows(manifest: dict) -> list:
     if check and check.get("cuts"):
         worst = max(check["cuts"], key=lambda c: c["utilisation"])
         text = (
-            f"utilisation {worst['utilisation']:.3g} (characteristic "
-            f"{worst['utilisation_characteristic']:.3g}) at P{worst['plate']} ruling "
-            f"{worst['ruling']}: the plate's {worst['plate_utilisation']:.3g} x "
+            f"utilisation {worst['utilisation']:.3f} (characteristic "
+            f"{worst['utilisation_characteristic']:.3f}) at P{worst['plate']} ruling "
+            f"{worst['ruling']}: the plate's {worst['plate_utilisation']:.3f} x "
             f"{check['factor']:.3g} (splices {check['splice_thickness'] * 1e3:g} mm glued on "
             f"both faces of {check['thickness'] * 1e3:g} mm)"
         )

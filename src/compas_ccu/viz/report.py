@@ -574,7 +574,7 @@ def _per_plate(t) -> str:
     u = t["bending"]["utilisation_per_plate"]
     return (
         "<p>Bending utilisation per plate: "
-        + ", ".join(f"P{i}: {v:.2f}" for i, v in enumerate(u))
+        + ", ".join(f"P{i}: {v:.3f}" for i, v in enumerate(u))
         + "</p>"
     )
 
