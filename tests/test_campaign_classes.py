@@ -340,6 +340,7 @@ def test_float_options_name_the_bound_they_break():
         ("fabricate", "--thickness", 0.5, "--thickness must be <= 0.1, got 0.5"),
         ("fabricate", "--kerf", -1.0, "--kerf must be >= 0, got -1.0"),
         ("validate", "--element-size", 0.0, "--element-size must be > 0, got 0.0"),
+        ("validate", "--element-size", 1e300, "--element-size must be <= 1e6, got 1e+300"),
         ("animate", "--fps", 1e6, "--fps must be <= 1000, got 1000000.0"),
         ("import", "--reference", 1.5, "--reference must be <= 1, got 1.5"),
     ]

@@ -362,6 +362,8 @@ def option_cases(plates: Path) -> list:
             base += ["--out", "{out}.toml" if command.name == "import" else "{out}"]
         if command.name in ("explore", "optimize"):
             base += ["--in-process"]  # never a local cluster of a bad size
+        if command.name == "optimize":
+            base += ["--trials", "2"]  # a valid seed is a whole study: keep it two trials
         if command.name == "scale":
             base += ["--to", "3"]
         for o in command.options:

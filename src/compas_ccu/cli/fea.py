@@ -14,6 +14,7 @@ from compas_ccu.cli.parser import (
     DESIGN,
     MAX_AREA_LOAD,
     MAX_HINGE_STIFFNESS,
+    MAX_LENGTH,
     MAX_THICKNESS,
     OUT,
     QUIET,
@@ -164,7 +165,12 @@ COMMANDS = (
                 "--mode", choices=("displacement", "actuation"), default="displacement", help=None
             ),
             option(
-                "--element-size", type=float, positive=True, default=0.1, help="m (default 0.1)"
+                "--element-size",
+                type=float,
+                positive=True,
+                maximum=MAX_LENGTH,
+                default=0.1,
+                help="m (default 0.1)",
             ),
             option(
                 "--steps",
