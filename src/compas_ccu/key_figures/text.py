@@ -316,7 +316,7 @@ def load_case_table(checks: dict) -> tuple:
     ...     "governing": {"deflection": "snow", "utilisation": "snow"}}
     >>> heading, rows, governing = load_case_table(checks)
     >>> rows[0][0][2:5], rows[0][1]
-    (['2.00 mm (0.40)', '0.50 (k_mod 0.9, 22.5 MPa)', '—'], True)
+    (['2.00 mm (0.400)', '0.500 (k_mod 0.9, 22.5 MPa)', '—'], True)
     """
     c = checks
     sup = c.get("supports", {})
