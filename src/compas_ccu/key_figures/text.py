@@ -28,6 +28,7 @@ __all__ = [
     "basis_text",
     "load_case_lines",
     "load_case_table",
+    "design_values_text",
     "workshop_rows",
     "LOAD_CASE_COLUMNS",
     "value_text",
@@ -329,9 +330,6 @@ def load_case_table(checks: dict) -> tuple:
         f"feet {kind}; deflection limit {c['deflection_limit_m'] * 1e3:.2f} mm; ULS stresses "
         "with the active bending, over k_mod f_k / gamma_M of each case's load duration"
     )
-    stiffness = c.get("stiffness")
-    if stiffness:  # the factors' clauses (fea.design_values); older files have none
-        heading += f" (k_mod {stiffness['clauses']['k_mod']}); {stiffness['text']}"
     rows = []
     for k in c["cases"]:
         r, hg = k["reactions_uls"], k["hinges_uls"]
@@ -360,6 +358,22 @@ def load_case_table(checks: dict) -> tuple:
     return heading, rows, governing
 
 
+def design_values_text(checks: dict) -> str:
+    """The design values of the load-case checks with their clauses (``fea.design_values``):
+    k_mod, the design stiffness of the buckling factor, the creep of the final deflection;
+    ``""`` for a ``validation.json`` from before them.
+
+    >>> design_values_text({"stiffness": {"clauses": {"k_mod": "Table 3.1"}, "text": "E_d"}})
+    'design values: k_mod of each case (Table 3.1); E_d'
+    """
+    stiffness = checks.get("stiffness")
+    if not stiffness:
+        return ""
+    return (
+        f"design values: k_mod of each case ({stiffness['clauses']['k_mod']}); {stiffness['text']}"
+    )
+
+
 def load_case_lines(checks: dict) -> list:
     """The load-case table of ``ccu validate`` as console lines (:func:`load_case_table`;
     the actions column is left out: each case's actions are in the design file)."""
@@ -372,6 +386,9 @@ def load_case_lines(checks: dict) -> list:
     lines.append("  " + "  ".join(t.ljust(w) for t, w in zip(titles, widths)).rstrip())
     for r in table:
         lines.append("  " + "  ".join(v.ljust(w) for v, w in zip(r, widths + [0])).rstrip())
+    note = design_values_text(checks)
+    if note:
+        lines.append(note)
     lines.append(f"governing: {governing}")
     return lines
 
