@@ -415,12 +415,13 @@ def validation_rows(record: dict | None) -> list:
             (
                 "FE checks",
                 f"deflection {c['deflection_max_m'] * 1e3:.2f} mm (limit "
-                f"{c['deflection_limit_m'] * 1e3:.2f} mm), utilisation {c['utilisation_max']:.3f}"
+                f"{c['deflection_limit_m'] * 1e3:.2f} mm)"
                 + (
                     f", final {c['deflection_final_max_m'] * 1e3:.2f} mm"
                     if c.get("deflection_final_max_m") is not None
                     else ""
                 )
+                + f", utilisation {c['utilisation_max']:.3f}"
                 + (
                     f", buckling factor {c['buckling_factor']:.3g}"
                     + (
