@@ -244,10 +244,10 @@ def _stiffness(history: DeploymentHistory, case, factors, material, k0: int, uls
     added = float(_peak_stress(f[uls] - f[k0], t).max()) / (
         factors.strength_factor * material.strength
     )
-    if case.psi2 is None or prestress >= added:
-        psi2, governing = 1.0, "permanent"
-    else:
-        psi2, governing = creep_psi2(prestress, added, case.psi2), "variable"
+    if case.psi2 is None:  # permanent actions only
+        return StiffnessBasis(material.kind, factors.gamma_M, factors.k_def, 1.0, "permanent")
+    psi2 = creep_psi2(prestress, added, case.psi2)
+    governing = "permanent" if prestress >= added else "variable"
     return StiffnessBasis(material.kind, factors.gamma_M, factors.k_def, psi2, governing)
 
 
