@@ -96,6 +96,24 @@ def test_cases_have_their_own_design_strength_and_buckling_factor(pinned):
     # deflection grows with the load; the state returns after every case (elastic)
     assert by["construction"]["deflection_max_m"] > by["wet-concrete"]["deflection_max_m"]
     assert c["deflection_ratio"] == max(k["deflection_ratio"] for k in c["cases"])
+    # design stiffness (fea.design_values): lambda_d = lambda_mean / (gamma_M (1 + psi2 k_def))
+    for k in c["cases"]:
+        st = k["stiffness"]
+        assert (st["gamma_M"], st["k_def"]) == (1.2, 0.8)
+        assert k["buckling_factor_instantaneous"] == pytest.approx(
+            k["buckling_factor_mean"] / 1.2, rel=1e-14
+        )
+        assert k["buckling_factor"] == pytest.approx(
+            k["buckling_factor_mean"] / (1.2 * (1.0 + st["psi2"] * 0.8)), rel=1e-14
+        )
+    assert by["self-weight"]["stiffness"]["psi2"] == 1.0  # permanent only
+    # final deflection: self-weight alone creeps by (1 + k_def)
+    sw = by["self-weight"]
+    assert sw["deflection_final_max_m"] == pytest.approx(1.8 * sw["deflection_max_m"], rel=1e-12)
+    # snow (psi2 = 0): u_G (1 + k_def) + u_Q, between the instantaneous and 1.8 times it
+    snow = by["snow"]
+    assert snow["deflection_max_m"] < snow["deflection_final_max_m"]
+    assert snow["deflection_final_max_m"] < 1.8 * snow["deflection_max_m"]
     r = pinned.result
     k0 = pinned.deployment_steps - 1
     for entry in pinned.history.load_steps[:-1]:

@@ -100,7 +100,7 @@ def test_aluminium_takes_en_1999_gamma_and_no_duration_factor():
 def test_overrides_win():
     f = design_factors("plywood", gamma_M=1.3, k_mod=0.5, k_def=0.6)
     assert (f.k_mod, f.gamma_M, f.k_def) == (0.5, 1.3, 0.6)
-    assert f.source == "k_mod given; gamma_M given"
+    assert f.source == "k_mod given; gamma_M given; k_def given"
 
 
 @pytest.mark.parametrize(

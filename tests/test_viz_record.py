@@ -184,6 +184,40 @@ def test_validation_rows_mark_a_failed_check():
     )
 
 
+def test_validation_rows_give_the_design_values_with_their_clauses():
+    from compas_ccu.fea.design_values import StiffnessBasis
+
+    stiffness = StiffnessBasis("plywood", 1.2, 0.8, 1.0).to_dict()
+    record = {
+        "engine": "kratos",
+        "mode": "displacement",
+        "alpha": 30.0,
+        "deviation": {"max_percent": 0.1, "mean_percent": 0.05},
+        "stresses": {"max_bending_MPa": 12.0},
+        "checks": {
+            "deflection_max_m": 0.00065,
+            "deflection_final_max_m": 0.00117,
+            "deflection_limit_m": 0.005,
+            "utilisation_max": 0.81,
+            "deflection_ok": True,
+            "utilisation_ok": True,
+            "buckling_factor": 8.78 / 2.16,
+            "buckling_factor_mean": 8.78,
+            "stiffness": stiffness,
+        },
+        "when": "2026-01-01T00:00:00",
+        "out": "/x",
+    }
+    rows = validation_rows(record)
+    assert rows[1] == (
+        "FE checks",
+        "deflection 0.65 mm (limit 5.00 mm), final 1.17 mm, utilisation 0.810, buckling factor "
+        "4.06 (E_mean 8.78)",
+    )
+    assert ("", f"stiffness basis: {stiffness['text']}") in rows
+    assert "k_def 0.8 (EN 1995-1-1 Table 3.2), psi2 1" in stiffness["text"]
+
+
 def test_a_manifest_without_tables_is_said_so_on_the_page(tmp_path):
     from compas_ccu.viz.report import _fabrication_section
 

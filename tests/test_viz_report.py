@@ -16,8 +16,10 @@ pytest.importorskip("matplotlib")
 
 from compas_ccu import __version__  # noqa: E402
 from compas_ccu.cli import main  # noqa: E402
+from compas_ccu.fea.design_values import StiffnessBasis  # noqa: E402
 from compas_ccu.key_figures import key_figures  # noqa: E402
 from compas_ccu.key_figures.text import (  # noqa: E402
+    design_values_text,
     figure_rows,  # noqa: E402
     load_case_lines,
     load_case_table,
@@ -177,6 +179,7 @@ def _load_case_checks() -> dict:
         "supports": {"type": "springs", "tie": False},
         "deflection_limit_m": 0.005,
         "governing": dict(deflection="wet-concrete", utilisation="snow", buckling="wet-concrete"),
+        "stiffness": StiffnessBasis("plywood", 1.2, 0.8, 1.0).to_dict(),
     }
     return checks
 
@@ -208,6 +211,11 @@ def test_console_and_report_show_the_same_load_case_cells():
     assert f"governing: {governing}" in page and console.endswith(f"governing: {governing}")
     assert heading in console and html.escape(heading) in page
     assert console.count("EXCEEDED") == 1
+    # the design values with their clauses, once in each
+    note = design_values_text(checks)
+    assert note.startswith("design values: k_mod of each case (EN 1995-1-1 Table 3.1, shortest")
+    assert "E_d = E_mean / gamma_M (EN 1995-1-1 2.4.1(2)P, eq. (2.15)), gamma_M 1.2" in note
+    assert console.count(note) == 1 and page.count(html.escape(note)) == 1
 
 
 # -- the engineering record, the PDF, the fabrication section ------------------------------

@@ -30,6 +30,7 @@ __all__ = [
     "material",
     "MaterialError",
     "LOAD_DURATIONS",
+    "ACTION_DURATIONS",
     "K_MOD_PLYWOOD",
     "K_DEF_PLYWOOD",
     "GAMMA_M",
@@ -291,6 +292,19 @@ def material(spec) -> Material:
 #: EN 1995-1-1 2.3.1.2 load-duration classes, longest first.
 LOAD_DURATIONS = ("permanent", "long-term", "medium-term", "short-term", "instantaneous")
 
+#: The load-duration class of every variable action of a design's ``[loads]`` section
+#: (EN 1995-1-1 2.3.1.2, Table 2.2 and its note): the default, then the classes a design may
+#: choose (``[loads] <action>_duration``). Snow is short-term unless the design says
+#: medium-term (a prolonged heavy snow load, Table 2.2 note); wind short-term or instantaneous;
+#: the wet concrete and the construction load of the formwork short-term or medium-term (a
+#: longer casting and curing). Self-weight is permanent.
+ACTION_DURATIONS = {
+    "concrete": ("short-term", ("medium-term", "short-term")),
+    "live": ("short-term", ("medium-term", "short-term")),
+    "snow": ("short-term", ("medium-term", "short-term")),
+    "wind": ("instantaneous", ("short-term", "instantaneous")),
+}
+
 #: EN 1995-1-1 Table 3.1, plywood (EN 636): k_mod by service class, in the order of
 #: :data:`LOAD_DURATIONS` (service class 3: EN 636-3 only).
 K_MOD_PLYWOOD = {
@@ -412,8 +426,13 @@ def design_factors(
         raise MaterialError(f"design_code.code must be one of {', '.join(CODES)}, got {code!r}")
     table_k_mod = k_mod_plywood(service_class, load_duration)  # checks both
     default_k_def = {"plywood": K_DEF_PLYWOOD[service_class], "aluminium": 0.0}.get(m.kind)
+    k_def_source = "k_def given"
     if k_def is None:
         k_def = default_k_def
+        k_def_source = {
+            "plywood": "k_def EN 1995-1-1 Table 3.2",
+            "aluminium": "k_def 0: no creep (EN 1999-1-1)",
+        }.get(m.kind, "")
     if code == "characteristic":
         return DesignFactors(
             code, service_class, load_duration, 1.0, 1.0, k_def, "characteristic strengths f_k"
@@ -444,6 +463,8 @@ def design_factors(
         sources.append(f"gamma_M {why}")
     else:
         sources.append("gamma_M given")
+    if k_def_source:
+        sources.append(k_def_source)
     for key, value in (("gamma_M", gamma_M), ("k_mod", k_mod)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
             raise MaterialError(f"design_code.{key} must be > 0, got {value!r}")

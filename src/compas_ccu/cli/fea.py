@@ -133,6 +133,8 @@ def _summary_lines(summary: dict) -> list:
                 f"strength of the governing case: {c['strength_MPa']:.4g} MPa, "
                 f"{basis_text(c['basis'])}"
             )
+        if c.get("stiffness"):
+            lines.append(f"stiffness of the governing buckling case: {c['stiffness']['text']}")
     if "agreement" in summary:
         a = summary["agreement"]
         lines.append(

@@ -17,6 +17,7 @@ from compas_ccu.design.rules import RULES
 from compas_ccu.design.units import DEFAULT_UNITS, LENGTH_UNITS, is_length, to_metres, unit_factor
 from compas_ccu.errors import DesignError
 from compas_ccu.materials import (
+    ACTION_DURATIONS,
     LOAD_DURATIONS,
     MATERIAL_KINDS,
     MATERIALS,
@@ -538,6 +539,22 @@ SCHEMA: dict = {
             check=lambda v: -1.0e5 <= v <= 1.0e5,
             check_doc="-1e5 ... 1e5",
         ),
+        **{
+            f"{action}_duration": Key(
+                "str",
+                f"EN 1995-1-1 load-duration class of the {what} (Table 2.2{note}): it picks "
+                "the k_mod of the cases it is in (the shortest action of a case decides, "
+                "3.1.3(2)).",
+                default=ACTION_DURATIONS[action][0],
+                choices=ACTION_DURATIONS[action][1],
+            )
+            for action, what, note in (
+                ("concrete", "wet concrete", ""),
+                ("live", "construction live load", ""),
+                ("snow", "snow", "; medium-term where a heavy snow load lies long, its note"),
+                ("wind", "wind", ""),
+            )
+        },
         "gamma_G": Key(
             "float",
             "Partial factor of the permanent actions (self-weight), EN 1990 Table A1.2(B).",

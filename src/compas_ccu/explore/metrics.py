@@ -163,7 +163,8 @@ METRICS = (
                 "fe_buckling_factor",
                 "float",
                 "",
-                "Smallest linear buckling factor over the load cases (Kratos only).",
+                "Smallest design linear buckling factor over the load cases, with "
+                "E_mean / (gamma_M (1 + psi2 k_def)) (docs/structural.md; Kratos only).",
             ),
             (
                 "fe_hinge_tension",

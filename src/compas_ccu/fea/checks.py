@@ -5,13 +5,17 @@ every load case of :mod:`compas_ccu.fea.loads` (:mod:`compas_ccu.fea.displacemen
 characteristic loads (serviceability, SLS) and its design loads (ultimate, ULS). Per case:
 
 * **deflection** — the largest node displacement from the deployed state at the SLS, against
-  ``deflection_limit`` × span (span/500 by default);
+  ``deflection_limit`` × span (span/500 by default): the instantaneous one, checked, and the
+  final one with creep, ``u_G (1 + k_def) + u_Q (1 + ψ2 k_def)`` (EN 1995-1-1 2.2.3(5); u_G from
+  the self-weight case), reported;
 * **utilisation** — the largest surface principal stress at the ULS (the active-bending
   prestress of the deployed plates included: the permanent and the case's stresses combined)
   over the design strength ``k_mod f_k / γ_M`` with the k_mod of the case's load duration
   (:class:`~compas_ccu.materials.DesignFactors`; the characteristic utilisation beside it);
 * **buckling factor** — the engine's linear buckling factor of the ULS state (Kratos): by how
-  much all loads of the case may grow before the prestressed structure buckles;
+  much all loads of the case may grow before the prestressed structure buckles; computed with
+  E_mean, reported with the design stiffness ``E_mean / (γ_M (1 + ψ2 k_def))`` (EN 1995-1-1
+  2.4.1(2)P, 2.3.2.2(2)): ``λ_d = λ_mean E_d / E_mean`` (:mod:`compas_ccu.fea.design_values`);
 * **reactions** — the resultant the ground gives each side (the start and the end feet of the
   plates) at the SLS and the ULS, with a tie's force;
 * **hinge line forces** — per crease at the ULS, the force the hinge passes to its plate b,
@@ -27,6 +31,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.fea.design_values import (
+    StiffnessBasis,
+    creep_psi2,
+    design_buckling_factor,
+    final_deflection,
+)
 from compas_ccu.fea.history import DeploymentHistory
 from compas_ccu.fea.loads import GRAVITY
 from compas_ccu.fea.solving import tie_set
@@ -209,6 +219,65 @@ def _reactions(history: DeploymentHistory, step: int) -> dict:
     return out
 
 
+def _peak_stress(forces: np.ndarray, thickness: float) -> np.ndarray:
+    """(E,) the largest absolute surface principal stress of every element, Pa."""
+    stress = surface_stresses(forces, thickness=thickness)
+    return np.maximum(
+        np.abs(principal(stress["top"])).max(axis=1),
+        np.abs(principal(stress["bottom"])).max(axis=1),
+    )
+
+
+def _stiffness(history: DeploymentHistory, case, factors, material, k0: int, uls: int):
+    """The design stiffness of a case's buckling check (:class:`StiffnessBasis`).
+
+    ψ2 of the creep (EN 1995-1-1 2.3.2.2(2)): 1 if the permanent action — the deployed
+    state's active bending — causes the larger stress in relation to strength (its peak over
+    the permanent design strength) than the case's loads (the peak of the stress they add at
+    the ULS over the case's design strength), else the case's ψ2.
+    """
+    h = history
+    t = h.settings.thickness
+    f = h.result.forces
+    permanent = case_factors(h, "permanent").strength_factor * material.strength
+    prestress = float(_peak_stress(f[k0], t).max()) / permanent
+    added = float(_peak_stress(f[uls] - f[k0], t).max()) / (
+        factors.strength_factor * material.strength
+    )
+    if case.psi2 is None:  # permanent actions only
+        return StiffnessBasis(material.kind, factors.gamma_M, factors.k_def, 1.0, "permanent")
+    psi2 = creep_psi2(prestress, added, case.psi2)
+    governing = "permanent" if prestress >= added else "variable"
+    return StiffnessBasis(material.kind, factors.gamma_M, factors.k_def, psi2, governing)
+
+
+def _final_deflection(history: DeploymentHistory, case, k_def, k0: int, sls: int) -> dict:
+    """The final deflection of a case (EN 1995-1-1 2.2.3(5)): its permanent part u_G, the
+    self-weight case's, with (1 + k_def), the rest with (1 + ψ2 k_def)."""
+    h = history
+    d = h.result.displacements
+    u = d[sls] - d[k0]
+    if k_def is None:
+        return {"max_m": None, "vertical_max_m": None, "note": "no k_def: no creep"}
+    weight = next((e for e in h.load_steps if e["case"].name == "self-weight"), None)
+    note = ""
+    if case.psi2 is None:  # permanent actions only
+        u_G, u_Q, psi2 = u, np.zeros_like(u), 0.0
+    elif weight is None:
+        u_G, u_Q, psi2 = u, np.zeros_like(u), 0.0
+        note = "no self-weight case: the whole deflection taken as permanent"
+    else:
+        u_G = d[weight["sls"]] - d[k0]
+        u_Q, psi2 = u - u_G, case.psi2
+    fin = final_deflection(u_G, u_Q, k_def, psi2)
+    return {
+        "max_m": float(np.linalg.norm(fin, axis=1).max()),
+        "vertical_max_m": float(np.abs(fin @ h.model.axes[1]).max()),
+        "psi2": psi2,
+        "note": note,
+    }
+
+
 def _case(history: DeploymentHistory, entry: dict, k0: int, span: float) -> dict:
     h = history
     s, r = h.settings, h.result
@@ -216,16 +285,15 @@ def _case(history: DeploymentHistory, entry: dict, k0: int, span: float) -> dict
     deflection = np.linalg.norm(r.displacements[sls] - r.displacements[k0], axis=1)
     limit = s.deflection_limit * span
     m = s.material if s.orthotropic else s.material.isotropic_equivalent()
-    stress = surface_stresses(r.forces[uls], thickness=s.thickness)
-    peak = np.maximum(
-        np.abs(principal(stress["top"])).max(axis=1),
-        np.abs(principal(stress["bottom"])).max(axis=1),
-    )
+    peak = _peak_stress(r.forces[uls], s.thickness)
     factors = case_factors(h, case.duration)
     strength = m.strength * factors.strength_factor
     worst = int(np.argmax(peak))
     utilisation = float(peak[worst] / strength)
     buckling, note = r.buckling.get(uls + 1, (None, ""))
+    stiffness = _stiffness(h, case, factors, m, k0, uls)
+    final = _final_deflection(h, case, factors.k_def, k0, sls)
+    creep = stiffness.k_def if stiffness.k_def is not None else 0.0
     up = h.model.axes[1]
     return {
         **case.to_dict(),
@@ -236,6 +304,10 @@ def _case(history: DeploymentHistory, entry: dict, k0: int, span: float) -> dict
         "deflection_limit_m": limit,
         "deflection_ratio": float(deflection.max() / limit),
         "deflection_ok": bool(deflection.max() <= limit),
+        "deflection_final_max_m": final["max_m"],
+        "deflection_final_vertical_max_m": final["vertical_max_m"],
+        "deflection_final_ratio": None if final["max_m"] is None else final["max_m"] / limit,
+        "deflection_final_note": final["note"],
         "utilisation_max": utilisation,
         "utilisation_max_characteristic": float(peak[worst] / m.strength),
         "utilisation_plate": int(h.model.plate_ids[h.mesh.element_plate[worst]]),
@@ -243,8 +315,13 @@ def _case(history: DeploymentHistory, entry: dict, k0: int, span: float) -> dict
         "strength_MPa": strength / 1e6,
         "strength_characteristic_MPa": m.strength / 1e6,
         "basis": factors.to_dict(),
+        "stiffness": stiffness.to_dict(),
         "utilisation_ok": bool(utilisation <= 1.0),
-        "buckling_factor": buckling,
+        "buckling_factor": design_buckling_factor(
+            buckling, stiffness.gamma_M, creep, stiffness.psi2
+        ),
+        "buckling_factor_instantaneous": design_buckling_factor(buckling, stiffness.gamma_M),
+        "buckling_factor_mean": buckling,
         "buckling_note": note,
         "reactions_sls": _reactions(h, sls),
         "reactions_uls": _reactions(h, uls),
@@ -303,6 +380,15 @@ def structural_checks(history: DeploymentHistory) -> dict | None:
         "utilisation_ok": all(c["utilisation_ok"] for c in cases),
         "reaction_total_N": heaviest,
         "buckling_factor": buck,
+        "buckling_factor_mean": next(
+            (c["buckling_factor_mean"] for c in cases if c["name"] == buck_case), None
+        ),
+        "stiffness": next((c["stiffness"] for c in cases if c["name"] == buck_case), None)
+        or governing["stiffness"],
+        "deflection_final_max_m": max(
+            (c["deflection_final_max_m"] for c in cases if c["deflection_final_max_m"] is not None),
+            default=None,
+        ),
         "buckling_note": next((c["buckling_note"] for c in cases if c["buckling_note"]), ""),
         "hinge_tension_max_N_per_m": max(
             c["hinges_uls"].get("tension_max_N_per_m", 0.0) for c in cases

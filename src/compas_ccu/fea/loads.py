@@ -4,7 +4,7 @@ A design's ``[loads]`` section (docs/design-files.md) names characteristic actio
 not zero gives a :class:`LoadCase` next to the self-weight (:func:`load_cases`):
 
 ================  ===========================================  ==========================
-case              actions (characteristic)                     load duration (EC5 k_mod)
+case              actions (characteristic)                     load duration (default)
 ================  ===========================================  ==========================
 self-weight       G = ρ g t on the surface                     permanent
 wet-concrete      G + wet concrete                             short-term
@@ -16,6 +16,12 @@ wind              G + pressure normal to the surface           instantaneous
 area-load         G + a uniform load on the surface            short-term
                   (``--area-load``)
 ================  ===========================================  ==========================
+
+The load-duration class of every variable action is the design's ``[loads] concrete_duration``,
+``live_duration``, ``snow_duration``, ``wind_duration`` (EN 1995-1-1 Table 2.2; the defaults and
+the allowed classes are :data:`compas_ccu.materials.ACTION_DURATIONS`); its ψ2 (the final
+deflection and the creep of the buckling check) is
+:data:`compas_ccu.fea.design_values.PSI_2`.
 
 The serviceability state of a case takes the actions as they are; the ultimate state multiplies
 the permanent ones by ``gamma_G`` and the variable ones by ``gamma_Q`` (EN 1990 6.4.3.2, one
@@ -42,8 +48,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from compas_ccu.fea.design_values import PSI_2, action_duration, combination_duration
 from compas_ccu.fea.problem import FEError
-from compas_ccu.materials import LOAD_DURATIONS
+from compas_ccu.materials import ACTION_DURATIONS, LOAD_DURATIONS
 
 __all__ = ["Action", "LoadCase", "load_cases", "nodal_loads", "GRAVITY", "CASE_NAMES"]
 
@@ -78,6 +85,9 @@ class Action:
         EN 1995-1-1 load-duration class.
     half : bool
         Only on the half of the span before its middle.
+    psi2 : float
+        Quasi-permanent factor ψ2 of a variable action (EN 1990 Table A1.1): the creep of
+        its final deflection (EN 1995-1-1 2.2.3(5)); a permanent action has 1.
     """
 
     name: str
@@ -86,12 +96,20 @@ class Action:
     permanent: bool = False
     duration: str = "short-term"
     half: bool = False
+    psi2: float = 0.0
 
     def __post_init__(self):
         if self.where not in _WHERE:
-            raise FEError(f"action {self.name!r}: where must be one of {_WHERE}")
+            raise FEError(
+                f"action {self.name!r}: where must be one of {_WHERE}, got {self.where!r}"
+            )
         if self.duration not in LOAD_DURATIONS:
-            raise FEError(f"action {self.name!r}: duration must be one of {LOAD_DURATIONS}")
+            raise FEError(
+                f"action {self.name!r}: duration must be one of {LOAD_DURATIONS}, got "
+                f"{self.duration!r}"
+            )
+        if not 0.0 <= self.psi2 <= 1.0:
+            raise FEError(f"action {self.name!r}: psi2 must be in [0, 1], got {self.psi2!r}")
 
 
 @dataclass(frozen=True)
@@ -112,8 +130,15 @@ class LoadCase:
 
     @property
     def duration(self) -> str:
-        """The load-duration class of the case: that of its shortest action."""
-        return max((a.duration for a in self.actions), key=LOAD_DURATIONS.index)
+        """The load-duration class of the case: that of its shortest action (EN 1995-1-1
+        3.1.3(2))."""
+        return combination_duration(a.duration for a in self.actions)
+
+    @property
+    def psi2(self) -> float | None:
+        """The largest ψ2 of the case's variable actions; None if it has none."""
+        values = [a.psi2 for a in self.actions if not a.permanent]
+        return max(values) if values else None
 
     def factor(self, action: Action) -> float:
         """The ULS partial factor of ``action`` in this case."""
@@ -130,6 +155,8 @@ class LoadCase:
                     "where": a.where,
                     "half_span": a.half,
                     "gamma": self.factor(a),
+                    "duration": a.duration,
+                    "psi2": 1.0 if a.permanent else a.psi2,
                 }
                 for a in self.actions
             ],
@@ -166,34 +193,44 @@ def load_cases(loads, *, self_weight: float, area_load: float = 0.0) -> list:
     1962.0
     """
     g = dict(gamma_G=float(loads.get("gamma_G", 1.35)), gamma_Q=float(loads.get("gamma_Q", 1.5)))
-    weight = Action("self-weight", float(self_weight), "surface", True, "permanent")
+    weight = Action("self-weight", float(self_weight), "surface", True, "permanent", psi2=1.0)
+
+    durations = {key: action_duration(key, loads) for key in ACTION_DURATIONS}  # all checked
+
+    def variable(key: str, name: str, value: float, where: str, **kw) -> Action:
+        return Action(name, value, where, duration=durations[key], psi2=PSI_2[key][0], **kw)
+
     cases = [LoadCase("self-weight", (weight,), **g)]
     t_c = float(loads.get("concrete_thickness") or 0.0)
     concrete = None
     if t_c > 0.0:
         rho = float(loads.get("concrete_density", 2600.0))
         where = loads.get("concrete_area", "projected")
-        concrete = Action("wet concrete", rho * GRAVITY * t_c, where)
+        concrete = variable("concrete", "wet concrete", rho * GRAVITY * t_c, where)
         cases.append(LoadCase("wet-concrete", (weight, concrete), **g))
     live = float(loads.get("live") or 0.0)
     if live > 0.0:
         extra = (concrete,) if concrete is not None else ()
-        live_action = Action("live", live, "projected")
+        live_action = variable("live", "live", live, "projected")
         cases.append(LoadCase("construction", (weight, *extra, live_action), **g))
     snow = float(loads.get("snow") or 0.0)
     if snow > 0.0:
-        cases.append(LoadCase("snow", (weight, Action("snow", snow, "projected")), **g))
-        half = Action("snow (half span)", snow, "projected", half=True)
+        cases.append(LoadCase("snow", (weight, variable("snow", "snow", snow, "projected")), **g))
+        half = variable("snow", "snow (half span)", snow, "projected", half=True)
         cases.append(LoadCase("snow-half", (weight, half), **g))
     wind = float(loads.get("wind") or 0.0)
     if wind != 0.0:
-        action = Action("wind", wind, "normal", duration="instantaneous")
+        action = variable("wind", "wind", wind, "normal")
         # suction lifts the shell: its own weight is then favourable, gamma_G,inf = 1.0
         g_wind = {**g, "gamma_G": 1.0} if wind < 0.0 else g
         cases.append(LoadCase("wind", (weight, action), **g_wind))
     if area_load > 0.0:
         cases.append(
-            LoadCase("area-load", (weight, Action("area load", area_load, "surface")), **g)
+            LoadCase(
+                "area-load",
+                (weight, Action("area load", area_load, "surface", psi2=PSI_2["area"][0])),
+                **g,
+            )
         )
     return cases
 

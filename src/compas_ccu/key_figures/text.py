@@ -28,6 +28,7 @@ __all__ = [
     "basis_text",
     "load_case_lines",
     "load_case_table",
+    "design_values_text",
     "workshop_rows",
     "LOAD_CASE_COLUMNS",
     "value_text",
@@ -261,9 +262,10 @@ def basis_text(basis: dict) -> str:
     """
     if basis["code"] == "characteristic":
         return "characteristic strengths f_k (k_mod = gamma_M = 1)"
+    creep = "" if basis.get("k_def") is None else f", k_def {basis['k_def']:g}"
     return (
         f"{basis['basis']}: f_d = k_mod f_k / gamma_M, k_mod {basis['k_mod']:g}, gamma_M "
-        f"{basis['gamma_M']:g} ({basis['source']})"
+        f"{basis['gamma_M']:g}{creep} ({basis['source']})"
     )
 
 
@@ -271,9 +273,9 @@ def basis_text(basis: dict) -> str:
 LOAD_CASE_COLUMNS = (
     "case",
     "actions (characteristic)",
-    "deflection (/limit)",
+    "deflection (/limit), final",
     "utilisation (k_mod, f_d)",
-    "buckling factor",
+    "buckling factor E_d (E_mean)",
     "reactions V / H, N (start | end)",
     "hinge N/m: tension / shear / mean",
 )
@@ -317,6 +319,9 @@ def load_case_table(checks: dict) -> tuple:
     >>> heading, rows, governing = load_case_table(checks)
     >>> rows[0][0][2:5], rows[0][1]
     (['2.00 mm (0.400)', '0.500 (k_mod 0.9, 22.5 MPa)', '—'], True)
+    >>> case.update(deflection_final_max_m=0.0036, buckling_factor=4.0, buckling_factor_mean=8.64)
+    >>> load_case_table(checks)[1][0][0][2:5:2]
+    ['2.00 mm (0.400), final 3.60 mm', '4 (8.64)']
     """
     c = checks
     sup = c.get("supports", {})
@@ -328,14 +333,16 @@ def load_case_table(checks: dict) -> tuple:
     rows = []
     for k in c["cases"]:
         r, hg = k["reactions_uls"], k["hinges_uls"]
-        b = k["buckling_factor"]
+        b, mean, fin = k["buckling_factor"], k.get("buckling_factor_mean"), None
+        if k.get("deflection_final_max_m") is not None:
+            fin = f", final {k['deflection_final_max_m'] * 1e3:.2f} mm"
         cells = [
             k["name"],
             _actions_text(k["actions"]),
-            f"{k['deflection_max_m'] * 1e3:.2f} mm ({k['deflection_ratio']:.3f})",
+            f"{k['deflection_max_m'] * 1e3:.2f} mm ({k['deflection_ratio']:.3f}){fin or ''}",
             f"{k['utilisation_max']:.3f} (k_mod {k['basis']['k_mod']:g}, "
             f"{k['strength_MPa']:.3g} MPa)",
-            "—" if b is None else format(b, ".3g"),
+            ("—" if b is None else format(b, ".3g")) + ("" if mean is None else f" ({mean:.3g})"),
             f"{r['start_vertical_N']:.0f} / {r['start_horizontal_N']:.0f} | "
             f"{r['end_vertical_N']:.0f} / {r['end_horizontal_N']:.0f}"
             + (f"; tie {r['tie_N']:.0f}" if r.get("tie_N") else ""),
@@ -351,6 +358,22 @@ def load_case_table(checks: dict) -> tuple:
     return heading, rows, governing
 
 
+def design_values_text(checks: dict) -> str:
+    """The design values of the load-case checks with their clauses (``fea.design_values``):
+    k_mod, the design stiffness of the buckling factor, the creep of the final deflection;
+    ``""`` for a ``validation.json`` from before them.
+
+    >>> design_values_text({"stiffness": {"clauses": {"k_mod": "Table 3.1"}, "text": "E_d"}})
+    'design values: k_mod of each case (Table 3.1); E_d'
+    """
+    stiffness = checks.get("stiffness")
+    if not stiffness:
+        return ""
+    return (
+        f"design values: k_mod of each case ({stiffness['clauses']['k_mod']}); {stiffness['text']}"
+    )
+
+
 def load_case_lines(checks: dict) -> list:
     """The load-case table of ``ccu validate`` as console lines (:func:`load_case_table`;
     the actions column is left out: each case's actions are in the design file)."""
@@ -363,6 +386,9 @@ def load_case_lines(checks: dict) -> list:
     lines.append("  " + "  ".join(t.ljust(w) for t, w in zip(titles, widths)).rstrip())
     for r in table:
         lines.append("  " + "  ".join(v.ljust(w) for v, w in zip(r, widths + [0])).rstrip())
+    note = design_values_text(checks)
+    if note:
+        lines.append(note)
     lines.append(f"governing: {governing}")
     return lines
 
@@ -389,9 +415,20 @@ def validation_rows(record: dict | None) -> list:
             (
                 "FE checks",
                 f"deflection {c['deflection_max_m'] * 1e3:.2f} mm (limit "
-                f"{c['deflection_limit_m'] * 1e3:.2f} mm), utilisation {c['utilisation_max']:.3f}"
+                f"{c['deflection_limit_m'] * 1e3:.2f} mm)"
+                + (
+                    f", final {c['deflection_final_max_m'] * 1e3:.2f} mm"
+                    if c.get("deflection_final_max_m") is not None
+                    else ""
+                )
+                + f", utilisation {c['utilisation_max']:.3f}"
                 + (
                     f", buckling factor {c['buckling_factor']:.3g}"
+                    + (
+                        f" (E_mean {c['buckling_factor_mean']:.3g})"
+                        if c.get("buckling_factor_mean") is not None
+                        else ""
+                    )
                     if c.get("buckling_factor") is not None
                     else ""
                 )
@@ -411,6 +448,8 @@ def validation_rows(record: dict | None) -> list:
             )
         if c.get("basis"):
             rows.append(("", f"strength basis {basis_text(c['basis'])}"))
+        if c.get("stiffness"):
+            rows.append(("", f"stiffness basis: {c['stiffness']['text']}"))
     rows.append(("", f"({record['when']}, {record['out']})"))
     return rows
 

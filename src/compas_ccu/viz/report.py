@@ -24,6 +24,7 @@ from compas_ccu.key_figures import FIGURES as KEY_FIGURES
 from compas_ccu.key_figures import KeyFigures, key_figures
 from compas_ccu.key_figures.text import (
     LOAD_CASE_COLUMNS,
+    design_values_text,
     figure_rows,
     load_case_table,
     row_failed,
@@ -610,6 +611,7 @@ def _pdf_blocks(k: KeyFigures, report: Report, checks, figures, validation, show
                 list(LOAD_CASE_COLUMNS),
                 [cells if ok else [f"** {cells[0]} **", *cells[1:]] for cells, ok in table],
             ),
+            *([("paragraph", design_values_text(c))] if design_values_text(c) else []),
             ("paragraph", f"governing: {governing}"),
         ]
         blocks += [
@@ -689,7 +691,8 @@ def structural_section(validation: dict, pictures=()) -> str:
         '<h2 id="structural">Structural checks (FE, load cases)</h2>'
         f"<p>{e(validation.get('engine', ''))} · {e(validation.get('mode', ''))} · "
         f"{e(heading)} · governing: {e(governing)}</p>"
-        "<table><tr>"
+        + (f"<p>{e(design_values_text(c))}</p>" if design_values_text(c) else "")
+        + "<table><tr>"
         + "".join(f"<th>{e(t)}</th>" for t in LOAD_CASE_COLUMNS)
         + "</tr>"
         + "".join(rows)
