@@ -301,7 +301,7 @@ class WorkshopPlan:
         ...                      density=500.0)
         >>> doc = plan.layout()
         >>> len(doc["sheets"]), len(doc["parts"]), doc["parts"][0]["name"]
-        (20, 40, 'P0.1')
+        (15, 40, 'P0.1')
         """
         from shapely import Polygon
 

@@ -328,8 +328,9 @@ def gap_summary(splices, neighbours, alphas, gaps, tolerance: float) -> dict:
     flat stack the splice plates hold the plates apart, which the stack height with splices
     counts; ``clear_from_alpha`` the angle from which every splice plate stays clear of its
     neighbour to the design state (None if one is not clear at the design state:
-    ``interpenetration``), ``clearance_design`` the smallest gap at the design state (None if no splice plate lies
-    over a neighbour). Per splice: its ``neighbour`` (plate id or None) and ``clear_from_alpha``.
+    ``interpenetration``), ``clearance_design`` the smallest gap at the design state (None if
+    no splice plate lies over a neighbour). Per splice: its ``neighbour`` (plate id or None)
+    and ``clear_from_alpha``.
     """
     alphas = np.asarray(alphas, dtype=float)
     bad = -gaps > tolerance  # (k, s)
