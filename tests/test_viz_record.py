@@ -212,6 +212,10 @@ def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, vault_
     rows = dict(f["workshop_rows"])
     assert f"{manifest['bom']['mass_kg']:.1f} kg" in rows["bill of materials"]
     assert "160 fasteners" in rows["bill of materials"]
+    assert rows["splices in the stack"].startswith(
+        "stack 86 mm with them (plates 80 mm); highest pile 6 mm (cuts staggered; 60 mm at the "
+        "same rulings); 0.756 kg; clear of the neighbouring plates from alpha "
+    )
     assert rows["cost estimate"].startswith(f"{manifest['bom']['cost_total']:.0f} EUR (sheets ")
     assert rows["sheets"].startswith(
         f"{work['sheet_count']} of 2500 x 1250 mm (20 of 8 mm, 1 of 3 mm)"

@@ -492,8 +492,10 @@ _UNITS = {f.name: f.unit for f in FIGURES}
 def workshop_rows(manifest: dict) -> list:
     """Rows on the workshop of a ``fabrication.json`` (``ccu fabricate``; the report).
 
-    Sheets and their utilisation, the split plates, the splices' bending check (marked as
-    failed above 1), the bill of materials' totals, the cost estimate and the assembly.
+    Sheets and their utilisation, the split plates, the splice plates in the stack (stack
+    height with them, highest pile, mass, from which angle they clear the neighbouring plates),
+    the splices' bending check (marked as failed above 1), the bill of materials' totals, the
+    cost estimate and the assembly.
 
     Examples
     --------
@@ -555,6 +557,24 @@ def workshop_rows(manifest: dict) -> list:
         )
     elif search:
         rows.append(("nesting", f"{search['solver']}: bounding boxes in rows (no search)"))
+    spliced = manifest.get("splices") or {}
+    if spliced.get("count"):
+        clear = (spliced.get("collisions") or {}).get("clear_from_alpha")
+        rows.append(
+            (
+                "splices in the stack",
+                f"stack {spliced['stack_height'] * 1e3:.4g} mm with them (plates "
+                f"{spliced['stack_height_plates'] * 1e3:.4g} mm); highest pile "
+                f"{spliced['max_pile'] * 1e3:.4g} mm (cuts staggered; "
+                f"{spliced['max_pile_unstaggered'] * 1e3:.4g} mm at the same rulings); "
+                f"{spliced['mass']:.3f} kg; "
+                + (
+                    f"clear of the neighbouring plates from alpha {clear:.3g} deg"
+                    if clear is not None
+                    else "** inside a neighbouring plate at the design state **"
+                ),
+            )
+        )
     check = w.get("splice_bending")
     if check and check.get("cuts"):
         worst = max(check["cuts"], key=lambda c: c["utilisation"])
