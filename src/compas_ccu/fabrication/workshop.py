@@ -6,15 +6,17 @@ design's ``[fabrication]`` section (:class:`WorkshopOptions`) into a :class:`Wor
 
 1. every plate is checked against the sheets in stock in the orientations the grain allows; a
    plate that fits no sheet is split along rulings (straight lines on the plate, so the joint
-   does not fight the bending), as few parts as the sheets allow, and every cut gets two splice
-   plates (one on each face) with their fasteners;
+   does not fight the bending), as few parts as the sheets allow, the cuts staggered between
+   plates so that the splice plates do not pile up in the stack
+   (:mod:`compas_ccu.fabrication.splices`), and every cut gets two splice plates (one on each
+   face) with their fasteners;
 2. every part (plate parts and splice plates) is nested onto sheets with spyrrow (the Python
    bindings of sparrow, a true-shape strip-packing solver): per sheet, the remaining parts are
    strip-packed into the sheet's usable width, the parts that lie wholly within its usable
    length stay on it, and smaller parts are tried in the space left; the hinge strips are
    strip-packed onto the textile roll the same way (the roll's used length);
 3. the bill of materials (areas, masses, sheets, textile, glue line, fasteners, cost) and the
-   assembly sequence in stack order.
+   assembly steps in stack order (:mod:`compas_ccu.fabrication.assembly`).
 
 :func:`write_sheet_dxf` writes one sheet's DXF with kerf-compensated toolpaths. Units: metres
 and degrees here, millimetres in the DXF files.
