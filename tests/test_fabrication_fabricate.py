@@ -96,6 +96,7 @@ def test_printed_check_states_the_basis(fabricated):
         in text
     )
     assert "characteristic utilisation 0.559" in text
+    assert "flat stack 96 mm with the splice plates (80 mm plates)" in text
     assert "creep: k_def 0.8, final stiffness E/(1 + k_def) 5 / 5 GPa (E1 / E2)" in text
 
 

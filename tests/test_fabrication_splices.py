@@ -238,3 +238,15 @@ def test_the_assembly_sheet_lists_every_bom_item(vault, tmp_path):
     assert (
         "1-3. P0 on the table: S0.1D under, P0.1 + P0.2 UP face up, cut edges at ruling 32" in text
     )
+
+
+def test_without_splices_the_stack_is_the_plates_and_nothing_collides(cone_model):
+    thick = ThickModel(cone_model)
+    stack = thick.splice_stack([])
+    assert stack["stack_height"] == stack["stack_height_plates"] == thick.stack_height
+    assert (stack["max_pile"], stack["pile_point"], stack["count"], stack["mass"]) == (
+        0.0, None, 0, 0.0,
+    )  # fmt: skip
+    c = thick.splice_collisions([], [0.0, 10.0])
+    assert (c["max_depth"], c["clear_from_alpha"], c["interpenetration"]) == (0.0, 0.0, False)
+    assert c["clearance_design"] is None and c["splices"] == []

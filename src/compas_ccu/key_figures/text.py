@@ -172,11 +172,14 @@ def thickness_rows(summary: dict) -> list:
     """Rows of a :meth:`compas_ccu.thickness.ThickModel.summary` (info, fabricate, report)."""
     b, c = summary["bending"], summary["collisions"]
     pairs = summary["pairing"]
+    plates = summary.get("stack_height_plates")  # fabrication.json: the stack with splices
+    spliced = "" if plates is None else f" with the splice plates ({plates * 1e3:.4g} mm plates)"
     rows = [
         (
             "thickness",
             f"{summary['thickness'] * 1e3:.4g} mm {summary['material']}, flat "
-            f"stack {summary['stack_height'] * 1e3:.4g} mm (order {summary['stack_order']})",
+            f"stack {summary['stack_height'] * 1e3:.4g} mm{spliced} (order "
+            f"{summary['stack_order']})",
         ),
         (
             "axis-shift hinges",

@@ -450,6 +450,8 @@ class ThickModel(Data):
         if alphas is None:
             alphas = np.linspace(0.0, self.model.alpha_design, 41)
         alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        if not len(splices):
+            return gap_summary([], [], alphas, np.full((len(alphas), 0), np.inf), tolerance)
         st = self.place(alphas)
         ruling = unit(st.far - st.near)
         shift_near, shift_far = self._shift_rows()
