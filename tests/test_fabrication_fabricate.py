@@ -49,7 +49,21 @@ def test_manifest_lists_every_file(fabricated):
 
 def test_manifest_numbers(fabricated, vault_model):
     _, m = fabricated
-    assert m["stack_height"] == pytest.approx(0.080, abs=1e-12)
+    # ten 8 mm plates and, over one point at most, one cut's two 8 mm splice plates
+    assert m["stack_height_plates"] == pytest.approx(0.080, abs=1e-12)
+    assert m["stack_height"] == pytest.approx(0.096, abs=1e-12)
+    s = m["splices"]
+    assert (s["stack_height"], s["max_pile"], s["max_pile_unstaggered"]) == pytest.approx(
+        (0.096, 0.016, 0.160), abs=1e-12
+    )
+    assert s["count"] == 20 and s["mass"] == pytest.approx(20 * 0.15 * 0.14 * 0.008 * 600.0)
+    assert s["cuts"] == {str(k): v for k, v in m["workshop"]["splits"].items()}
+    assert s["collisions"]["interpenetration"] is False and "failed_checks" in m
+    assert not any("splice plates lie inside" in f for f in m["failed_checks"])
+    # one list of steps: every BOM item handled by a step
+    assert len(m["assembly"]) == 49
+    handled = {name for step in m["assembly"] for name in step["parts"]}
+    assert handled == {row["item"] for row in m["bom"]["rows"]}
     assert m["thickness"] == 0.008 and m["material"] == "plywood"
     assert m["collisions"]["interpenetration"] is False
     assert m["collisions"]["min_clearance"] == pytest.approx(0.008, abs=1e-12)
@@ -82,6 +96,7 @@ def test_printed_check_states_the_basis(fabricated):
         in text
     )
     assert "characteristic utilisation 0.559" in text
+    assert "flat stack 96 mm with the splice plates (80 mm plates)" in text
     assert "creep: k_def 0.8, final stiffness E/(1 + k_def) 5 / 5 GPa (E1 / E2)" in text
 
 

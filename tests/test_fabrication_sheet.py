@@ -54,8 +54,13 @@ def test_svg_title_and_assembly(data, svg_text):
     text = re.sub(r"\s+", " ", joined)
     assert data.plate_ids == data.stack_position == list(range(p))
     faces = data.metadata["pairing"]
-    sequence = ", ".join(["P0"] + [f"P{k + 1}+c{k} {faces[k][:3]}" for k in range(p - 1)])
-    assert sequence in text
+    # without steps the sheet has those of the plates whole: lay, then glue (steps 1, 2-3, ...)
+    assert f"1. lay P0 UP face up on the table (stack 1 of {p})" in text
+    for k in range(1, p):
+        assert (
+            f"{2 * k}-{2 * k + 1}. lay P{k} UP face up on P{k - 1} (stack {k + 1} of {p}); "
+            f"glue hinge C{k - 1} P{k - 1}/P{k} {faces[k - 1][:3]}"
+        ) in text
     for c in data.creases:
         assert sorted(c["plates"]) == [c["id"], c["id"] + 1]
         assert f"c{c['id']}" in _texts(svg_text)  # the crease marker in the stack section

@@ -569,7 +569,7 @@ def _figure_sheets(fig, plan):
 
 @pytest.mark.parametrize(
     ("name", "counts"),
-    [("vault", (20, 40)), ("vault22", (44, 88)), ("dome22", (30, 88))],
+    [("vault", (15, 40)), ("vault22", (32, 88)), ("dome22", (30, 88))],
 )
 def test_sheets_show_every_part_at_its_nested_place(plans, name, counts):
     from shapely.geometry import Polygon, box
@@ -648,7 +648,7 @@ def test_sheets_are_refused_for_another_design_or_other_plates(plans, vault_mode
     with pytest.raises(OptionError, match="a workshop plan or its layout"):
         sheet_document([1, 2])
     bad = {**doc, "parts": [{**doc["parts"][0], "sheet": 99}]}
-    with pytest.raises(OptionError, match="part 'P0.1' is on sheet 99, but there are 20 sheets"):
+    with pytest.raises(OptionError, match="part 'P0.1' is on sheet 99, but there are 15 sheets"):
         sheet_document(bad, vault_model.plate_ids)
     # the plan and its JSON document (sheets.json) draw the same figure
     a = viewer_figure(vault_model, steps=1, sheets=vault_plan)

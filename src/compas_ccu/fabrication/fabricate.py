@@ -34,6 +34,7 @@ from compas_ccu.fabrication.hinges import hinge_strips
 from compas_ccu.fabrication.meshes import write_gltf, write_obj
 from compas_ccu.fabrication.rhino import write_3dm
 from compas_ccu.fabrication.sheet import write_assembly_sheet
+from compas_ccu.fabrication.splices import splice_summary
 from compas_ccu.fabrication.workshop import (
     WorkshopOptions,
     plan_workshop,
@@ -111,6 +112,12 @@ def failed_checks(manifest: dict) -> list:
             f"{worst['plate_utilisation']:.3f} x {splices['factor']:.3g} for splices "
             f"{splices['splice_thickness'] * 1000:.3g} mm thick glued on both faces): use "
             "thinner splice plates ([fabrication] splice_thickness) or larger sheets"
+        )
+    spliced = (manifest.get("splices") or {}).get("collisions") or {}
+    if spliced.get("interpenetration"):
+        failed.append(
+            "splice plates lie inside their neighbouring plates at the design state "
+            "(fabrication.json splices.collisions)"
         )
     if manifest.get("collisions", {}).get("interpenetration"):
         failed.append("the thick plates interpenetrate (written with --allow-collisions)")
@@ -263,6 +270,9 @@ def fabricate(
         "leading_crease": _leading_crease(model, data.metadata["model_crease_ids"]),
         **summary,
     }
+    manifest["splices"] = splice_summary(thick, data, plan.splices, plan.splits, workshop)
+    manifest["stack_height_plates"] = manifest["splices"]["stack_height_plates"]
+    manifest["stack_height"] = manifest["splices"]["stack_height"]  # with the splice plates
     work = plan.summary()
     manifest["bom"] = work.pop("bom")
     manifest["assembly"] = work.pop("assembly")
@@ -291,7 +301,7 @@ def fabricate(
     write_gltf(data, out / "solids.glb", state="deployed")
     write_obj(data, out / "stack.obj", state="stack")
     (out / f"{stem}.fold").write_text(fold, encoding="utf-8")
-    write_assembly_sheet(data, out / "assembly.svg")
-    write_assembly_sheet(data, out / "assembly.pdf")
+    for name in ("assembly.svg", "assembly.pdf"):
+        write_assembly_sheet(data, out / name, steps=plan.assembly, stack=manifest["splices"])
     (out / "fabrication.json").write_text(text, encoding="utf-8")
     return manifest

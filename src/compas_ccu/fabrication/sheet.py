@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from compas_ccu.fabrication.assembly import assembly_steps
 from compas_ccu.fabrication.dxf import label_frame
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.patterns import pattern_layout
@@ -74,7 +75,22 @@ def _id_frame(outline: np.ndarray):
     return inside
 
 
-def _draw_patterns(ax, data, order) -> None:
+def _draw_splices(ax, data, i: int, shift, records) -> None:
+    """The cuts of plate ``i`` (array index) and its splice plates' footprints, shifted."""
+    pid = int(data.plate_ids[i])
+    n = data.segments
+    pts = np.asarray(data.flat[i], dtype=float) + shift
+    for r in records:
+        if int(r["plate"]) != pid or r["face"] != "upper":
+            continue
+        j = int(r["ruling"])
+        ax.plot(*pts[[j, n + 1 + j]].T, color="black", linewidth=1.3, zorder=4)
+        rect = np.asarray(r["footprint"], dtype=float) + shift
+        ring = np.r_[rect, rect[:1]]
+        ax.plot(ring[:, 0], ring[:, 1], color="black", linewidth=0.7, linestyle="--", zorder=4)
+
+
+def _draw_patterns(ax, data, order, records=()) -> None:
     from matplotlib.patches import Polygon as MplPolygon
 
     flat = np.asarray(data.flat, dtype=float)[order]
@@ -110,6 +126,7 @@ def _draw_patterns(ax, data, order) -> None:
             color = C.KIND_COLORS.get(kinds.get(int(cid), ""), C.FREE_EDGE_COLOR)
             ax.plot(q[:, 0], q[:, 1], color=color, linewidth=1.6, zorder=3, solid_capstyle="butt")
             frames.append(("crease", q, f"c{cid}", color))
+        _draw_splices(ax, data, i, d, records)
         k = int(data.stack_position[i])
         anchor, u, h = _id_frame(outline)
         frames.append(("plate", anchor, u, h, f"P{data.plate_ids[i]}", f"stack {k + 1} of {p}"))
@@ -294,7 +311,7 @@ def _draw_stack(ax, data, order) -> None:
     )
 
 
-def _legend(ax, data) -> None:
+def _legend(ax, data, spliced: bool = False) -> None:
     from matplotlib.lines import Line2D
 
     kinds = sorted({c.get("kind", "") for c in data.creases})
@@ -309,36 +326,72 @@ def _legend(ax, data) -> None:
         for k in kinds
     ]
     handles.append(Line2D([], [], color=C.RULING_COLOR, linewidth=1.0, label="ruling"))
+    if spliced:
+        handles.append(Line2D([], [], color="black", linewidth=1.3, label="cut"))
+        handles.append(
+            Line2D([], [], color="black", linewidth=0.7, linestyle="--", label="splice plate")
+        )
     ax.legend(handles=handles, loc="lower left", fontsize=9, frameon=False)
 
 
-def _assembly_text(data, order) -> str:
+def _group_text(group: list, total: int) -> str:
+    """One line of the sheet for consecutive steps of one plate (:func:`_step_groups`)."""
+    first, last = group[0]["step"], group[-1]["step"]
+    head = f"{first}." if first == last else f"{first}-{last}."
+    words = []
+    for s in group:
+        name = ", ".join(s["parts"])
+        if s["action"] == "splice":
+            words.append(f"{name} {'under' if s['face'] == 'lower' else 'over'}")
+        elif s["action"] == "join":
+            cuts = ", ".join(str(j) for j in s["where"]["rulings"])
+            words.append(f"{' + '.join(s['parts'])} UP face up, cut edges at ruling {cuts}")
+        elif s["action"] == "lay":
+            on = s["where"]["on"]
+            words.append(
+                f"lay P{s['plate']} UP face up "
+                + ("on the table" if on is None else f"on P{on}")
+                + f" (stack {s['where']['stack']} of {total})"
+            )
+        else:
+            lo, hi = s["where"]["plates"]
+            faces = f" {s['face'][:3]}" if s["face"] else ""
+            words.append(f"glue {name} P{lo}/P{hi}{faces}")
+    if group[0]["action"] in ("splice", "join"):
+        return f"{head} P{group[0]['plate']} on the table: " + ", ".join(words)
+    return f"{head} " + "; ".join(words)
+
+
+def _step_groups(steps) -> list:
+    """The steps grouped: a split plate's joining steps, and a plate laid with its hinges."""
+    groups = []
+    for s in steps:
+        joining = s["action"] in ("splice", "join")
+        key = ("join", s["plate"]) if joining else ("stack", s["plate"])
+        if s["action"] == "glue" and groups and groups[-1][0][0] == "stack":
+            key = groups[-1][0]
+        if groups and groups[-1][0] == key:
+            groups[-1][1].append(s)
+        else:
+            groups.append((key, [s]))
+    return [g for _, g in groups]
+
+
+def _assembly_text(data, order, steps) -> str:
     t = float(data.thickness) * 1000.0
     w = float(data.hinge_width) * 1000.0
-    pairing = list(data.metadata.get("pairing") or [])
-    laid, sequence = set(), []
-    for i in order:  # each plate, then the hinge strips joining it to the plates below
-        pid = int(data.plate_ids[i])
-        glue = [
-            f"c{c['id']}" + (f" {pairing[c['id']][:3]}" if int(c["id"]) < len(pairing) else "")
-            for c in data.creases
-            if pid in c["plates"] and set(c["plates"]) - {pid} <= laid
-        ]
-        sequence.append(f"P{pid}" + (f"+{'+'.join(glue)}" if glue else ""))
-        laid.add(pid)
-    steps = [
-        f"1. Cut every plate ({len(order)} x {data.material}, {t:g} mm) face up as drawn "
-        "('UP' reads from above). Rulings: reference only, scored only if on a score layer.",
-        "2. Lay the plates bottom to top, face up, outlines aligned; as each is laid glue the "
-        f"hinge strip ({w:g} mm, centred) of crease c to it and the plate below (int / ext: "
-        f"intrados / extrados faces): {', '.join(sequence)}.",
+    lines = [
+        f"Cut every part ({data.material}, {t:g} mm) face up as drawn ('UP' reads from above); "
+        f"hinge strips {w:g} mm, centred on the creases (int / ext: intrados / extrados faces). "
+        "Steps as in fabrication.json:",
     ]
+    lines += [_group_text(g, len(order)) for g in _step_groups(steps)]
     return "\n".join(
-        textwrap.fill(s, 56, subsequent_indent="    ", break_on_hyphens=False) for s in steps
+        textwrap.fill(s, 98, subsequent_indent="     ", break_on_hyphens=False) for s in lines
     )
 
 
-def write_assembly_sheet(data, path) -> Path:
+def write_assembly_sheet(data, path, *, steps=None, stack=None) -> Path:
     """Write the assembly sheet of a design as PDF, SVG or PNG (by the suffix of ``path``).
 
     Parameters
@@ -346,6 +399,12 @@ def write_assembly_sheet(data, path) -> Path:
     data : compas_ccu.fabrication.data.FabricationData
     path : str or Path
         Output file, ``.pdf``, ``.svg`` or ``.png``. SVG text stays text (searchable).
+    steps : list of dict, optional
+        The assembly steps (:func:`compas_ccu.fabrication.assembly.assembly_steps`, as in
+        ``fabrication.json``); default: the steps of the plates whole.
+    stack : dict, optional
+        ``fabrication.json``'s ``splices`` (:func:`compas_ccu.fabrication.splices.splice_summary`):
+        the splice plates drawn on their plates and the stack height with them.
 
     Returns
     -------
@@ -369,6 +428,14 @@ def write_assembly_sheet(data, path) -> Path:
     order = _stack_order(data)
     p = len(order)
     t = float(data.thickness) * 1000.0
+    steps = assembly_steps(data, {}) if steps is None else steps
+    records = [] if stack is None else stack["records"]
+    height = f"stack height \u03a3t = {p * t:g} mm"
+    if records:
+        height += (
+            f", {stack['stack_height'] * 1000:.4g} mm with the {len(records)} splice plates "
+            f"(highest pile {stack['max_pile'] * 1000:.4g} mm)"
+        )
     # a fixed salt for the SVG's ids and no date in the PDF: the same design, the same bytes
     rc = {
         "svg.fonttype": "none",
@@ -382,7 +449,7 @@ def write_assembly_sheet(data, path) -> Path:
             2,
             2,
             width_ratios=[2.15, 1.0],
-            height_ratios=[1.25, 1.0],
+            height_ratios=[0.9, 1.35],
             left=0.025,
             right=0.985,
             top=0.885,
@@ -402,13 +469,13 @@ def write_assembly_sheet(data, path) -> Path:
             0.025,
             0.925,
             f"{p} plates of {data.material}, thickness t = {t:g} mm, "
-            f"stack height \u03a3t = {p * t:g} mm; hinge strips {data.hinge_width * 1000:g} mm "
-            f"wide; design reflection angle \u03b1 = {data.alpha:g}\u00b0",
+            f"{height}; hinge strips {data.hinge_width * 1000:g} mm wide; design reflection "
+            f"angle \u03b1 = {data.alpha:g}\u00b0",
             ha="left",
             va="center",
             fontsize=12,
         )
-        _draw_patterns(fig.add_subplot(gs[:, 0]), data, order)
+        _draw_patterns(fig.add_subplot(gs[:, 0]), data, order, records)
         _draw_stack(fig.add_subplot(gs[0, 1]), data, order)
         ax = fig.add_subplot(gs[1, 1])
         ax.set_axis_off()
@@ -416,14 +483,14 @@ def write_assembly_sheet(data, path) -> Path:
         ax.text(
             0.0,
             0.97,
-            _assembly_text(data, order),
+            _assembly_text(data, order, steps),
             transform=ax.transAxes,
             ha="left",
             va="top",
-            fontsize=10.5,
-            linespacing=1.45,
+            fontsize=7.5,
+            linespacing=1.3,
         )
-        _legend(ax, data)
+        _legend(ax, data, spliced=bool(records))
         metadata = {
             "Title": f"{data.name} assembly sheet",
             "Creator": "compas_ccu",

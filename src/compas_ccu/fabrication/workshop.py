@@ -6,15 +6,17 @@ design's ``[fabrication]`` section (:class:`WorkshopOptions`) into a :class:`Wor
 
 1. every plate is checked against the sheets in stock in the orientations the grain allows; a
    plate that fits no sheet is split along rulings (straight lines on the plate, so the joint
-   does not fight the bending), as few parts as the sheets allow, and every cut gets two splice
-   plates (one on each face) with their fasteners;
+   does not fight the bending), as few parts as the sheets allow, the cuts staggered between
+   plates so that the splice plates do not pile up in the stack
+   (:mod:`compas_ccu.fabrication.splices`), and every cut gets two splice plates (one on each
+   face) with their fasteners;
 2. every part (plate parts and splice plates) is nested onto sheets with spyrrow (the Python
    bindings of sparrow, a true-shape strip-packing solver): per sheet, the remaining parts are
    strip-packed into the sheet's usable width, the parts that lie wholly within its usable
    length stay on it, and smaller parts are tried in the space left; the hinge strips are
    strip-packed onto the textile roll the same way (the roll's used length);
 3. the bill of materials (areas, masses, sheets, textile, glue line, fasteners, cost) and the
-   assembly sequence in stack order.
+   assembly steps in stack order (:mod:`compas_ccu.fabrication.assembly`).
 
 :func:`write_sheet_dxf` writes one sheet's DXF with kerf-compensated toolpaths. Units: metres
 and degrees here, millimetres in the DXF files.
@@ -32,8 +34,18 @@ import numpy as np
 
 from compas_ccu.design.schema import STOCK_SHEET
 from compas_ccu.errors import CCUWarning, GeometryError
+from compas_ccu.fabrication.assembly import assembly_steps
 from compas_ccu.fabrication.dxf import APPID, MM, label_frame, new_document, save_document, xy_list
 from compas_ccu.fabrication.packing import PATIENCE, SOLVER, solver_version, strip_pack
+from compas_ccu.fabrication.splices import (
+    fitting_size,
+    part_orientations,
+    splice_records,
+    splice_rectangle,
+    split_plate,
+    stagger_cuts,
+    sub_outline,
+)
 
 __all__ = [
     "WorkshopOptions",
@@ -207,6 +219,8 @@ class WorkshopPlan:
         The model's plate id of every workshop plate id (``fabrication.json`` ``model_ids``).
     nesting_search : dict or None
         What the nesting searched (:func:`nesting_search`): solver, version, seed, steps.
+    splices : list of compas_ccu.thickness.splices.Splice
+        The splice plates (:func:`~compas_ccu.fabrication.splices.splice_records`).
     """
 
     options: WorkshopOptions
@@ -220,6 +234,7 @@ class WorkshopPlan:
     design: str | None = None
     model_plate_ids: list | None = None
     nesting_search: dict | None = None
+    splices: list = field(default_factory=list)
 
     @property
     def utilisation(self) -> float:
@@ -288,7 +303,7 @@ class WorkshopPlan:
         ...                      density=500.0)
         >>> doc = plan.layout()
         >>> len(doc["sheets"]), len(doc["parts"]), doc["parts"][0]["name"]
-        (20, 40, 'P0.1')
+        (15, 40, 'P0.1')
         """
         from shapely import Polygon
 
@@ -353,127 +368,8 @@ class WorkshopPlan:
 # --------------------------------------------------------------------------- fitting, splitting
 
 
-def _orientations(options: WorkshopOptions, grain: float):
-    """Rotations (degrees) a part of face grain ``grain`` may take on a sheet; None: any."""
-    if options.grain == "free":
-        return None
-    base = -grain if options.grain == "along" else 90.0 - grain
-    return [base % 360.0, (base + 180.0) % 360.0]
-
-
-def _fit_angles(options: WorkshopOptions, grain: float) -> np.ndarray:
-    angles = _orientations(options, grain)
-    return np.arange(0.0, 180.0, 1.0) if angles is None else np.asarray(angles[:1])
-
-
-def fitting_size(points, options: WorkshopOptions, grain: float):
-    """Index of the first sheet size ``points`` (a part outline, m) fits on, or None.
-
-    The part fits if, turned by an angle the grain allows, its bounding box lies within the
-    sheet's usable area (:meth:`WorkshopOptions.usable`).
-    """
-    pts = np.asarray(points, dtype=float)
-    a = np.radians(_fit_angles(options, grain))
-    c, s = np.cos(a)[:, None], np.sin(a)[:, None]
-    x = c * pts[:, 0] - s * pts[:, 1]
-    y = s * pts[:, 0] + c * pts[:, 1]
-    dx, dy = np.ptp(x, axis=1), np.ptp(y, axis=1)
-    for k in range(len(options.sheets)):
-        length, width = options.usable(k)
-        # the nesting keeps parts a spacing apart from each other, and its own margin
-        length, width = length - options.spacing, width - options.spacing
-        if np.any((dx <= length) & (dy <= width)):
-            return k
-    return None
-
-
-def _sub_outline(flat: np.ndarray, n: int, j0: int, j1: int) -> np.ndarray:
-    """The outline of the quads ``j0 .. j1 - 1`` of a plate (near row, far row back)."""
-    near = flat[j0 : j1 + 1]
-    far = flat[n + 1 + j0 : n + 2 + j1][::-1]
-    return np.concatenate([near, far])
-
-
-def split_plate(flat, options: WorkshopOptions, grain: float, *, name: str = "plate") -> list:
-    """The rulings a plate is cut along so that every part fits a sheet.
-
-    Parameters
-    ----------
-    flat : (2n + 2, 2) float
-        The plate's cut pattern, m (near row ``0 .. n``, far row ``n + 1 .. 2n + 1``; ruling
-        ``j`` joins ``j`` and ``n + 1 + j``).
-    options : WorkshopOptions
-    grain : float
-        Face-grain direction in the cut pattern, degrees.
-    name : str
-        Plate name for the error message.
-
-    Returns
-    -------
-    list of int
-        Interior rulings to cut along, in order (empty if the plate fits whole). As few parts
-        as a greedy cover needs, then the cuts moved towards equal arc lengths where the parts
-        still fit.
-
-    Raises
-    ------
-    GeometryError
-        A single quad (between two neighbouring rulings) fits no sheet, e.g. a plate wider
-        than every sheet.
-
-    Examples
-    --------
-    >>> square = np.array([[0, 0], [1, 0], [2, 0], [3, 0], [0, 1], [1, 1], [2, 1], [3, 1]])
-    >>> split_plate(square * 1.0, WorkshopOptions(), 0.0)  # 3 m long: two parts, 1 + 2 m
-    [1]
-    """
-    flat = np.asarray(flat, dtype=float)
-    n = flat.shape[0] // 2 - 1
-
-    def fits(a, b):
-        return fitting_size(_sub_outline(flat, n, a, b), options, grain) is not None
-
-    if fits(0, n):
-        return []
-    cuts, start = [], 0
-    while start < n:
-        end = start + 1
-        if not fits(start, end):
-            sizes = ", ".join(f"{a * 1000:g} x {b * 1000:g} mm" for a, b in options.sheets)
-            raise GeometryError(
-                f"{name}: the quad between rulings {start} and {start + 1} fits no sheet in stock "
-                f"({sizes}, less margin and kerf, grain {options.grain!r}); a part must lie "
-                "between two rulings, so the plate cannot be split to fit"
-            )
-        while end < n and fits(start, end + 1):
-            end += 1
-        if end < n:
-            cuts.append(end)
-        start = end
-    # even out: cuts at equal arc length along the crease, where every part still fits
-    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(flat[: n + 1], axis=0), axis=1))]
-    k = len(cuts) + 1
-    even = [int(np.argmin(np.abs(arc - arc[-1] * q / k))) for q in range(1, k)]
-    bounds = [0, *even, n]
-    if len(set(bounds)) == len(bounds) and all(fits(a, b) for a, b in zip(bounds, bounds[1:])):
-        return even
-    return cuts
-
-
 def _rulings_between(flat, n: int, j0: int, j1: int) -> list:
     return [np.array([flat[j], flat[n + 1 + j]]) for j in range(j0 + 1, j1)]
-
-
-def _splices(flat, n: int, j: int, options: WorkshopOptions, hinge_width: float) -> np.ndarray:
-    """The splice plate rectangle across the cut along ruling ``j``: (4, 2) m."""
-    a, b = flat[j], flat[n + 1 + j]
-    length = float(np.linalg.norm(b - a))
-    u = (b - a) / length
-    v = np.array([-u[1], u[0]])
-    inset = min(hinge_width, 0.25 * length)  # clear of the hinge strips along the creases
-    p, q = a + inset * u, b - inset * u
-    h = 0.5 * options.splice_width
-    return np.array([p - h * v, q - h * v, q + h * v, p + h * v])
 
 
 def _part_creases(flat, n: int, j0: int, j1: int, on_plate, kinds: dict) -> list:
@@ -488,24 +384,26 @@ def _part_creases(flat, n: int, j0: int, j1: int, on_plate, kinds: dict) -> list
     return out
 
 
-def make_parts(data, options: WorkshopOptions) -> tuple:
-    """The plate parts and splice plates of every plate: ``(parts, splits)``."""
+def make_parts(data, options: WorkshopOptions, splits: dict | None = None) -> tuple:
+    """The plate parts and splice plates of every plate: ``(parts, splits)``; the cuts
+    ``splits`` (plate id -> rulings), default
+    :func:`~compas_ccu.fabrication.splices.stagger_cuts`."""
+    splits = stagger_cuts(data, options) if splits is None else splits
     n = data.segments
     grain = float(data.metadata.get("grain", 0.0) or 0.0)
     t = float(data.thickness)
     t_splice = t if options.splice_thickness is None else float(options.splice_thickness)
-    parts, splits = [], {}
+    parts = []
     for i, pid in enumerate(data.plate_ids):
         flat = np.asarray(data.flat[i], dtype=float)
-        cuts = split_plate(flat, options, grain, name=f"plate {pid}")
-        splits[int(pid)] = cuts
+        cuts = list(splits.get(int(pid), []))
         bounds = [0, *cuts, n]
         k = len(bounds) - 1
         stack = int(data.stack_position[i])
         on_plate = data.plate_creases(i)
         creases = [f"C{cid}-P{other}" for cid, other, _ in on_plate]
         kinds = {int(c["id"]): str(c.get("kind", "")) for c in data.creases}
-        splice_rects = [_splices(flat, n, j, options, data.hinge_width) for j in cuts]
+        splice_rects = [splice_rectangle(flat, n, j, options, data.hinge_width) for j in cuts]
         for q, (a, b) in enumerate(zip(bounds, bounds[1:])):
             name = f"P{pid}" if k == 1 else f"P{pid}.{q + 1}"
             label = [name + ("" if k == 1 else f" of {k}"), f"stack {stack + 1}", *creases, "UP"]
@@ -515,7 +413,7 @@ def make_parts(data, options: WorkshopOptions) -> tuple:
                     name=name,
                     kind="plate",
                     plate=int(pid),
-                    outline=_sub_outline(flat, n, a, b),
+                    outline=sub_outline(flat, n, a, b),
                     grain=grain,
                     score=_rulings_between(flat, n, a, b),
                     marks=marks,
@@ -754,7 +652,7 @@ def nest_parts(parts: list, options: WorkshopOptions, *, log=None) -> list:
         left = {p.name: p for p in groups[group]}
         centres.update({p.name: p.outline.mean(axis=0) for p in groups[group]})
         shapes = {m: (p.outline - centres[m]) * MM for m, p in left.items()}
-        orient = {m: _orientations(options, p.grain) for m, p in left.items()}
+        orient = {m: part_orientations(options, p.grain) for m, p in left.items()}
         if options.nesting != "shelf":  # one strip of every part, cut into sheet lengths
             windows = _window_sheets(shapes, orient, length, width, options, log)
         while left:
@@ -810,7 +708,7 @@ def _merge_sheets(sheets, parts, centres, options, k, thickness, length, width, 
             return False
         budget[0] -= 1
         shapes = {m: (by_name[m].outline - centres[m]) * MM for m in names}
-        orient = {m: _orientations(options, by_name[m].grain) for m in names}
+        orient = {m: part_orientations(options, by_name[m].grain) for m in names}
         place, used = _strip_pack(
             shapes, orient, width, options.spacing * MM, options, log, fit=length,
             patience=MERGE_PATIENCE,
@@ -997,62 +895,6 @@ def anchors(data) -> list:
     return out
 
 
-def assembly_steps(data, splits: dict, pairing=None) -> list:
-    """The assembly in stack order: splice split plates, then stack bottom to top, gluing the
-    hinge strip of every crease as its second plate is laid."""
-    order = sorted(range(len(data.plate_ids)), key=lambda i: int(data.stack_position[i]))
-    steps = []
-    for i in order:
-        pid = int(data.plate_ids[i])
-        cuts = splits.get(pid, [])
-        if cuts:
-            steps.append(
-                {
-                    "action": "splice",
-                    "plate": pid,
-                    "text": f"Join the {len(cuts) + 1} parts of P{pid} on a flat table, UP face "
-                    "up: "
-                    + "; ".join(
-                        f"splice plates S{pid}.{q + 1}D under and S{pid}.{q + 1}U over the cut "
-                        f"P{pid}.{q + 1}/{q + 2} (glue and screw)"
-                        for q in range(len(cuts))
-                    ),
-                }
-            )
-    laid = set()
-    by_id = {int(c["id"]): c for c in data.creases}
-    for k, i in enumerate(order):
-        pid = int(data.plate_ids[i])
-        step = {
-            "action": "lay",
-            "plate": pid,
-            "stack": k + 1,
-            "text": f"Lay P{pid} UP face up"
-            + ("" if k == 0 else f" on P{int(data.plate_ids[order[k - 1]])}")
-            + f" (stack {k + 1} of {len(order)})",
-        }
-        steps.append(step)
-        for cid in sorted(by_id):
-            a, b = (int(x) for x in by_id[cid]["plates"])
-            if pid in (a, b) and ({a, b} - {pid}) <= laid:
-                faces = pairing[cid] if pairing is not None and cid < len(pairing) else None
-                lo, hi = sorted((a, b), key=lambda x: data.stack_position[data.index(x)])
-                steps.append(
-                    {
-                        "action": "glue",
-                        "crease": cid,
-                        "plates": [lo, hi],
-                        "faces": faces,
-                        "text": f"Glue hinge strip C{cid} joining P{lo} and P{hi} along their "
-                        f"crease" + (f" ({faces} faces)" if faces else ""),
-                    }
-                )
-        laid.add(pid)
-    for n, s in enumerate(steps):
-        s["step"] = n + 1
-    return steps
-
-
 def plan_workshop(
     data,
     strips,
@@ -1111,6 +953,7 @@ def plan_workshop(
         design=data.name,
         model_plate_ids=data.metadata.get("model_plate_ids"),
         nesting_search=nesting_search(options, log),
+        splices=splice_records(data, splits, options),
     )
     plan.bom = bill_of_materials(data, parts, sheets, roll, options, density)
     plan.assembly = assembly_steps(data, splits, pairing)

@@ -173,11 +173,14 @@ def thickness_rows(summary: dict) -> list:
     """Rows of a :meth:`compas_ccu.thickness.ThickModel.summary` (info, fabricate, report)."""
     b, c = summary["bending"], summary["collisions"]
     pairs = summary["pairing"]
+    plates = summary.get("stack_height_plates")  # fabrication.json: the stack with splices
+    spliced = "" if plates is None else f" with the splice plates ({plates * 1e3:.4g} mm plates)"
     rows = [
         (
             "thickness",
             f"{summary['thickness'] * 1e3:.4g} mm {summary['material']}, flat "
-            f"stack {summary['stack_height'] * 1e3:.4g} mm (order {summary['stack_order']})",
+            f"stack {summary['stack_height'] * 1e3:.4g} mm{spliced} (order "
+            f"{summary['stack_order']})",
         ),
         (
             "axis-shift hinges",
@@ -531,8 +534,10 @@ _UNITS = {f.name: f.unit for f in FIGURES}
 def workshop_rows(manifest: dict) -> list:
     """Rows on the workshop of a ``fabrication.json`` (``ccu fabricate``; the report).
 
-    Sheets and their utilisation, the split plates, the splices' bending check (marked as
-    failed above 1), the bill of materials' totals, the cost estimate and the assembly.
+    Sheets and their utilisation, the split plates, the splice plates in the stack (stack
+    height with them, highest pile, mass, from which angle they clear the neighbouring plates),
+    the splices' bending check (marked as failed above 1), the bill of materials' totals, the
+    cost estimate and the assembly.
 
     Examples
     --------
@@ -594,6 +599,24 @@ def workshop_rows(manifest: dict) -> list:
         )
     elif search:
         rows.append(("nesting", f"{search['solver']}: bounding boxes in rows (no search)"))
+    spliced = manifest.get("splices") or {}
+    if spliced.get("count"):
+        clear = (spliced.get("collisions") or {}).get("clear_from_alpha")
+        rows.append(
+            (
+                "splices in the stack",
+                f"stack {spliced['stack_height'] * 1e3:.4g} mm with them (plates "
+                f"{spliced['stack_height_plates'] * 1e3:.4g} mm); highest pile "
+                f"{spliced['max_pile'] * 1e3:.4g} mm (cuts staggered; "
+                f"{spliced['max_pile_unstaggered'] * 1e3:.4g} mm at the same rulings); "
+                f"{spliced['mass']:.3f} kg; "
+                + (
+                    f"clear of the neighbouring plates from alpha {clear:.3g} deg"
+                    if clear is not None
+                    else "** inside a neighbouring plate at the design state **"
+                ),
+            )
+        )
     check = w.get("splice_bending")
     if check and check.get("cuts"):
         worst = max(check["cuts"], key=lambda c: c["utilisation"])

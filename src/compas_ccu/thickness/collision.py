@@ -69,7 +69,7 @@ import numpy as np
 from compas_ccu.geometry import cross3, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
-__all__ = ["Contact", "plate_contacts"]
+__all__ = ["Contact", "plate_contacts", "point_gaps"]
 
 
 def _dot(a, b):
@@ -573,3 +573,43 @@ def _contacts_all(mid_near, mid_far, offsets, faces, thickness, pairs, hinged, r
                 inside &= _dot(hit - base[:, None], nrm[:, None]) >= tol
             crossing[ks, q] |= (sign_change & inside).any(axis=(1, 2))
     return depth, clearance, crossing, where
+
+
+def point_gaps(points, mid_near, mid_far, offsets, thickness, *, tol=EXACT_RELATIVE):
+    """Gap of points over one plate in every state: ``|d| - t/2`` over the cell whose footprint
+    holds the point's foot (the smallest over such cells), inf where none does.
+
+    Negative: the point lies inside the plate by that depth. The brute force of
+    :func:`_contacts_all` (every point against every cell) for points that are not a plate's
+    face vertices, e.g. sample points of a splice plate (:mod:`compas_ccu.thickness.splices`).
+
+    Parameters
+    ----------
+    points : (k, P, 3) float
+    mid_near, mid_far, offsets : (k, n + 1, 3) float
+        The plate's mid-surface boundaries (with the crease corrections) and face offsets.
+    thickness : float
+        The plate's, m.
+    tol : float
+        Lateral tolerance of the footprint test, m.
+
+    Returns
+    -------
+    (k, P) float
+
+    Examples
+    --------
+    A 1 x 1 plate 8 mm thick in z = 0 and points 1 mm and 10 mm above it, and one beside it:
+
+    >>> near = np.array([[[0.0, 0, 0], [1, 0, 0]]])
+    >>> far = near + [0, 1, 0]
+    >>> nu = np.broadcast_to([0.0, 0, 1], near.shape)
+    >>> pts = np.array([[[0.5, 0.5, 0.001], [0.5, 0.5, 0.01], [2.0, 0.5, 0.0]]])
+    >>> np.round(point_gaps(pts, near, far, nu, 0.008), 9).tolist()
+    [[-0.003, 0.006, inf]]
+    """
+    cells = _cells(mid_near, mid_far, offsets)
+    centre, normal = cells[0], cells[1]
+    lateral = _lateral(points, cells, tol)  # (k, P, n)
+    d = _heights(points, centre, normal)
+    return np.where(lateral, np.abs(d) - 0.5 * thickness, np.inf).min(axis=2)

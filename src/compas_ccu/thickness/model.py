@@ -24,6 +24,7 @@ from compas_ccu.thickness.actuation import Actuation, actuation_force, bending_e
 from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thick, solid_faces
 from compas_ccu.thickness.bending import BendingCheck, bending_check
 from compas_ccu.thickness.collision import plate_contacts
+from compas_ccu.thickness.splices import gap_summary, max_pile, slab_points, splice_gaps
 
 __all__ = ["ThickModel", "ThickState", "CollisionReport", "collision_text"]
 
@@ -407,6 +408,83 @@ class ThickModel(Data):
             k = np.median(self.sides[ci, 0] * kappa[a, index.crease_rows(ci)[0]])
             out.append("intrados" if k < 0 else ("extrados" if k > 0 else "flat"))
         return out
+
+    # -- splice plates --------------------------------------------------------------------------
+    def splice_stack(self, splices) -> dict:
+        """The flat stack with splice plates (:mod:`compas_ccu.thickness.splices`).
+
+        Parameters
+        ----------
+        splices : list of compas_ccu.thickness.splices.Splice
+            Plate ids are the model's; footprints in :meth:`cut_patterns` coordinates.
+
+        Returns
+        -------
+        dict
+            ``stack_height`` (the plates' :attr:`stack_height` plus ``max_pile``, m),
+            ``stack_height_plates``, ``max_pile`` (the highest pile of splice plates over one
+            point of the plan, m), ``pile_point`` (where, cut-pattern coordinates, or None),
+            ``count``, ``area`` (m²) and ``mass`` (kg, the plates' material).
+        """
+        quads = np.array([sp.footprint for sp in splices], dtype=float).reshape(-1, 4, 2)
+        pile, point = max_pile(quads, [sp.thickness for sp in splices])
+        plates = self.stack_height
+        return {
+            "stack_height": plates + pile,
+            "stack_height_plates": plates,
+            "max_pile": pile,
+            "pile_point": None if point is None else [float(v) for v in point],
+            "count": len(splices),
+            "area": float(sum(sp.area for sp in splices)),
+            "mass": float(sum(sp.area * sp.thickness for sp in splices) * self.material.density),
+        }
+
+    def splice_collisions(self, splices, alphas=None, *, tolerance: float = 1e-6) -> dict:
+        """Splice plates against the neighbouring plates of the stack along the path.
+
+        An upper-face splice plate faces the plate above its own in the flat stack, a lower-face
+        one the plate below (none on the outside of the stack). Its :func:`slab_points` are
+        tested against that plate's cells in every state (``alphas``, degrees; default: 41
+        from the flat stack to the design): :func:`~compas_ccu.thickness.splices.gap_summary`.
+        """
+        if alphas is None:
+            alphas = np.linspace(0.0, self.model.alpha_design, 41)
+        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+        if not len(splices):
+            return gap_summary([], [], alphas, np.full((len(alphas), 0), np.inf), tolerance)
+        st = self.place(alphas)
+        ruling = unit(st.far - st.near)
+        shift_near, shift_far = self._shift_rows()
+        mid_near = st.near + shift_near[None, :, :, None] * ruling
+        mid_far = st.far - shift_far[None, :, :, None] * ruling
+        index = self.model.plates
+        mech = {pid: i for i, pid in enumerate(index.ids)}
+        row = {pid: r for r, pid in enumerate(index.output_ids)}
+        by_position = {int(k): pid for pid, k in zip(index.output_ids, self.stack_position)}
+        cut = self.cut_patterns()
+        n = index.segments
+        up = np.sign(self.place([0.0]).offsets[0, :, :, 2].mean(axis=1))  # ν to the stack top
+        plates = [mech[int(sp.plate)] for sp in splices]
+        neighbours = [
+            by_position.get(
+                self.stack_position[row[int(sp.plate)]] + (1 if sp.face == "upper" else -1)
+            )
+            for sp in splices
+        ]
+        rows = [row[int(sp.plate)] for sp in splices]
+        points = slab_points(
+            splices,
+            cut[rows, : n + 1],
+            cut[rows, n + 1 :],
+            mid_near[:, plates],
+            mid_far[:, plates],
+            st.offsets[:, plates],
+            self.thickness,
+            up[plates],
+        )
+        targets = [-1 if b is None else mech[b] for b in neighbours]
+        gaps = splice_gaps(points, targets, mid_near, mid_far, st.offsets, self.thickness)
+        return gap_summary(splices, neighbours, alphas, gaps, tolerance)
 
     # -- checks -------------------------------------------------------------------------------
     def collisions(
