@@ -256,12 +256,12 @@ def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, vault_
     )
     # the worst splice: the plates bend uniformly, all ten cuts tie to round-off
     worst = re.match(
-        r"\*\* utilisation 1\.957 \(characteristic 0\.979\) at P(\d) ruling (\d+)",
+        r"\*\* utilisation 2\.151 \(characteristic 1\.075\) at P(\d) ruling (\d+)",
         rows["splice bending"],
     )
     assert work["splits"][worst[1]] == [int(worst[2])]
     assert f["failed_checks"] == manifest["failed_checks"] and len(f["failed_checks"]) == 2
-    assert "splice plates: bending utilisation 1.957 > 1" in f["failed_checks"][1]
+    assert "splice plates: bending utilisation 2.151 > 1" in f["failed_checks"][1]
     page = _fabrication_section(f, tmp_path)
-    assert '<p class="bad">check failed: splice plates: bending utilisation 1.957' in page
+    assert '<p class="bad">check failed: splice plates: bending utilisation 2.151' in page
     assert "<th>splice bending</th>" in page and "Sheets (fabrication.json: sheets)" in page

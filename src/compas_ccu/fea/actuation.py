@@ -138,8 +138,7 @@ def actuate(model, mesh: ShellMesh, settings: FESettings, *, alpha: float) -> De
     chord /= np.linalg.norm(chord, axis=1, keepdims=True)
     along = np.einsum("kfi,ki->kf", forces, chord)
     across = np.linalg.norm(forces - along[..., None] * chord[:, None], axis=2)
-    rigidity = s.material.isotropic_equivalent().E1 * s.thickness**3 / 12.0
-    rigidity /= 1.0 - s.material.isotropic_equivalent().nu12 ** 2
+    rigidity = s.material.isotropic_equivalent().plate_rigidity(s.thickness)
     record = {
         "prebend_deg": pre,
         "prebend_steps": s1,

@@ -341,7 +341,8 @@ FIGURES = (
                 "bending_utilisation",
                 "float",
                 "",
-                "Largest abs(curvature) / (f_d / (E t / 2)) over all plates and path states, "
+                "Largest abs(curvature) / (f_d (1 - nu^2) / (E t / 2)) over all plates and path "
+                "states (the plate stress of a cylindrical bend), "
                 "with the design strength f_d = k_mod f_k / gamma_M of [design_code] "
                 "(> 1: the plates break).",
             ),

@@ -221,7 +221,7 @@ def thickness_rows(summary: dict) -> list:
             "bending check",
             f"max curvature {b['max_curvature']:.3g} 1/m, utilisation "
             f"{b['max_utilisation']:.3f} (plate {worst['plate']} at alpha {worst['alpha']:.3g} "
-            f"deg; limit f{'_d' if design else '_k'}/(E t/2) >= "
+            f"deg; limit f{'_d' if design else '_k'}(1-nu^2)/(E t/2) >= "
             f"{b['curvature_limit_min']:.3g} 1/m)"
             + (f"  ** {bending_verdict(True, basis)} **" if b["exceeded"] else ""),
         )
@@ -232,7 +232,7 @@ def thickness_rows(summary: dict) -> list:
             (
                 "",
                 f"characteristic utilisation {b['max_utilisation_characteristic']:.3f} "
-                f"(f_k/(E t/2) >= {b['curvature_limit_characteristic_min']:.3g} 1/m)",
+                f"(f_k(1-nu^2)/(E t/2) >= {b['curvature_limit_characteristic_min']:.3g} 1/m)",
             )
         )
     if b.get("final_modulus") is not None and basis.get("k_def") is not None:

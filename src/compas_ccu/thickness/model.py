@@ -22,7 +22,7 @@ from compas_ccu.materials import DesignFactors, Material, MaterialError
 from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.thickness.actuation import Actuation, actuation_force, bending_energy
 from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thick, solid_faces
-from compas_ccu.thickness.bending import BendingCheck, bending_check
+from compas_ccu.thickness.bending import BendingCheck, bending_angles, bending_check
 from compas_ccu.thickness.collision import plate_contacts
 from compas_ccu.thickness.splices import gap_summary, max_pile, slab_points, splice_gaps
 
@@ -655,15 +655,15 @@ class ThickModel(Data):
         >>> from compas_ccu.model import load_model
         >>> a = ThickModel(load_model("examples/cone.toml")).actuation()
         >>> round(float(a.energy[-1]), 2), round(a.force_max, 1)
-        (107.68, 526.6)
+        (104.18, 509.5)
         """
         if alphas is None:
             alphas = np.linspace(0.0, self.model.alpha_design, 21)
         alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
         structures = self.model.path(alphas, check=False)
         vertices = np.array([st.deployed for st in structures])
-        m = self.material.isotropic_equivalent()
-        rigidity = m.E1 * self.thickness**3 / (12.0 * (1.0 - m.nu12**2))
+        angles = bending_angles(self.model.flat(), math.radians(self.grain))
+        rigidity = self.material.plate_rigidity(self.thickness, angles)
         energy = bending_energy(vertices, rigidity)
         span = np.array([st.metrics["span"] for st in structures])
         return Actuation(alphas, energy, span, actuation_force(alphas, energy, span))
