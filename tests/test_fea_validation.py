@@ -261,14 +261,22 @@ def test_buckling_factor_of_the_loaded_cone_pair_scales_with_the_load(cone):
     """Kratos: the factor falls roughly in proportion when the area load grows fivefold."""
     light = validate(cone, engine="kratos", area_load=1500.0, **FAST).summary()["checks"]
     heavy = validate(cone, engine="kratos", area_load=7500.0, **FAST).summary()["checks"]
-    assert 3.0 < light["buckling_factor"] < 20.0  # measured 6.64
-    assert 1.0 < heavy["buckling_factor"] < light["buckling_factor"] / 3.0  # measured 1.46
+    assert 3.0 < light["buckling_factor_mean"] < 20.0  # measured 6.64
+    assert 1.0 < heavy["buckling_factor_mean"] < light["buckling_factor_mean"] / 3.0  # 1.46
+    # the design factor (EC5 2.4.1, E_mean / gamma_M and creep): the same reduction for both
+    # loads (measured 3.08 and 0.68), so the heavier load fails where the mean factor passes
+    for c in (light, heavy):
+        assert c["buckling_factor"] < c["buckling_factor_mean"] / 1.2
+    assert light["buckling_factor"] / light["buckling_factor_mean"] == pytest.approx(
+        heavy["buckling_factor"] / heavy["buckling_factor_mean"], rel=1e-12
+    )
+    assert heavy["buckling_factor"] < 1.0 < light["buckling_factor"]
     # the buckling load itself (factor x total design load, 1.35 G + 1.5 Q) agrees within
     # 15 % (pre-buckling nonlinearity; measured 15.4 and 16.5 kN/m2); near the limit point
     # (15 kN/m2 characteristic, factor 1.06) the linearised factor overshoots by 55 %
     w = 600.0 * 9.81 * 0.008
-    first = light["buckling_factor"] * (1.5 * 1500.0 + 1.35 * w)
-    second = heavy["buckling_factor"] * (1.5 * 7500.0 + 1.35 * w)
+    first = light["buckling_factor_mean"] * (1.5 * 1500.0 + 1.35 * w)
+    second = heavy["buckling_factor_mean"] * (1.5 * 7500.0 + 1.35 * w)
     assert abs(first - second) <= 0.15 * first
     assert heavy["deflection_max_m"] > 4.0 * light["deflection_max_m"]
 
