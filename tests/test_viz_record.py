@@ -246,7 +246,7 @@ def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, vault_
     rows = dict(f["workshop_rows"])
     assert f"{manifest['bom']['mass_kg']:.1f} kg" in rows["bill of materials"]
     assert "160 fasteners" in rows["bill of materials"]
-    assert rows["splices in the stack"].startswith(
+    assert rows["splice plates"].startswith(
         "stack 86 mm with them (plates 80 mm); highest pile 6 mm (cuts staggered; 60 mm at the "
         "same rulings); 0.756 kg; clear of the neighbouring plates from alpha "
     )

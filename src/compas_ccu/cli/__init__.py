@@ -26,6 +26,7 @@ import warnings
 
 from compas_ccu.cli import (
     catalog,
+    check,
     explore,
     fabrication,
     fea,
@@ -59,12 +60,13 @@ _ALL = {
         optimize,
         scale,
         fabrication,
+        check,
         studio,
     )
     for c in module.COMMANDS
 }
 _ORDER = ("new", "deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
-_ORDER += ("catalog", "validate", "explore", "optimize", "scale", "fabricate")
+_ORDER += ("catalog", "validate", "explore", "optimize", "scale", "fabricate", "check")
 _ORDER += ("import", "report", "studio")
 COMMANDS = tuple(_ALL[name] for name in _ORDER)
 

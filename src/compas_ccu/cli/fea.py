@@ -26,6 +26,7 @@ from compas_ccu.fea.loads import CASE_NAMES
 from compas_ccu.fea.problem import ConvergenceError
 from compas_ccu.fea.record import agreement, remember
 from compas_ccu.fea.validation import validate as run_validation
+from compas_ccu.key_figures.checks import failed, fe_checks
 from compas_ccu.outputs import write_json
 
 __all__ = ["COMMANDS"]
@@ -91,6 +92,16 @@ def validate(args) -> int:
         say(args, line)
     for f in files:
         say(args, f"wrote {f}")
+    bad = failed(fe_checks(summary))
+    if bad and not args.allow_exceeded:
+        for c in bad:
+            print(f"ccu: check failed: {c.brief()} ({c.clause})", file=sys.stderr)
+        print(
+            f"ccu: {len(bad)} FE check{'s' if len(bad) != 1 else ''} failed; the files are "
+            "written for inspection; exit status 3 (--allow-exceeded: 0)",
+            file=sys.stderr,
+        )
+        return 3
     return 0
 
 
@@ -158,7 +169,8 @@ COMMANDS = (
         "the deployed state under the design's load cases ([loads], [supports], [hinges]: "
         "self-weight, wet concrete, construction, snow, half-span snow, wind). Writes "
         "validation.json, fe_results.npz and the fe_stress / fe_deviation / fe_curves / "
-        "fe_load_cases pictures into --out.",
+        "fe_load_cases pictures into --out. Exit status 3 if a load case fails a check "
+        "(every failed check listed), unless --allow-exceeded.",
         (
             DESIGN,
             OUT,
@@ -234,6 +246,12 @@ COMMANDS = (
             option("--no-checks", action="store_true", help="skip the structural checks"),
             option("--compare", action="store_true", help="cross-check with the other engine"),
             option("--no-figures", action="store_true", help="skip the pictures"),
+            option(
+                "--allow-exceeded",
+                action="store_true",
+                help="exit 0 even if a load case fails its checks (utilisation, deflection, "
+                "design buckling factor)",
+            ),
             QUIET,
         ),
         validate,

@@ -294,6 +294,7 @@ def _case(history: DeploymentHistory, entry: dict, k0: int, span: float) -> dict
     stiffness = _stiffness(h, case, factors, m, k0, uls)
     final = _final_deflection(h, case, factors.k_def, k0, sls)
     creep = stiffness.k_def if stiffness.k_def is not None else 0.0
+    buckling_design = design_buckling_factor(buckling, stiffness.gamma_M, creep, stiffness.psi2)
     up = h.model.axes[1]
     return {
         **case.to_dict(),
@@ -317,9 +318,8 @@ def _case(history: DeploymentHistory, entry: dict, k0: int, span: float) -> dict
         "basis": factors.to_dict(),
         "stiffness": stiffness.to_dict(),
         "utilisation_ok": bool(utilisation <= 1.0),
-        "buckling_factor": design_buckling_factor(
-            buckling, stiffness.gamma_M, creep, stiffness.psi2
-        ),
+        "buckling_factor": buckling_design,
+        "buckling_ok": None if buckling_design is None else bool(buckling_design >= 1.0),
         "buckling_factor_instantaneous": design_buckling_factor(buckling, stiffness.gamma_M),
         "buckling_factor_mean": buckling,
         "buckling_note": note,
@@ -380,6 +380,7 @@ def structural_checks(history: DeploymentHistory) -> dict | None:
         "utilisation_ok": all(c["utilisation_ok"] for c in cases),
         "reaction_total_N": heaviest,
         "buckling_factor": buck,
+        "buckling_ok": None if buck is None else bool(buck >= 1.0),
         "buckling_factor_mean": next(
             (c["buckling_factor_mean"] for c in cases if c["name"] == buck_case), None
         ),

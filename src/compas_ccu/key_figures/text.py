@@ -174,7 +174,13 @@ def thickness_rows(summary: dict) -> list:
     b, c = summary["bending"], summary["collisions"]
     pairs = summary["pairing"]
     plates = summary.get("stack_height_plates")  # fabrication.json: the stack with splices
-    spliced = "" if plates is None else f" with the splice plates ({plates * 1e3:.4g} mm plates)"
+    spliced = ""
+    if plates is not None:
+        spliced = (
+            " (no splice plates)"
+            if abs(summary["stack_height"] - plates) < 1e-12
+            else f" with the splice plates ({plates * 1e3:.4g} mm plates)"
+        )
     rows = [
         (
             "thickness",
@@ -604,7 +610,7 @@ def workshop_rows(manifest: dict) -> list:
         clear = (spliced.get("collisions") or {}).get("clear_from_alpha")
         rows.append(
             (
-                "splices in the stack",
+                "splice plates",
                 f"stack {spliced['stack_height'] * 1e3:.4g} mm with them (plates "
                 f"{spliced['stack_height_plates'] * 1e3:.4g} mm); highest pile "
                 f"{spliced['max_pile'] * 1e3:.4g} mm (cuts staggered; "
