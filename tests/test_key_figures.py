@@ -205,6 +205,11 @@ def test_a_dome_reports_the_plan_diameter_and_height_of_the_whole_structure(tmp_
     brute = max(float(np.linalg.norm(xy - q, axis=1).max()) for q in xy)
     assert k.plan_diameter == pytest.approx(brute, rel=1e-12)
     assert k.plan_diameter > 1.5 * k.crease_span  # the dome, not its leading crease
+    # a half dome: its diameter lies across the bounding box (y), twice the foot's 1.9 m
+    assert k.plan_diameter == pytest.approx(k.plan_y, rel=1e-12)
+    assert k.plan_diameter == pytest.approx(2 * 1.9, rel=1e-12)
+    points = np.asarray(model.deploy().deployed, dtype=float).reshape(-1, 3)
+    assert k.height == pytest.approx(float(np.ptp(points[:, 2])), rel=1e-12)
     rows = dict(figure_rows(k))
     assert rows["plan diameter"] == f"{k.plan_diameter:.4f} m (the whole structure in plan)"
     assert rows["height"] == f"{k.height:.4f} m (the whole structure)"
