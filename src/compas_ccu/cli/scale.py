@@ -9,13 +9,13 @@ from compas_ccu.cli.parser import (
     DESIGN,
     MAX_AREA_LOAD,
     MAX_LENGTH,
-    MAX_SHEET,
     MAX_THICKNESS,
     OUT,
     QUIET,
     Command,
     numbers,
     option,
+    sheet_option,
 )
 from compas_ccu.design.schema import design_sheet
 from compas_ccu.errors import OptionError
@@ -141,17 +141,7 @@ COMMANDS = (
                 default=None,
                 help="with law 'given': one thickness per span, m, comma separated",
             ),
-            option(
-                "--sheet",
-                type=float,
-                positive=True,
-                maximum=MAX_SHEET,
-                nargs=2,
-                default=None,
-                metavar=("LENGTH", "WIDTH"),
-                help="the stock sheet, m, as ccu fabricate takes it (default: the design's "
-                "first [fabrication] sheet, 2.5 x 1.25 unless it names one)",
-            ),
+            sheet_option(),
             option(
                 "--fe",
                 action="store_true",

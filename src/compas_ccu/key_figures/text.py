@@ -37,6 +37,7 @@ __all__ = [
     "size_figures",
     "utilisation_text",
     "deployment_utilisation_text",
+    "kink_note",
 ]
 
 #: Width of the label column of ``ccu info``.
@@ -58,16 +59,27 @@ def row_failed(text: str) -> bool:
 
 
 def _design_alpha(k) -> str:
-    """Which α the design angle is (a vertex's), and the edges' α from their fold angles."""
-    text = f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex}"
+    """Which α the design angle is (a vertex's), and the edges' α from their fold angles (the
+    fold a builder sets; at a kink or an inflection the two differ).
+
+    >>> from compas_ccu.key_figures import KeyFigures
+    >>> _design_alpha(KeyFigures(alpha_design=30.0, reference_vertex=32, fold_alpha_min=30.4506,
+    ...     fold_alpha_max=30.4506, reference_fold_alpha=30.4506))
+    '30 deg at reference vertex 32 (a vertex angle); every crease edge folds at alpha 30.45 deg'
+    >>> _design_alpha(KeyFigures(alpha_design=30.0, reference_vertex=24, fold_alpha_min=30.0,
+    ...     fold_alpha_max=43.77, reference_fold_alpha=30.001))[48:]
+    'the edges fold at alpha 30.00 ... 43.77 deg, 30.00 deg at the reference vertex'
+    """
+    text = f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex} (a vertex angle)"
     if k.fold_alpha_min is None:  # a design without creases
         return text
     lo, hi = k.fold_alpha_min, k.fold_alpha_max
-    span = f"{lo:.2f} deg" if round(lo, 2) == round(hi, 2) else f"{lo:.2f} ... {hi:.2f} deg"
+    if round(lo, 2) == round(hi, 2):
+        return f"{text}; every crease edge folds at alpha {lo:.2f} deg"
     there = ""
     if k.reference_fold_alpha is not None:
-        there = f", {k.reference_fold_alpha:.2f} deg there"
-    return f"{text} (a vertex angle); the edges fold at alpha {span}{there}"
+        there = f", {k.reference_fold_alpha:.2f} deg at the reference vertex"
+    return f"{text}; the edges fold at alpha {lo:.2f} ... {hi:.2f} deg{there}"
 
 
 def utilisation_text(u) -> str:
@@ -280,6 +292,8 @@ def thickness_rows(summary: dict) -> list:
             + (f"  ** {bending_verdict(True, basis)} **" if b["exceeded"] else ""),
         )
     )
+    if worst.get("at_kink"):
+        rows.append(("", kink_note(worst["ruling"])))
     rows.append(("bending basis", basis_text(basis)))
     if design:
         rows.append(
@@ -327,6 +341,20 @@ def _effort_text(push: dict) -> str:
         f"{energy}; the feet {'push' if h >= 0.0 else 'pull'} {way} on a ring through them (radius "
         f"{push['ring_radius_m']:.4g} m, {push['ring_angle_deg']:.4g} deg) with {abs(h):.4g} "
         f"N/m: ring {ring} {abs(push['ring_tension_N']):.4g} N (docs/structural.md)"
+    )
+
+
+def kink_note(ruling: int) -> str:
+    """What a curvature peak on the ruling of a crease kink means (a funicular's point load).
+
+    >>> kink_note(31)[:60]
+    'the peak is on ruling 31, at a kink of the crease (a point l'
+    """
+    return (
+        f"the peak is on ruling {ruling}, at a kink of the crease (a point load of the "
+        "funicular): the plates turn by a finite angle in one quad row there, so this "
+        "curvature grows as the segments get shorter; spread the load (distributed_loads) or "
+        "hinge or cut along that ruling (docs/shape-control.md)"
     )
 
 

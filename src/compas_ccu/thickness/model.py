@@ -720,6 +720,9 @@ class ThickModel(Data):
                     "alpha": float(alphas[k]),
                     "plate": self.model.plate_ids[plate],
                     "vertex": vertex,
+                    # the ruling of the peak, and whether it runs from a kink of the crease
+                    "ruling": vertex % (self.model.segments + 1),
+                    "at_kink": vertex % (self.model.segments + 1) in self.model.geometry.kinks,
                 },
                 "exceeded": bool(bend.max > 1.0),
             },
