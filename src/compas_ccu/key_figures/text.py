@@ -65,21 +65,21 @@ def _design_alpha(k) -> str:
     >>> from compas_ccu.key_figures import KeyFigures
     >>> _design_alpha(KeyFigures(alpha_design=30.0, reference_vertex=32, fold_alpha_min=30.4506,
     ...     fold_alpha_max=30.4506, reference_fold_alpha=30.4506))
-    '30 deg at reference vertex 32 (a vertex angle); every crease edge folds at alpha 30.45 deg'
+    '30 deg at reference vertex 32 (a vertex angle); every edge folds at alpha 30.45 deg'
     >>> _design_alpha(KeyFigures(alpha_design=30.0, reference_vertex=24, fold_alpha_min=30.0,
     ...     fold_alpha_max=43.77, reference_fold_alpha=30.001))[48:]
-    'the edges fold at alpha 30.00 ... 43.77 deg, 30.00 deg at the reference vertex'
+    'edges fold at alpha 30.00 ... 43.77 deg (30.00 there)'
     """
     text = f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex} (a vertex angle)"
     if k.fold_alpha_min is None:  # a design without creases
         return text
     lo, hi = k.fold_alpha_min, k.fold_alpha_max
     if round(lo, 2) == round(hi, 2):
-        return f"{text}; every crease edge folds at alpha {lo:.2f} deg"
+        return f"{text}; every edge folds at alpha {lo:.2f} deg"
     there = ""
     if k.reference_fold_alpha is not None:
-        there = f", {k.reference_fold_alpha:.2f} deg at the reference vertex"
-    return f"{text}; the edges fold at alpha {lo:.2f} ... {hi:.2f} deg{there}"
+        there = f" ({k.reference_fold_alpha:.2f} there)"
+    return f"{text}; edges fold at alpha {lo:.2f} ... {hi:.2f} deg{there}"
 
 
 def utilisation_text(u) -> str:
