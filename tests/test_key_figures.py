@@ -205,6 +205,11 @@ def test_a_dome_reports_the_plan_diameter_and_height_of_the_whole_structure(tmp_
     brute = max(float(np.linalg.norm(xy - q, axis=1).max()) for q in xy)
     assert k.plan_diameter == pytest.approx(brute, rel=1e-12)
     assert k.plan_diameter > 1.5 * k.crease_span  # the dome, not its leading crease
+    # a half dome: its diameter lies across the bounding box (y), twice the foot's 1.9 m
+    assert k.plan_diameter == pytest.approx(k.plan_y, rel=1e-12)
+    assert k.plan_diameter == pytest.approx(2 * 1.9, rel=1e-12)
+    points = np.asarray(model.deploy().deployed, dtype=float).reshape(-1, 3)
+    assert k.height == pytest.approx(float(np.ptp(points[:, 2])), rel=1e-12)
     rows = dict(figure_rows(k))
     assert rows["plan diameter"] == f"{k.plan_diameter:.4f} m (the whole structure in plan)"
     assert rows["height"] == f"{k.height:.4f} m (the whole structure)"
@@ -213,3 +218,30 @@ def test_a_dome_reports_the_plan_diameter_and_height_of_the_whole_structure(tmp_
     assert dict(figure_rows(vault))["span"] == "2.5000 m (leading crease chord)"
     assert vault.plan_diameter == pytest.approx(float(np.hypot(vault.plan_x, vault.plan_y)),
                                                 rel=0.05)  # fmt: skip
+
+
+def test_a_curvature_peak_at_a_funicular_kink_is_explained():
+    """Fig. 9d: the crease's one kink (a point load) is on crease vertex 31 and the plates'
+    curvature peaks on that ruling, 5.18 1/m against 0.07-1.00 1/m elsewhere; the bending
+    rows say so. The vault's peak is at no kink (it has none)."""
+    from compas_ccu.catalog import catalog_path
+    from compas_ccu.key_figures.text import thickness_rows
+    from compas_ccu.strips.curvature import plate_curvature
+    from compas_ccu.thickness import ThickModel
+
+    model = load_model(catalog_path("fig09d-funicular"))
+    n = model.segments
+    assert model.geometry.kinks == (31,)
+    kappa = np.abs(plate_curvature(np.asarray(model.deploy().deployed)[None]))[0]
+    assert kappa[:, [31, n + 32]].max() == pytest.approx(5.1756, abs=1e-4)
+    smooth = np.delete(kappa[:, : n + 1], 31, axis=1)
+    assert (smooth.min(), smooth.max()) == pytest.approx((0.0714, 0.9952), abs=1e-4)
+    summary = ThickModel(model).summary(path_states=5)
+    worst = summary["bending"]["worst"]
+    assert worst["ruling"] == 31 and worst["at_kink"]
+    rows = thickness_rows(summary)
+    note = [text for label, text in rows if "at a kink of the crease" in text]
+    assert len(note) == 1 and note[0].startswith("the peak is on ruling 31")
+    vault = ThickModel(load_model(EXAMPLES / "vault.toml")).summary(path_states=3)
+    assert not vault["bending"]["worst"]["at_kink"]
+    assert not any("kink" in text for _, text in thickness_rows(vault))

@@ -34,7 +34,7 @@ def test_check_relations_and_verdict_line():
     # every failure in the verdict, 3 digits near 1 (1.0004 is not printed as "1")
     assert lines[-1] == (
         "3 checks: 1 passed, 2 FAILED: FE a design buckling factor 0.878 >= 1; "
-        "FE b ULS utilisation 1.000 <= 1"
+        "FE b ULS utilisation 1.0004 <= 1"
     )
     assert [c.name for c in failed([ok, low, over])] == [
         "design buckling factor",

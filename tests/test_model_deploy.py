@@ -427,3 +427,23 @@ def test_crease_records_carry_the_fold_angle_of_every_edge(name, fold_alpha, ver
     k = key_figures(model)
     assert (k.fold_alpha_min, k.fold_alpha_max) == pytest.approx((fold_alpha, fold_alpha),
                                                                  abs=5e-5)  # fmt: skip
+
+
+@pytest.mark.parametrize("alpha", [10.0, 25.0, 40.0])
+def test_the_fold_of_the_cone_is_the_analytic_one_edge_by_edge(cone_model, alpha):
+    """The exact kinematic state of the circular-arc crease (the cone pair): every crease vertex
+    lies R = 2 m from the apex, on a circle of radius R cos(alpha) at the height R sin(alpha)
+    below it, so the fold between the two mirror cones across an edge of central angle d3
+    (sin(d3/2) = sin(d2/2) / cos(alpha), d2 = 90 deg / n of the pattern) is
+    2 atan(tan(alpha) / cos(d3/2)): slightly more than 2 alpha, the per-vertex angle."""
+    n = cone_model.segments
+    d2 = math.radians(90.0 / n)
+    d3 = 2.0 * math.asin(math.sin(d2 / 2.0) / math.cos(math.radians(alpha)))
+    exact = 2.0 * math.degrees(math.atan(math.tan(math.radians(alpha)) / math.cos(d3 / 2.0)))
+    crease = cone_model.deploy(alpha).creases[0]
+    np.testing.assert_allclose(crease["fold_angles"], exact, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(crease["fold_alpha"], exact / 2.0, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(crease["alpha"], alpha, rtol=0, atol=1e-12)  # the vertex angle
+    assert exact / 2.0 - alpha == pytest.approx(
+        {10.0: 0.00135, 25.0: 0.00358, 40.0: 0.00644}[alpha], abs=1e-5
+    )

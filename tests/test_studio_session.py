@@ -282,7 +282,7 @@ def test_checks_of_the_vault(vault_model):
     assert rows["crease planarity"].status == "ok"
     assert rows["invariants"].status == "ok"
     assert rows["global curvature"].value == "monoclastic"
-    assert rows["design span"].value == f"{figures.crease_span:.4g} m"
+    assert rows["span"].value == f"{figures.crease_span:.4g} m"
     assert max(checks.plate_utilisation.values()) == pytest.approx(figures.bending_utilisation)
     assert sorted(checks.plate_utilisation) == sorted(vault_model.plate_ids)
 

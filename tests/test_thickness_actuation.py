@@ -43,3 +43,42 @@ def test_the_cone_pair_and_the_command_line(capsys):
         "deployment effort bending energy 104.2 J at the design; force between the feet "
         "509.5 N there, up to 509.5 N along the path" in capsys.readouterr().out
     )
+
+
+def test_a_dome_is_held_by_a_ring_through_its_feet(tmp_path, capsys):
+    """Radial layouts: the ring tension T = -dE/dalpha / (dL/dalpha) of a tie through the feet
+    (the vault's tie, T = -F, with the ring in place of the span), checked against central
+    differences of the energy and the ring's length measured afresh at alpha +- 0.5 deg; the
+    half dome would close back into its stack, so the ring is in compression."""
+    from compas_ccu.design.presets import write_preset
+    from compas_ccu.key_figures import key_figures
+    from compas_ccu.thickness.actuation import foot_ring
+    from compas_ccu.thickness.model import radial_feet
+
+    write_preset("dome", tmp_path / "dome.toml")
+    model = load_model(tmp_path / "dome.toml")
+    thick = ThickModel(model)
+    push = thick.actuation(np.linspace(0.0, 30.0, 81))
+    near = thick.actuation([29.5, 30.0, 30.5])
+    dE = near.energy[2] - near.energy[0]
+    dL = near.ring_length[2] - near.ring_length[0]
+    assert push.ring_tension[-1] == pytest.approx(-dE / dL, rel=2e-3)
+    assert push.ring_tension[-1] == pytest.approx(-81.95, abs=0.01)  # N, compression
+    assert np.degrees(push.ring_angle[-1]) == pytest.approx(180.0, abs=1e-9)  # half a turn
+    assert push.ring_thrust[-1] == pytest.approx(push.ring_tension[-1] / push.ring_radius[-1])
+    # the feet: the lower end of the creases, on the vertical axis of the layout (x = y = 0)
+    vertices = np.array([model.deploy(30.0).deployed])
+    origin, axis, end = radial_feet(model, vertices)
+    assert end == model.segments and np.allclose(np.cross(axis, [0, 0, 1]), 0, atol=1e-12)
+    radii = np.hypot(*vertices[0, :, [end, 2 * model.segments + 1]].reshape(-1, 3)[:, :2].T)
+    assert push.ring_radius[-1] == pytest.approx(radii.mean(), rel=1e-12)
+    assert foot_ring(vertices, origin, axis, end)[0][0] == pytest.approx(near.ring_length[1])
+    k = key_figures(model, path=24, thickness=True)
+    assert k.ring_tension == pytest.approx(-81.9, abs=0.2) and k.ring_tension < 0
+    assert k.ring_thrust == pytest.approx(k.ring_tension / k.ring_radius)
+    assert main(["info", str(tmp_path / "dome.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "the feet pull inwards on a ring through them (radius 1.647 m, 180 deg)" in out
+    assert "with 49.61 N/m: ring compression 81.73 N" in out  # 21 states
+    vault = ThickModel(load_model("examples/vault.toml")).actuation([15.0, 30.0])
+    assert vault.ring_length is None and vault.ring_tension is None  # a vault has its tie

@@ -10,12 +10,12 @@ from compas_ccu.cli.common import FAB, load_model, need_extra, progress, say
 from compas_ccu.cli.parser import (
     DESIGN,
     MAX_LENGTH,
-    MAX_SHEET,
     MAX_THICKNESS,
     OUT,
     QUIET,
     Command,
     option,
+    sheet_option,
 )
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.design import load_design
@@ -211,17 +211,7 @@ COMMANDS = (
                 action="store_true",
                 help="exit 0 even if a check fails (bending utilisation above 1)",
             ),
-            option(
-                "--sheet",
-                type=float,
-                positive=True,
-                maximum=MAX_SHEET,
-                nargs=2,
-                action="append",
-                default=None,
-                metavar=("LENGTH", "WIDTH"),
-                help="a sheet size in stock, m (repeat for several; default [fabrication] sheets)",
-            ),
+            sheet_option(repeat=True),
             option("--kerf", type=float, minimum=0.0, maximum=0.1, default=None, help="kerf, m"),
             option(
                 "--nesting",

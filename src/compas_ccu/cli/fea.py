@@ -27,6 +27,7 @@ from compas_ccu.fea.problem import ConvergenceError
 from compas_ccu.fea.record import agreement, remember
 from compas_ccu.fea.validation import validate as run_validation
 from compas_ccu.key_figures.checks import failed, fe_checks
+from compas_ccu.key_figures.text import deployment_utilisation_text
 from compas_ccu.outputs import write_json
 
 __all__ = ["COMMANDS"]
@@ -137,6 +138,8 @@ def _summary_lines(summary: dict) -> list:
     ]
     lines.insert(1, _hinge_line(summary["settings"]))
     c = summary["checks"]
+    if not c:  # actuation mode (or --no-checks): the deployed state against f_d alone
+        lines.append(deployment_utilisation_text(summary))
     if c:
         lines.extend(load_case_lines(c))
         if c.get("basis"):

@@ -18,12 +18,12 @@ from dataclasses import dataclass, field, fields
 from typing import Callable
 
 from compas_ccu import __version__
-from compas_ccu.design.schema import MAX_LENGTH
+from compas_ccu.design.schema import MAX_LENGTH, STOCK_SHEET
 from compas_ccu.errors import OptionError
 from compas_ccu.limits import LIMITS, check
 
 __all__ = ["Option", "Command", "option", "DESIGN", "OUT", "QUIET", "QUIET_PROGRESS"]
-__all__ += ["build_parser", "check_options", "numbers", "COUNT_LIMITS"]
+__all__ += ["build_parser", "check_options", "numbers", "COUNT_LIMITS", "sheet_option"]
 __all__ += ["MAX_LENGTH", "MAX_THICKNESS", "MAX_SHEET", "MAX_AREA_LOAD", "MAX_HINGE_STIFFNESS"]
 
 #: The largest plate thickness an option takes, m (the bound of ``plates.thickness``).
@@ -94,6 +94,33 @@ QUIET = option("--quiet", action="store_true", help="print nothing on success")
 QUIET_PROGRESS = option(
     "--quiet", action="store_true", help="no progress, print nothing on success"
 )
+
+
+def sheet_option(*, repeat: bool = False) -> Option:
+    """The ``--sheet LENGTH WIDTH`` option: one syntax and one default for every command that
+    takes a stock sheet (``ccu fabricate``, repeatable; ``ccu scale``). Without it the design's
+    ``[fabrication] sheets`` are used, :data:`compas_ccu.design.schema.STOCK_SHEET` unless it
+    names its own (the studio draws the same sheet).
+
+    >>> sheet_option().flags, sheet_option(repeat=True).settings["action"]
+    (('--sheet',), 'append')
+    """
+    default = f"{STOCK_SHEET[0]:g} x {STOCK_SHEET[1]:g}"
+    more = {"action": "append"} if repeat else {}
+    return option(
+        "--sheet",
+        type=float,
+        positive=True,
+        maximum=MAX_SHEET,
+        nargs=2,
+        default=None,
+        metavar=("LENGTH", "WIDTH"),
+        help="a stock sheet, m, length along the face grain"
+        + (" (repeat for several)" if repeat else "")
+        + f"; default: the design's {'' if repeat else 'first '}[fabrication] "
+        + f"sheet{'s' if repeat else ''} ({default} unless it names its own)",
+        **more,
+    )
 
 
 def build_parser(commands) -> argparse.ArgumentParser:

@@ -9,18 +9,19 @@ from compas_ccu.cli.parser import (
     DESIGN,
     MAX_AREA_LOAD,
     MAX_LENGTH,
-    MAX_SHEET,
     MAX_THICKNESS,
     OUT,
     QUIET,
     Command,
     numbers,
     option,
+    sheet_option,
 )
 from compas_ccu.design.schema import design_sheet
 from compas_ccu.errors import OptionError
 from compas_ccu.explore.scale import THICKNESS_LAWS, plot_scale, scale_study, write_csv
 from compas_ccu.fea.loads import CASE_NAMES
+from compas_ccu.key_figures.text import utilisation_text
 from compas_ccu.viz.export import save_figure
 
 __all__ = ["COMMANDS"]
@@ -55,7 +56,8 @@ def scale(args) -> int:
             say(
                 args,
                 f"span {row['span']:6.3f} m  t {row['thickness'] * 1000:5.2f} mm  "
-                f"mass {row['mass']:8.1f} kg  bending {row['bending_utilisation']:.3f}  "
+                f"mass {row['mass']:8.1f} kg  bending "
+                f"{utilisation_text(row['bending_utilisation'])}  "
                 f"actuation {row['actuation_force']:7.0f} N  plate "
                 f"{row['plate_length']:.3f} x {row['plate_width']:.3f} m"
                 + ("" if row["fits_sheet"] else " (larger than the sheet)"),
@@ -139,17 +141,7 @@ COMMANDS = (
                 default=None,
                 help="with law 'given': one thickness per span, m, comma separated",
             ),
-            option(
-                "--sheet",
-                type=float,
-                positive=True,
-                maximum=MAX_SHEET,
-                nargs=2,
-                default=None,
-                metavar=("LENGTH", "WIDTH"),
-                help="the stock sheet, m, as ccu fabricate takes it (default: the design's "
-                "first [fabrication] sheet, 2.5 x 1.25 unless it names one)",
-            ),
+            sheet_option(),
             option(
                 "--fe",
                 action="store_true",

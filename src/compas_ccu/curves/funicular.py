@@ -66,6 +66,18 @@ class FunicularProfile(SpanRiseProfile):
     curvature is ``y'' / (1 + y'^2)^(3/2)`` with ``y'' = -q rise / max M``: zero on unloaded
     stretches (straight pieces), and it jumps where a distributed load starts or ends.
 
+    **Kinks are curvature peaks of the plates.** The thrust line turns by a finite angle at a
+    point load (the slope jumps by ``P / H``), all of it at one crease vertex. The plates of a
+    curved-crease structure are developable and follow the crease: they turn with it along the
+    ruling through that vertex, a bend concentrated in the one quad row beside it instead of
+    spread along the crease, so the plates' discrete curvature there is about the turn over the
+    row's width and grows as the segments get shorter (a fold line along the ruling in the
+    limit). On catalog Fig. 9d (48 segments) the crease turns by 18.7 deg at the kink against
+    at most 2.4 deg at any other vertex, and the plates' curvature peaks at 5.18 1/m there
+    against 0.07-1.00 1/m elsewhere: the kinematic bending check reads that peak (``ccu info``
+    says when it does). Spread a real point load over a width (``distributed_loads``: no kink)
+    or put a hinge or a cut along that ruling (docs/shape-control.md).
+
     Parameters
     ----------
     span : float

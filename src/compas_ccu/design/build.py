@@ -88,6 +88,9 @@ class DesignGeometry:
         Crease planes of a multi-crease layout (local frame, design state).
     target_fit : TargetFit or None
         The planes solved for ``[target]`` curves and the remaining fit error.
+    kinks : tuple of int
+        Crease vertices at a kink of the profile (a funicular's point loads: the slope jumps
+        there), in profile order; empty for smooth profiles.
     """
 
     mechanism: Mechanism
@@ -101,6 +104,7 @@ class DesignGeometry:
     state: str
     planes: PlaneLayout | None = None
     target_fit: TargetFit | None = None
+    kinks: tuple = ()
 
 
 def _trim(near, direction, normal, offset, plane: int, plate: int):
@@ -144,6 +148,7 @@ def build(design) -> DesignGeometry:
             points = np.asarray(crease.points, dtype=float)  # the vertices as given
         else:
             points = np.asarray(profile.sample(n), dtype=float)
+        kinks = _kink_vertices(profile, n) if len(points) == n + 1 else ()
     except ProfileError as exc:
         raise DesignError(str(exc), key="[crease]") from exc
     except (ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
@@ -255,7 +260,19 @@ def build(design) -> DesignGeometry:
         state,
         planes,
         fit,
+        kinks,
     )
+
+
+def _kink_vertices(profile, n: int) -> tuple:
+    """The crease vertices on a kink of ``profile`` (its ``kinks``: arc lengths, which
+    ``sample_s`` puts on samples exactly), ends excluded."""
+    at = getattr(profile, "kinks", None)
+    if at is None or not len(at):
+        return ()
+    s = np.asarray(profile.sample_s(n), dtype=float)
+    found = {int(np.argmin(np.abs(s - k))) for k in np.asarray(at, dtype=float)}
+    return tuple(sorted(i for i in found if 0 < i < n))
 
 
 def _plate_chain(near0, r, m: int, k0: int, plane_at):

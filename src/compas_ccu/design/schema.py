@@ -244,8 +244,10 @@ SCHEMA: dict = {
         "_doc": "The design state.",
         "alpha": Key(
             "float",
-            "Design reflection angle at the reference vertex, degrees. The "
-            "stack is flat-folded at 0.",
+            "Design reflection angle at the reference vertex, degrees: that vertex's angle "
+            "between its ruling and the crease tangent. The stack is flat-folded at 0. The fold "
+            "a builder sets is the edges' (structure.json fold_angles / fold_alpha, ccu info): "
+            "at a kink or an inflection of the crease it differs from the vertex angle.",
             required=True,
             check=_angle_open,
             check_doc="0 < alpha < 90",

@@ -41,6 +41,7 @@ from compas_ccu.fabrication.workshop import (
     write_bom_csv,
     write_sheet_dxf,
 )
+from compas_ccu.key_figures.text import utilisation_text
 from compas_ccu.thickness import ThickModel
 from compas_ccu.thickness.bending import bending_verdict
 
@@ -93,23 +94,24 @@ def failed_checks(manifest: dict) -> list:
         b = manifest["bending"]
         verdict = bending_verdict(True, b.get("basis", {}))
         failed.append(
-            f"bending utilisation {b['max_utilisation']:.3f} > 1 (plate {b['worst']['plate']}): "
-            + verdict.split(": ", 1)[1]
+            f"bending utilisation {utilisation_text(b['max_utilisation'])} > 1 (plate "
+            f"{b['worst']['plate']}): " + verdict.split(": ", 1)[1]
         )
     splices = (manifest.get("workshop") or {}).get("splice_bending") or {}
     if splices.get("exceeded"):
         worst = max(splices["cuts"], key=lambda c: c["utilisation"])
         broken = worst["utilisation_characteristic"] > 1.0
         failed.append(
-            f"splice plates: bending utilisation {worst['utilisation']:.3f} > 1"
+            f"splice plates: bending utilisation {utilisation_text(worst['utilisation'])} > 1"
             + (
-                f" ({worst['utilisation_characteristic']:.3f} characteristic: they would break)"
+                f" ({utilisation_text(worst['utilisation_characteristic'])} characteristic: "
+                "they would break)"
                 if broken
                 else ""
             )
             + f" where plate "
             f"{worst['plate']} is cut along ruling {worst['ruling']} (the plate's "
-            f"{worst['plate_utilisation']:.3f} x {splices['factor']:.3g} for splices "
+            f"{utilisation_text(worst['plate_utilisation'])} x {splices['factor']:.3g} for splices "
             f"{splices['splice_thickness'] * 1000:.3g} mm thick glued on both faces): use "
             "thinner splice plates ([fabrication] splice_thickness) or larger sheets"
         )

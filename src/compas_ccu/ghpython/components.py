@@ -23,6 +23,7 @@ from compas_ccu.fabrication import fabrication_data
 from compas_ccu.fabrication.dxf import PLATE_LAYERS, strip_layout
 from compas_ccu.fabrication.fabricate import fabricate
 from compas_ccu.ghpython.convert import crease_plane, curve_points, to_host, to_host_surface
+from compas_ccu.key_figures.text import utilisation_text
 from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.model import CCUModel
 from compas_ccu.scene.draw import draw_items, item_structure
@@ -344,7 +345,7 @@ def checks_component(model, alpha=None, *, thickness=None) -> ChecksResult:
     lines.append(
         f"{'WARN' if bending['exceeded'] else 'ok  '} bending ({bending['basis']['basis']}, "
         f"{summary['thickness'] * 1000:g} mm {summary['material']}): max utilisation "
-        f"{bending['max_utilisation']:.3f}"
+        f"{utilisation_text(bending['max_utilisation'])}"
     )
     return ChecksResult(bool(ok), "\n".join(lines), values)
 

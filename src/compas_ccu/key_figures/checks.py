@@ -23,6 +23,8 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
+from compas_ccu.key_figures.text import utilisation_text
+
 __all__ = [
     "Check",
     "INVARIANT_TOLERANCE",
@@ -71,7 +73,7 @@ class Check:
 
     def text(self) -> str:
         """One line: source, check, value, relation, limit, verdict, clause (and note)."""
-        value = _number(self.value)
+        value = self.value_text()
         line = (
             f"{self.source:<12} {self.name:<32} {value:>9} {self.relation} "
             f"{_number(self.limit):<7} {'ok' if self.ok else 'FAILED':<7} {self.clause}"
@@ -81,8 +83,12 @@ class Check:
     def brief(self) -> str:
         """Source, check, value, relation and limit: ``FE snow ULS utilisation 1.02 <= 1``."""
         return (
-            f"{self.source} {self.name} {_number(self.value)} {self.relation} {_number(self.limit)}"
+            f"{self.source} {self.name} {self.value_text()} {self.relation} {_number(self.limit)}"
         )
+
+    def value_text(self) -> str:
+        """The value as printed: a utilisation (limit 1) by :func:`utilisation_text`."""
+        return utilisation_text(self.value) if self.limit == 1.0 else _number(self.value)
 
     def to_dict(self) -> dict:
         return {**asdict(self), "ok": self.ok}
@@ -344,7 +350,7 @@ def check_lines(checks) -> list:
 
     >>> lines = check_lines([Check("FE a", "design buckling factor", 0.68, 1.0, ">=", "x")])
     >>> lines[-1]
-    '1 check: 0 passed, 1 FAILED: FE a design buckling factor 0.68 >= 1'
+    '1 check: 0 passed, 1 FAILED: FE a design buckling factor 0.680 >= 1'
     """
     lines = [f"{'source':<12} {'check':<32} {'value':>9}    {'limit':<7} {'verdict':<7} basis"]
     lines += [c.text() for c in checks]

@@ -208,6 +208,7 @@ def design_state_figures(model, structure=None) -> dict:
             "alpha_max": float(max(alphas)),
             "fold_alpha_min": 0.5 * min(min(c["fold_angles"]) for c in structure.creases),
             "fold_alpha_max": 0.5 * max(max(c["fold_angles"]) for c in structure.creases),
+            "reference_fold_alpha": reference_fold_alpha(model, structure),
             "alpha_limit": float(model.alpha_limit),
             "limit_vertex": model.limit_vertex,
             "overlap_alpha": overlap,
@@ -364,6 +365,7 @@ def thickness_figures(thick, alphas) -> dict:
         "mass": plate_area(thick.model) * thick.thickness * thick.material.density,
         "deployment_energy": float(push.energy[-1]),
         "actuation_force": push.force_max,
+        **_ring_figures(push),
         "bending_utilisation": float(bend.max),
         "bending_utilisation_characteristic": bend.max_characteristic,
         "bending_basis": bend.factors.label,
@@ -372,3 +374,36 @@ def thickness_figures(thick, alphas) -> dict:
         "k_def": bend.factors.k_def,
         "bending_curvature": float(np.abs(bend.curvature).max()),
     }
+
+
+def _ring_figures(push) -> dict:
+    """The ring of feet of a radial layout at the design state (the last of the path)."""
+    if push.ring_length is None:
+        return {}
+    return {
+        "ring_radius": float(push.ring_radius[-1]),
+        "ring_thrust": float(push.ring_thrust[-1]),
+        "ring_tension": float(push.ring_tension[-1]),
+    }
+
+
+def reference_fold_alpha(model, structure) -> float | None:
+    """The reflection angle the leading crease's edges imply at the reference vertex: half the
+    mean fold of the one or two edges that meet there (``fold_alpha`` of structure.json), the
+    fold a builder sets where the design angle is read off; None without creases.
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> round(reference_fold_alpha(model, model.deploy()), 6)  # 40 deg at the vertex
+    40.006437
+    """
+    if not structure.creases:
+        return None
+    lead = next(ci for ci, c in enumerate(model.mechanism.creases) if c.fixed)
+    record = next(c for c in structure.creases if c["id"] == lead)
+    fold = np.asarray(record["fold_angles"], dtype=float)
+    r = model.reference
+    edges = [j for j in (r - 1, r) if 0 <= j < len(fold)]
+    return float(0.5 * fold[edges].mean())

@@ -51,7 +51,13 @@ FIGURES = (
     *_group(
         "deployment",
         [
-            ("alpha_design", "float", "deg", "Design reflection angle at the reference vertex."),
+            (
+                "alpha_design",
+                "float",
+                "deg",
+                "Design reflection angle at the reference vertex: the per-vertex angle between "
+                "the vertex's ruling and the crease tangent (the edges' folds: fold_alpha_*).",
+            ),
             (
                 "reference_vertex",
                 "int",
@@ -79,6 +85,15 @@ FIGURES = (
                 "float",
                 "deg",
                 "Largest reflection angle of any crease edge at the design (half its fold).",
+            ),
+            (
+                "reference_fold_alpha",
+                "float",
+                "deg",
+                "Reflection angle the leading crease's edges imply at the reference vertex: half "
+                "the mean fold of the edges that meet there (the fold a builder sets where "
+                "alpha_design is read off; alpha_design is the vertex's angle between its ruling "
+                "and the crease tangent, which differs at a kink or an inflection).",
             ),
             (
                 "alpha_limit",
@@ -334,8 +349,31 @@ FIGURES = (
                 "actuation_force",
                 "float",
                 "N",
-                "Largest force between the feet along the path that holds the structure: "
-                "dE/dalpha / (d span/dalpha), quasi-static, no friction or self-weight.",
+                "Largest force between the feet (the leading crease's two ends) along the path "
+                "that holds the structure: dE/dalpha / (d span/dalpha), quasi-static, no "
+                "friction or self-weight (radial layouts: ring_thrust).",
+            ),
+            (
+                "ring_radius",
+                "float",
+                "m",
+                "Radial layouts: radius of the ring of feet about the axis at the design, "
+                "sqrt(2 A / Theta) (A the plan area of the fan of the feet, Theta its angle).",
+            ),
+            (
+                "ring_thrust",
+                "float",
+                "N/m",
+                "Radial layouts: horizontal thrust of the feet on a ring that holds them at the "
+                "design, per metre of ring, h = -dE/dalpha / (dA/dalpha): the statics of "
+                "actuation_force with the ring's plan area in place of the span (positive "
+                "outwards; negative: the feet pull inwards). Active bending only.",
+            ),
+            (
+                "ring_tension",
+                "float",
+                "N",
+                "Radial layouts: tension of that ring, h * ring_radius (negative: compression).",
             ),
             (
                 "bending_utilisation",

@@ -34,6 +34,10 @@ __all__ = [
     "value_text",
     "rows_lines",
     "row_failed",
+    "size_figures",
+    "utilisation_text",
+    "deployment_utilisation_text",
+    "kink_note",
 ]
 
 #: Width of the label column of ``ccu info``.
@@ -55,13 +59,74 @@ def row_failed(text: str) -> bool:
 
 
 def _design_alpha(k) -> str:
-    """Which α the design angle is (a vertex's), and the edges' α from their fold angles."""
-    text = f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex}"
+    """Which α the design angle is (a vertex's), and the edges' α from their fold angles (the
+    fold a builder sets; at a kink or an inflection the two differ).
+
+    >>> from compas_ccu.key_figures import KeyFigures
+    >>> _design_alpha(KeyFigures(alpha_design=30.0, reference_vertex=32, fold_alpha_min=30.4506,
+    ...     fold_alpha_max=30.4506, reference_fold_alpha=30.4506))
+    '30 deg at reference vertex 32 (a vertex angle); every edge folds at alpha 30.45 deg'
+    >>> _design_alpha(KeyFigures(alpha_design=30.0, reference_vertex=24, fold_alpha_min=30.0,
+    ...     fold_alpha_max=43.77, reference_fold_alpha=30.001))[48:]
+    'edges fold at alpha 30.00 ... 43.77 deg (30.00 there)'
+    """
+    text = f"{k.alpha_design:g} deg at reference vertex {k.reference_vertex} (a vertex angle)"
     if k.fold_alpha_min is None:  # a design without creases
         return text
     lo, hi = k.fold_alpha_min, k.fold_alpha_max
-    span = f"{lo:.2f} deg" if round(lo, 2) == round(hi, 2) else f"{lo:.2f} ... {hi:.2f} deg"
-    return f"{text} (a vertex angle); the edges fold at alpha {span}"
+    if round(lo, 2) == round(hi, 2):
+        return f"{text}; every edge folds at alpha {lo:.2f} deg"
+    there = ""
+    if k.reference_fold_alpha is not None:
+        there = f" ({k.reference_fold_alpha:.2f} there)"
+    return f"{text}; edges fold at alpha {lo:.2f} ... {hi:.2f} deg{there}"
+
+
+def utilisation_text(u) -> str:
+    """A utilisation as a user reads it: three decimals, and more where three would round a
+    value across 1 (so that no failed check reads 1.000 and no passing one 1.000 either).
+
+    Examples
+    --------
+    >>> utilisation_text(1.004), utilisation_text(0.5), utilisation_text(1.0)
+    ('1.004', '0.500', '1.000')
+    >>> utilisation_text(1.0004), utilisation_text(0.99996), utilisation_text(1.0 + 1e-12)
+    ('1.0004', '0.99996', '1.000000000001')
+    >>> utilisation_text(0.9995), utilisation_text(12.3456), utilisation_text(None)
+    ('0.9995', '12.346', '—')
+    >>> utilisation_text(float("nan")), utilisation_text(float("inf"))
+    ('nan', 'inf')
+    """
+    if u is None:
+        return "—"
+    u = float(u)
+    if not math.isfinite(u):
+        return str(u)
+    digits = 3
+    while digits < 15 and u != 1.0 and float(f"{u:.{digits}f}") == 1.0:
+        digits += 1
+    return f"{u:.{digits}f}"
+
+
+def size_figures(layout: str) -> tuple:
+    """The figures that give a design's size, ``(name, label)``: the span and rise of a vault
+    (its leading crease), the plan diameter and height of a radial dome or funnel (the whole
+    structure; its leading crease's chord says little) with the thrust on its ring of feet.
+    ``ccu info``, the report and the studio show these.
+
+    >>> [name for name, _ in size_figures("radial")][:2]
+    ['plan_diameter', 'height']
+    """
+    if layout == "radial":
+        return (
+            ("plan_diameter", "plan diameter"),
+            ("height", "height"),
+            ("crease_span", "leading crease chord"),
+            ("crease_rise", "leading crease rise"),
+            ("ring_thrust", "ring thrust"),
+            ("ring_tension", "ring tension"),
+        )
+    return (("crease_span", "span"), ("crease_rise", "rise"), ("height", "height"))
 
 
 def _size_rows(k) -> list:
@@ -226,18 +291,22 @@ def thickness_rows(summary: dict) -> list:
         (
             "bending check",
             f"max curvature {b['max_curvature']:.3g} 1/m, utilisation "
-            f"{b['max_utilisation']:.3f} (plate {worst['plate']} at alpha {worst['alpha']:.3g} "
+            f"{utilisation_text(b['max_utilisation'])} (plate {worst['plate']} at alpha "
+            f"{worst['alpha']:.3g} "
             f"deg; limit f{'_d' if design else '_k'}(1-nu^2)/(E t/2) >= "
             f"{b['curvature_limit_min']:.3g} 1/m)"
             + (f"  ** {bending_verdict(True, basis)} **" if b["exceeded"] else ""),
         )
     )
+    if worst.get("at_kink"):
+        rows.append(("", kink_note(worst["ruling"])))
     rows.append(("bending basis", basis_text(basis)))
     if design:
         rows.append(
             (
                 "",
-                f"characteristic utilisation {b['max_utilisation_characteristic']:.3f} "
+                "characteristic utilisation "
+                f"{utilisation_text(b['max_utilisation_characteristic'])} "
                 f"(f_k(1-nu^2)/(E t/2) >= {b['curvature_limit_characteristic_min']:.3g} 1/m)",
             )
         )
@@ -252,15 +321,47 @@ def thickness_rows(summary: dict) -> list:
         )
     push = summary.get("actuation")
     if push:
-        rows.append(
-            (
-                "deployment effort",
-                f"bending energy {push['energy_J']:.4g} J at the design; force "
-                f"between the feet {abs(push['force_design_N']):.4g} N there, up to "
-                f"{push['force_max_N']:.4g} N along the path (docs/structural.md)",
-            )
-        )
+        rows.append(("deployment effort", _effort_text(push)))
     return rows
+
+
+def _effort_text(push: dict) -> str:
+    """The deployment effort: the force between the feet of a vault, the thrust on the ring of
+    feet of a radial dome or funnel (``ThickModel.summary()["actuation"]``).
+
+    >>> _effort_text({"energy_J": 22.38, "force_design_N": -820.7, "force_max_N": 820.7,
+    ...     "ring_radius_m": 1.647, "ring_angle_deg": 180.0, "ring_thrust_N_per_m": -49.72,
+    ...     "ring_tension_N": -81.9})  # doctest: +NORMALIZE_WHITESPACE
+    'bending energy 22.38 J at the design; the feet pull inwards on a ring through them (radius
+    1.647 m, 180 deg) with 49.72 N/m: ring compression 81.9 N (docs/structural.md)'
+    """
+    energy = f"bending energy {push['energy_J']:.4g} J at the design"
+    h = push.get("ring_thrust_N_per_m")
+    if h is None:
+        return (
+            f"{energy}; force between the feet {abs(push['force_design_N']):.4g} N there, up to "
+            f"{push['force_max_N']:.4g} N along the path (docs/structural.md)"
+        )
+    way, ring = ("outwards", "tension") if h >= 0.0 else ("inwards", "compression")
+    return (
+        f"{energy}; the feet {'push' if h >= 0.0 else 'pull'} {way} on a ring through them (radius "
+        f"{push['ring_radius_m']:.4g} m, {push['ring_angle_deg']:.4g} deg) with {abs(h):.4g} "
+        f"N/m: ring {ring} {abs(push['ring_tension_N']):.4g} N (docs/structural.md)"
+    )
+
+
+def kink_note(ruling: int) -> str:
+    """What a curvature peak on the ruling of a crease kink means (a funicular's point load).
+
+    >>> kink_note(31)[:60]
+    'the peak is on ruling 31, at a kink of the crease (a point l'
+    """
+    return (
+        f"the peak is on ruling {ruling}, at a kink of the crease (a point load of the "
+        "funicular): the plates turn by a finite angle in one quad row there, so this "
+        "curvature grows as the segments get shorter; spread the load (distributed_loads) or "
+        "hinge or cut along that ruling (docs/shape-control.md)"
+    )
 
 
 def basis_text(basis: dict) -> str:
@@ -348,8 +449,9 @@ def load_case_table(checks: dict) -> tuple:
         cells = [
             k["name"],
             _actions_text(k["actions"]),
-            f"{k['deflection_max_m'] * 1e3:.2f} mm ({k['deflection_ratio']:.3f}){fin or ''}",
-            f"{k['utilisation_max']:.3f} (k_mod {k['basis']['k_mod']:g}, "
+            f"{k['deflection_max_m'] * 1e3:.2f} mm ({utilisation_text(k['deflection_ratio'])})"
+            f"{fin or ''}",
+            f"{utilisation_text(k['utilisation_max'])} (k_mod {k['basis']['k_mod']:g}, "
             f"{k['strength_MPa']:.3g} MPa)",
             ("—" if b is None else format(b, ".3g")) + ("" if mean is None else f" ({mean:.3g})"),
             f"{r['start_vertical_N']:.0f} / {r['start_horizontal_N']:.0f} | "
@@ -402,6 +504,38 @@ def load_case_lines(checks: dict) -> list:
     return lines
 
 
+def deployment_utilisation_text(summary: dict) -> str:
+    """The deployed state's stress against the design strength f_d, from a validation summary
+    (``validation.json``): the check of ``ccu validate --mode actuation``, which has no load
+    cases. The peak surface principal stress (the load cases' measure) over
+    ``f_d = k_mod f_k / gamma_M`` of the settings' ``design_code`` (``f_k`` the smaller
+    strength, as the isotropic check).
+
+    >>> summary = {"stresses": {"max_tension_MPa": 14.2, "max_compression_MPa": -15.1},
+    ...     "settings": {"material": {"f1": 30e6, "f2": 30e6}, "design_code": {"code": "EC5",
+    ...     "service_class": 1, "load_duration": "permanent", "k_mod": 0.6, "gamma_M": 1.2}}}
+    >>> deployment_utilisation_text(summary)  # doctest: +NORMALIZE_WHITESPACE
+    'deployed state: utilisation 1.007 (peak stress 15.1 MPa over f_d 15 MPa = k_mod 0.6 x f_k
+    30 MPa / gamma_M 1.2, EC5 SC1 permanent)  ** EXCEEDED **'
+    """
+    st, s = summary["stresses"], summary["settings"]
+    code, m = s["design_code"], s["material"]
+    peak = max(st["max_tension_MPa"], -st["max_compression_MPa"])
+    f_k = min(m["f1"], m["f2"]) / 1e6
+    f_d = f_k * code["k_mod"] / code["gamma_M"]
+    u = peak / f_d
+    basis = (
+        "characteristic"
+        if code["code"] == "characteristic"
+        else f"{code['code']} SC{code['service_class']} {code['load_duration']}"
+    )
+    return (
+        f"deployed state: utilisation {utilisation_text(u)} (peak stress {peak:.3g} MPa over "
+        f"f_d {f_d:.3g} MPa = k_mod {code['k_mod']:g} x f_k {f_k:.3g} MPa / gamma_M "
+        f"{code['gamma_M']:g}, {basis})" + ("  ** EXCEEDED **" if u > 1.0 else "")
+    )
+
+
 def validation_rows(record: dict | None) -> list:
     """Rows on the last FE validation record of a design file (``ccu info``), if any."""
     if record is None:
@@ -430,7 +564,7 @@ def validation_rows(record: dict | None) -> list:
                     if c.get("deflection_final_max_m") is not None
                     else ""
                 )
-                + f", utilisation {c['utilisation_max']:.3f}"
+                + f", utilisation {utilisation_text(c['utilisation_max'])}"
                 + (
                     f", buckling factor {c['buckling_factor']:.3g}"
                     + (
@@ -627,9 +761,9 @@ def workshop_rows(manifest: dict) -> list:
     if check and check.get("cuts"):
         worst = max(check["cuts"], key=lambda c: c["utilisation"])
         text = (
-            f"utilisation {worst['utilisation']:.3f} (characteristic "
-            f"{worst['utilisation_characteristic']:.3f}) at P{worst['plate']} ruling "
-            f"{worst['ruling']}: the plate's {worst['plate_utilisation']:.3f} x "
+            f"utilisation {utilisation_text(worst['utilisation'])} (characteristic "
+            f"{utilisation_text(worst['utilisation_characteristic'])}) at P{worst['plate']} ruling "
+            f"{worst['ruling']}: the plate's {utilisation_text(worst['plate_utilisation'])} x "
             f"{check['factor']:.3g} (splices {check['splice_thickness'] * 1e3:g} mm glued on "
             f"both faces of {check['thickness'] * 1e3:g} mm)"
         )

@@ -90,6 +90,7 @@ class StateRecords:
         for ci in range(len(model.mechanism.creases)):
             rows_a, rows_b = model.plates.crease_rows(ci)
             kind, vertex_kinds, _ = kinds[ci]
+            fold = self.fold_angles(k, ci)
             origin = model.frame.to_world(states.plane_origins[k, ci])
             normal = model.frame.vector_to_world(states.plane_normals[k, ci])
             record = {
@@ -100,7 +101,8 @@ class StateRecords:
                 "plane": {"origin": origin.tolist(), "normal": normal.tolist()},
                 "planarity": float(planarity[k, ci]),
                 "alpha": self._alpha[k, ci].tolist(),
-                "fold_angles": self.fold_angles(k, ci).tolist(),
+                "fold_angles": fold.tolist(),
+                "fold_alpha": (0.5 * fold).tolist(),
                 "sum_beta": self._sum_beta[k, ci].tolist(),
             }
             if kind == "mixed":

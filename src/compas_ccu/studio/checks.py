@@ -15,6 +15,7 @@ import numpy as np
 from compas_ccu.errors import CCUError
 from compas_ccu.key_figures import key_figures
 from compas_ccu.key_figures.table import FIGURES
+from compas_ccu.key_figures.text import size_figures, utilisation_text
 from compas_ccu.thickness import ThickModel
 from compas_ccu.thickness.bending import bending_verdict
 
@@ -176,7 +177,7 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
         rows.append(
             Check(
                 "bending",
-                f"{u:.3f}",
+                utilisation_text(u),
                 status,
                 f"largest utilisation (plate {ids[worst]}, {g.material}, t = "
                 f"{g.thickness * 1000:.3g} mm, {bend.factors.label})"
@@ -215,11 +216,9 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
         )
     )
     for name, label in (
-        ("crease_span", "design span"),
-        ("crease_rise", "design rise"),
+        *size_figures(g.layout),
         ("plan_x", "plan x"),
         ("plan_y", "plan y"),
-        ("height", "height"),
         ("stack_length", "stack length"),
         ("stack_width", "stack width"),
         ("stack_height", "stack height"),

@@ -15,6 +15,19 @@ is the force between the feet that holds the structure at α — the actuation f
 jack across the span, without friction or self-weight. Negative: the feet must be pushed
 together (the span shrinks as the plates bend). The FE deployment measures the same work as the
 work of its supports (``validation.json`` ``load_path``; docs/structural.md compares the two).
+
+A radial dome or funnel has no span between two feet: its feet stand on a ring about the
+layout's axis. The same statics, with the ring in place of the tie: a ring through the feet (a
+band of plan length ``L``) of tension ``T`` does the work ``−T dL`` as the feet move, so
+
+    T(α) = −dE/dα / (dL/dα),    h = T / R
+
+is the ring's tension (positive: tension, the feet push outwards on it; negative: they pull
+inwards, the structure would close back into its stack, and the ring is in compression) and
+``h`` the horizontal thrust of the feet on it per metre of ring (a circular ring of radius
+``R`` carries a radial line load ``T / R``; ``R`` the mean distance of the feet from the axis;
+:func:`foot_ring`, :func:`ring_tension`). For the vault's tie ``T = −F``. Like ``F``, it is the
+active bending's alone: self-weight and loads add their own thrust (the FE reactions).
 """
 
 from __future__ import annotations
@@ -25,7 +38,7 @@ import numpy as np
 
 from compas_ccu.strips.curvature import plate_curvature
 
-__all__ = ["bending_energy", "actuation_force", "Actuation"]
+__all__ = ["bending_energy", "actuation_force", "ring_tension", "foot_ring", "Actuation"]
 
 
 class Actuation(NamedTuple):
@@ -41,12 +54,33 @@ class Actuation(NamedTuple):
         Span of the leading crease, m.
     force : (k,) float
         Force between the feet, N (NaN where the span does not change: the flat stack).
+    ring_length, ring_angle, ring_radius : (k,) float or None
+        A radial layout's ring of feet (:func:`foot_ring`): its plan length, m, the angle the
+        feet span about the axis, radians, and their mean distance from it, m; None for
+        other layouts.
     """
 
     alphas: np.ndarray
     energy: np.ndarray
     span: np.ndarray
     force: np.ndarray
+    ring_length: np.ndarray | None = None
+    ring_angle: np.ndarray | None = None
+    ring_radius: np.ndarray | None = None
+
+    @property
+    def ring_tension(self) -> np.ndarray | None:
+        """(k,) tension of the ring that holds the feet, N (:func:`ring_tension`), or None."""
+        if self.ring_length is None:
+            return None
+        return ring_tension(self.alphas, self.energy, self.ring_length)
+
+    @property
+    def ring_thrust(self) -> np.ndarray | None:
+        """(k,) thrust of the feet on the ring, ``h = T / R``, N/m (positive outwards)."""
+        if self.ring_length is None:
+            return None
+        return self.ring_tension / self.ring_radius
 
     @property
     def force_max(self) -> float:
@@ -159,3 +193,78 @@ def actuation_force(alphas, energy, span) -> np.ndarray:
     # cannot resolve), and wherever the span stands still
     still = (np.abs(ds) <= 1e-12 * np.maximum(np.abs(np.asarray(span)), 1.0)) | (a <= 0.0)
     return np.where(still, np.nan, de / np.where(still, 1.0, ds))
+
+
+def ring_tension(alphas, energy, length) -> np.ndarray:
+    """(k,) ``T = -dE/dα / (dL/dα)``: the tension of a ring through the feet that holds them,
+    N (negative: compression; NaN at the flat stack and where the ring's length stands
+    still). The statics of :func:`actuation_force` with the ring in place of the tie across
+    the span: a band of plan length ``L`` and tension ``T`` does the work ``-T dL``.
+
+    Energy and length quadratic in α (radians), the energy growing as the ring opens:
+    ``T = -4 α / (0.02 α) = -200`` N (compression) at every state.
+
+    >>> a = np.linspace(0.0, 30.0, 7)
+    >>> x = np.radians(a)
+    >>> np.round(ring_tension(a, 2.0 * x**2, 3.0 + 0.01 * x**2)[1:], 9).tolist()
+    [-200.0, -200.0, -200.0, -200.0, -200.0, -200.0]
+    """
+    return -actuation_force(alphas, energy, length)
+
+
+def foot_ring(vertices, origin, axis, end: int) -> tuple:
+    """The ring of feet of a radial layout: its plan length, the angle it spans, its radius.
+
+    Every plate stands on its end ruling ``end`` (0 or ``n``: the row of crease vertex ``end``
+    and its far vertex). Projected on the plane perpendicular to the axis, the ring's length
+    ``L`` is the sum of the feet's lengths (a tie through the feet, corrugated as they stand),
+    ``Θ`` the sum of the angles they span about the axis and ``R`` the mean distance of the
+    feet's ends from it.
+
+    Parameters
+    ----------
+    vertices : (k, p, 2n + 2, 3) float
+        Deployed plates.
+    origin, axis : (3,) float
+        A point of the layout's axis and its direction.
+    end : int
+        The crease vertex of the feet, 0 or n.
+
+    Returns
+    -------
+    length : (k,) float
+        m.
+    angle : (k,) float
+        Radians.
+    radius : (k,) float
+        m.
+
+    Examples
+    --------
+    Two plates whose feet are chords of a circle of radius 2 about the z axis, 45 deg each:
+
+    >>> import math
+    >>> phi = np.radians([0.0, 45.0, 90.0])
+    >>> ring = np.c_[2.0 * np.cos(phi), 2.0 * np.sin(phi), np.zeros(3)]
+    >>> top = 0.5 * ring + [0.0, 0.0, 1.0]
+    >>> plates = np.array([[ring[0], top[0], ring[1], top[1]], [ring[1], top[1], ring[2],
+    ...                     top[2]]])  # n = 1: near 0, 1 then far 0, 1
+    >>> length, angle, radius = foot_ring(plates[None], np.zeros(3), [0.0, 0.0, 1.0], 0)
+    >>> round(float(length[0]), 12), round(2 * 4.0 * math.sin(math.pi / 8), 12)  # 2 chords
+    (3.061467458921, 3.061467458921)
+    >>> round(float(np.degrees(angle[0])), 9), round(float(radius[0]), 12)
+    (90.0, 2.0)
+    """
+    v = np.asarray(vertices, dtype=float)
+    n = v.shape[-2] // 2 - 1
+    e = np.asarray(axis, dtype=float)
+    e = e / np.linalg.norm(e)
+
+    def radial(p):  # the part perpendicular to the axis, from the axis
+        d = p - np.asarray(origin, dtype=float)
+        return d - (d @ e)[..., None] * e
+
+    a, b = radial(v[..., end, :]), radial(v[..., n + 1 + end, :])
+    angle = np.arctan2(np.abs(np.cross(a, b) @ e), np.einsum("...i,...i->...", a, b))
+    radius = 0.5 * (np.linalg.norm(a, axis=-1) + np.linalg.norm(b, axis=-1)).mean(axis=-1)
+    return np.linalg.norm(b - a, axis=-1).sum(axis=-1), angle.sum(axis=-1), radius

@@ -20,7 +20,12 @@ from compas_ccu.kinematics.mechanism import MechanismStates
 from compas_ccu.kinematics.plates import stack_rows
 from compas_ccu.materials import DesignFactors, Material, MaterialError
 from compas_ccu.strips.curvature import plate_curvature
-from compas_ccu.thickness.actuation import Actuation, actuation_force, bending_energy
+from compas_ccu.thickness.actuation import (
+    Actuation,
+    actuation_force,
+    bending_energy,
+    foot_ring,
+)
 from compas_ccu.thickness.axis_shift import ThickStates, crease_sides, place_thick, solid_faces
 from compas_ccu.thickness.bending import BendingCheck, bending_angles, bending_check
 from compas_ccu.thickness.collision import plate_contacts
@@ -666,7 +671,9 @@ class ThickModel(Data):
         rigidity = self.material.plate_rigidity(self.thickness, angles)
         energy = bending_energy(vertices, rigidity)
         span = np.array([st.metrics["span"] for st in structures])
-        return Actuation(alphas, energy, span, actuation_force(alphas, energy, span))
+        ring = radial_feet(self.model, vertices)
+        feet = (None, None, None) if ring is None else foot_ring(vertices, *ring)
+        return Actuation(alphas, energy, span, actuation_force(alphas, energy, span), *feet)
 
     def _final_modulus(self):
         """``E1 / (1 + k_def)``, ``E2 / (1 + k_def)`` (Pa): the final-state stiffness under the
@@ -713,6 +720,9 @@ class ThickModel(Data):
                     "alpha": float(alphas[k]),
                     "plate": self.model.plate_ids[plate],
                     "vertex": vertex,
+                    # the ruling of the peak, and whether it runs from a kink of the crease
+                    "ruling": vertex % (self.model.segments + 1),
+                    "at_kink": vertex % (self.model.segments + 1) in self.model.geometry.kinks,
                 },
                 "exceeded": bool(bend.max > 1.0),
             },
@@ -729,5 +739,39 @@ class ThickModel(Data):
                 "energy_J": float(push.energy[design]),
                 "force_max_N": push.force_max,
                 "force_design_N": float(push.force[design]),
+                **_ring_summary(push, design),
             },
         }
+
+
+def radial_feet(model, vertices) -> tuple | None:
+    """The axis and the feet of a radial layout: ``(origin, axis, end)`` for
+    :func:`compas_ccu.thickness.actuation.foot_ring`, or None for other layouts.
+
+    The axis is the line every crease plane contains (world coordinates); the feet are the end
+    rulings at the lower end of the creases (world z, at the last state of ``vertices``).
+    """
+    planes = model.planes
+    if model.design.values["layout"]["type"] != "radial" or planes is None:
+        return None
+    # plane k holds the axis line x = axis, z = 0 of the leading frame: n . (axis, y, 0) = d
+    k = int(np.argmax(np.abs(planes.normals[:, 0])))
+    x = planes.offsets[k] / planes.normals[k, 0]
+    origin, ahead = model.to_world(np.array([[x, 0.0, 0.0], [x, 1.0, 0.0]]))
+    n = model.segments
+    last = np.asarray(vertices, dtype=float)[-1]
+    end = 0 if last[:, 0, 2].mean() <= last[:, n, 2].mean() else n
+    return origin, ahead - origin, end
+
+
+def _ring_summary(push, k: int) -> dict:
+    """The ring of feet of a radial layout at state ``k`` (``ThickModel.summary``)."""
+    if push.ring_length is None:
+        return {}
+    thrust, tension = push.ring_thrust, push.ring_tension
+    return {
+        "ring_radius_m": float(push.ring_radius[k]),
+        "ring_angle_deg": float(np.degrees(push.ring_angle[k])),
+        "ring_thrust_N_per_m": float(thrust[k]),
+        "ring_tension_N": float(tension[k]),
+    }
