@@ -58,10 +58,25 @@ def vault_model():
 
 @pytest.fixture(scope="session")
 def vault_fab_data(vault_model):
-    """Fabrication data of the vault: 8 mm plywood, 50 mm hinge strips."""
+    """Fabrication data of the vault's geometry in 8 mm plywood, 50 mm hinge strips."""
     from compas_ccu.fabrication import fabrication_data
 
     return fabrication_data(vault_model, thickness=0.008, material="plywood", hinge_width=0.05)
+
+
+@pytest.fixture(scope="session")
+def overbent_model():
+    """The vault in 8 mm plywood on the default sheets (examples/overbent.toml): it fails its
+    bending checks and every plate is spliced."""
+    return load_model(EXAMPLES / "overbent.toml")
+
+
+@pytest.fixture(scope="session")
+def overbent_fab_data(overbent_model):
+    """Fabrication data of the 8 mm vault: 8 mm plywood, 50 mm hinge strips."""
+    from compas_ccu.fabrication import fabrication_data
+
+    return fabrication_data(overbent_model, thickness=0.008, material="plywood", hinge_width=0.05)
 
 
 @pytest.fixture(scope="session")

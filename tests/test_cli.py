@@ -152,7 +152,7 @@ def test_info_json_of_a_millimetre_design_is_in_metres(tmp_path, capsys):
     data = json.loads(capsys.readouterr().out)
     assert data["design_units"] == "mm"
     assert data["key_figures"]["crease_span"] == pytest.approx(2.5, rel=1e-12)
-    assert data["thickness"]["thickness"] == pytest.approx(0.008, rel=1e-12)
+    assert data["thickness"]["thickness"] == pytest.approx(0.006, rel=1e-12)
 
 
 @pytest.mark.parametrize(
@@ -300,7 +300,7 @@ def test_the_commands_are_declared_once_and_help_needs_no_extra():
     from compas_ccu.cli import COMMANDS, thickness_lines  # noqa: F401 - still exported
 
     names = [c.name for c in COMMANDS]
-    assert len(names) == len(set(names)) == 18
+    assert len(names) == len(set(names)) == 19
     code = (
         "import sys; from compas_ccu.cli import build_parser; build_parser(); "
         "print(sorted(m for m in ('matplotlib', 'plotly', 'distributed', 'pyarrow', 'optuna', "

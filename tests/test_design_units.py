@@ -96,7 +96,7 @@ def test_non_length_keys_are_not_converted():
 def test_a_millimetre_vault_is_the_metre_vault():
     document = convert_document(read_toml(VAULT), SCHEMA, to="mm")
     assert document["design"]["units"] == "mm"
-    assert document["crease"]["span"] == 2500.0 and document["plates"]["thickness"] == 8.0
+    assert document["crease"]["span"] == 2500.0 and document["plates"]["thickness"] == 6.0
     assert document["loads"]["concrete_thickness"] == 80.0 and document["layout"]["spacing"] == 120
     mm, m = Design(document), load_design(VAULT)
     assert mm.units == "mm" and m.units == "m"
@@ -117,7 +117,7 @@ def test_write_design_round_trips_in_the_users_units(units, tmp_path):
     again = load_design(path)
     assert again.units == units
     assert again.crease.span == pytest.approx(2.5, rel=1e-14)
-    assert again.plates.thickness == pytest.approx(0.008, rel=1e-14)
+    assert again.plates.thickness == pytest.approx(0.006, rel=1e-14)
     write_design(again, tmp_path / "w.toml")  # its own units: the text is unchanged
     assert (tmp_path / "w.toml").read_text() == path.read_text()
 

@@ -50,13 +50,13 @@ def test_cone_shape_against_the_analytic_cone(cone_row):
 
 
 def test_cone_pattern_area_stack_and_mass_are_exact(cone_row):
-    """Two annular sectors of chords: n * (R^2 - r^2) * sin(dtheta) / 2 each, t = 8 mm."""
+    """Two annular sectors of chords: n * (R^2 - r^2) * sin(dtheta) / 2 each, t = 5 mm."""
     n, dtheta = 48, math.radians(90.0) / 48
     area = 2 * n * 0.5 * (2.0**2 - 1.6**2) * math.sin(dtheta)
     assert cone_row["plate_area"] == pytest.approx(area, rel=1e-13)
-    assert cone_row["thickness"] == 0.008 and cone_row["material"] == "plywood"
-    assert cone_row["stack_height"] == pytest.approx(2 * 0.008, abs=1e-15)
-    assert cone_row["mass"] == pytest.approx(area * 0.008 * 600.0, rel=1e-13)
+    assert cone_row["thickness"] == 0.005 and cone_row["material"] == "plywood"
+    assert cone_row["stack_height"] == pytest.approx(2 * 0.005, abs=1e-15)
+    assert cone_row["mass"] == pytest.approx(area * 0.005 * 600.0, rel=1e-13)
 
 
 def test_cone_bending_is_the_thick_model_check_over_the_path(cone_row):
@@ -93,9 +93,9 @@ def test_collision_metrics_of_the_vault():
     row = evaluate_variant(doc, path_states=5, collisions=True)
     assert row["status"] == "ok"
     assert row["collision_free"] is True and row["collision_alpha"] is None
-    assert row["max_penetration"] == 0.0
-    # plates 0 and 2 lie 8 mm apart in the flat stack with plate 1 between them
-    assert row["min_clearance"] == pytest.approx(0.008, abs=1e-12)
+    assert row["max_penetration"] <= 1e-15  # round-off of the 6 mm offsets, not a penetration
+    # plates 0 and 2 lie 6 mm apart in the flat stack with plate 1 between them
+    assert row["min_clearance"] == pytest.approx(0.006, abs=1e-12)
 
 
 def test_a_collision_is_reported_with_its_angle():
@@ -147,7 +147,7 @@ def test_a_bug_is_recorded_too_not_raised():
 
 @pytest.mark.slow
 def test_fe_metrics_of_the_cone():
-    fe = {"engine": "kratos", "element_size": 0.25, "steps": 2, "checks": True}
+    fe = {"engine": "kratos", "element_size": 0.25, "steps": 4, "checks": True}
     row = evaluate_variant(copy.deepcopy(CONE), path_states=5, fe=fe)
     assert row["status"] == "ok", row["error"]
     assert 0.0 < row["fe_deviation_percent"] < 1.0  # the FE plates follow the kinematics

@@ -24,13 +24,24 @@ from compas_ccu.thickness import ThickModel  # noqa: E402
 from compas_ccu.thickness.model import collision_text  # noqa: E402
 
 VAULT = str(EXAMPLES / "vault.toml")
+OVERBENT = str(EXAMPLES / "overbent.toml")
 
 
 @pytest.fixture(scope="module")
 def fabricated(tmp_path_factory):
+    """The vault as shipped: 6 mm plates cut whole from 1525 x 3050 mm sheets, every check
+    passes (exit 0 without --allow-exceeded)."""
     out = tmp_path_factory.mktemp("fab")
-    # the vault's bending check fails (utilisation 1.23): written, exit 3 without the flag
-    assert main(["fabricate", VAULT, "--out", str(out), "--quiet", "--allow-exceeded"]) == 0
+    assert main(["fabricate", VAULT, "--out", str(out), "--quiet"]) == 0
+    return out, json.loads((out / "fabrication.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def fabricated_overbent(tmp_path_factory):
+    """The same vault in 8 mm on 2.5 x 1.25 m sheets: every plate spliced, two checks fail
+    (the files are written, exit 3)."""
+    out = tmp_path_factory.mktemp("fab8")
+    assert main(["fabricate", OVERBENT, "--out", str(out), "--quiet", "--nesting", "shelf"]) == 3
     return out, json.loads((out / "fabrication.json").read_text())
 
 
@@ -47,8 +58,33 @@ def test_manifest_lists_every_file(fabricated):
     assert sum(name.startswith("plates/") for name in manifest["files"]) == 10
 
 
-def test_manifest_numbers(fabricated, vault_model):
+def test_manifest_numbers_of_the_vault_as_shipped(fabricated, vault_model):
     _, m = fabricated
+    # ten 6 mm plates cut whole: no splice plates, nothing in the stack but the plates
+    assert m["stack_height_plates"] == pytest.approx(0.060, abs=1e-12)
+    assert m["stack_height"] == pytest.approx(0.060, abs=1e-12)
+    s = m["splices"]
+    assert (s["count"], s["mass"], s["max_pile"], s["records"]) == (0, 0.0, 0.0, [])
+    assert all(cuts == [] for cuts in s["cuts"].values())
+    assert m["failed_checks"] == [] and m["bom"]["splices"] == 0
+    # one list of steps: every BOM item handled by a step
+    handled = {name for step in m["assembly"] for name in step["parts"]}
+    assert handled == {row["item"] for row in m["bom"]["rows"]}
+    assert m["thickness"] == 0.006 and m["material"] == "plywood"
+    assert m["collisions"]["interpenetration"] is False
+    assert m["collisions"]["min_clearance"] == pytest.approx(0.006, abs=1e-12)
+    # 6 mm plywood: characteristic 0.46, design (EC5 SC1 permanent) 0.92: it passes
+    assert 0.4 < m["bending"]["max_utilisation_characteristic"] < 0.5
+    assert m["bending"]["max_utilisation"] == pytest.approx(
+        m["bending"]["max_utilisation_characteristic"] * 1.2 / 0.6, rel=1e-12
+    )
+    assert m["bending"]["max_utilisation"] == pytest.approx(0.9217, abs=5e-4)
+    assert m["bending"]["exceeded"] is False
+    assert m["stack_order"] == ThickModel(vault_model).stack_order
+
+
+def test_manifest_numbers_of_the_8mm_vault(fabricated_overbent, overbent_model):
+    _, m = fabricated_overbent
     # ten 8 mm plates and, over one point at most, one cut's two 8 mm splice plates
     assert m["stack_height_plates"] == pytest.approx(0.080, abs=1e-12)
     assert m["stack_height"] == pytest.approx(0.096, abs=1e-12)
@@ -82,12 +118,19 @@ def test_manifest_numbers(fabricated, vault_model):
     assert (basis["k_mod"], basis["gamma_M"], basis["k_def"]) == (0.6, 1.2, 0.8)
     assert basis["basis"] == "EC5 SC1 permanent" and basis["strength_factor"] == 0.5
     assert max(m["correction_design"]) < 1e-12
-    assert m["stack_order"] == ThickModel(vault_model).stack_order
+    assert m["stack_order"] == ThickModel(overbent_model).stack_order
+    assert [f.split(":")[0].split(" utilisation")[0] for f in m["failed_checks"]] == [
+        "bending",
+        "splice plates",
+    ]
 
 
-def test_printed_check_states_the_basis(fabricated):
+def test_printed_check_states_the_basis(fabricated, fabricated_overbent):
     """``ccu fabricate`` prints thickness_lines(manifest): the basis and the factors."""
-    _, m = fabricated
+    text = "\n".join(thickness_lines(fabricated[1]))
+    assert "EXCEEDED" not in text and "utilisation 0.922 (plate 0 at alpha 30 deg" in text
+    assert "flat stack 60 mm (no splice plates)" in text
+    _, m = fabricated_overbent
     text = "\n".join(thickness_lines(m))
     assert "EXCEEDED" in text
     assert "limit f_d(1-nu^2)/(E t/2)" in text
@@ -143,7 +186,7 @@ def test_stack_obj_is_sum_of_thicknesses(fabricated, vault_model):
     scene = trimesh.load(out / "stack.obj", force="scene")
     points = np.concatenate([g.vertices for g in scene.geometry.values()])
     heights = (points - vault_model.origin) @ vault_model.axes[2]
-    assert np.ptp(heights) == pytest.approx(0.080, abs=1e-9)
+    assert np.ptp(heights) == pytest.approx(0.060, abs=1e-9)  # ten 6 mm plates
 
 
 @pytest.mark.parametrize(
@@ -215,23 +258,25 @@ def test_collision_text_with_pairs_but_no_clearance():
     assert collision_text(summary) == "none; min clearance 8 mm (plates 0/2 at alpha 0 deg)"
 
 
-def test_sheets_json_records_the_nesting_of_the_sheet_dxfs(fabricated):
+@pytest.mark.parametrize("which", ["vault", "overbent"])
+def test_sheets_json_records_the_nesting_of_the_sheet_dxfs(which, fabricated, fabricated_overbent):
     """sheets.json: every part placed on its sheet exactly as the sheet DXF's true outline and
     XDATA have it, and the design file's hash (the viewer's guard against another design)."""
     import hashlib
 
     import ezdxf
 
-    out, manifest = fabricated
+    out, manifest = fabricated if which == "vault" else fabricated_overbent
     doc = json.loads((out / "sheets.json").read_text(encoding="utf-8"))
-    sha = hashlib.sha256((EXAMPLES / "vault.toml").read_bytes()).hexdigest()
+    sha = hashlib.sha256((EXAMPLES / f"{which}.toml").read_bytes()).hexdigest()
     assert manifest["design_sha256"] == doc["design_sha256"] == sha
-    assert doc["format"] == "ccu.sheets" and doc["design"] == "vault" and doc["units"] == "m"
+    assert doc["format"] == "ccu.sheets" and doc["design"] == which and doc["units"] == "m"
     assert "sheets.json" in manifest["files"]
     assert [s["parts"] for s in doc["sheets"]] == [
         s["parts"] for s in manifest["workshop"]["sheets"]
     ]
-    assert len(doc["parts"]) == manifest["bom"]["plates"] + manifest["bom"]["splices"] == 40
+    parts = {"vault": 10, "overbent": 40}[which]  # plates whole, or in two with two splices
+    assert len(doc["parts"]) == manifest["bom"]["plates"] + manifest["bom"]["splices"] == parts
     assert doc["model_plate_ids"] == manifest["model_ids"]["plates"]
     by_sheet = {}
     for part in doc["parts"]:
@@ -250,9 +295,14 @@ def test_sheets_json_records_the_nesting_of_the_sheet_dxfs(fabricated):
             shift = np.multiply(part["translation"], 1000.0)
             assert np.allclose([t.value for t in tags[3:5]], shift, rtol=0, atol=1e-9)
     # a plate part carries its creases by kind; the splices their place is engraved on it
-    p0 = next(p for p in doc["parts"] if p["name"] == "P0.1")
-    assert [c["kind"] for c in p0["creases"]] == ["synclastic"]  # c0, the bottom crease
-    assert len(p0["marks"]) == 1 and p0["label"][0] == "P0.1 of 2"
+    if which == "vault":
+        p0 = next(p for p in doc["parts"] if p["name"] == "P0")
+        assert [c["kind"] for c in p0["creases"]] == ["synclastic"]  # c0, the bottom crease
+        assert p0["marks"] == [] and p0["label"][0] == "P0"
+    else:
+        p0 = next(p for p in doc["parts"] if p["name"] == "P0.1")
+        assert [c["kind"] for c in p0["creases"]] == ["synclastic"]
+        assert len(p0["marks"]) == 1 and p0["label"][0] == "P0.1 of 2"
 
 
 def test_view_shows_the_sheets_of_a_fabrication_folder(fabricated, tmp_path, capsys):
@@ -261,9 +311,9 @@ def test_view_shows_the_sheets_of_a_fabrication_folder(fabricated, tmp_path, cap
     assert main(["view", VAULT, "--out", str(view), "--steps", "1", "--fabrication", str(out)]) == 0
     count = manifest["workshop"]["sheet_count"]
     said = capsys.readouterr().out
-    assert f"the cut patterns are the {count} sheets of {out} (40 parts)" in said
+    assert f"the cut patterns are the {count} sheets of {out} (10 parts)" in said
     html = (view / "viewer.html").read_text(encoding="utf-8")
-    assert f"cut patterns: {count} sheets, 40 parts" in html
+    assert f"cut patterns: {count} sheets, 10 parts" in html
     # refused: a folder without sheets.json, another design, another version of the file
     capsys.readouterr()
     assert main(["view", VAULT, "--out", str(view), "--fabrication", str(tmp_path)]) == 2

@@ -28,7 +28,7 @@ from compas_ccu.fabrication.workshop import WorkshopOptions, plan_workshop  # no
 from compas_ccu.thickness import ThickModel  # noqa: E402
 from compas_ccu.thickness.splices import PileMap, footprints_contain, max_pile  # noqa: E402
 
-T = 0.008  # the vault's plates and splice plates
+T = 0.008  # the 8 mm vault's plates and splice plates (examples/overbent.toml)
 #: The vault's cuts, measured: bottom-up, each next to the ones below, alternating sides.
 VAULT_CUTS = {0: [32], 1: [28], 2: [36], 3: [24], 4: [40], 5: [20], 6: [44], 7: [16], 8: [48],
               9: [12]}  # fmt: skip
@@ -107,7 +107,9 @@ def test_cuts_step_aside_by_one_quad_when_it_clears_the_splice_width():
 
 
 @pytest.fixture(scope="module")
-def vault(vault_model, vault_fab_data):
+def vault(overbent_model, overbent_fab_data):
+    """The vault in 8 mm on the default 2.5 x 1.25 m sheets: every plate is spliced."""
+    vault_model, vault_fab_data = overbent_model, overbent_fab_data
     thick = ThickModel(vault_model)
     o = WorkshopOptions(nesting="shelf")
     plan = plan_workshop(

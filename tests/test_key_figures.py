@@ -153,9 +153,9 @@ def test_thickness_and_path_figures(vault_model):
     alphas = np.linspace(0.0, 30.0, 21)
     k = key_figures(vault_model, path=alphas, thickness=True)
     assert k.path_states == 21 and k.crease_planarity_exact and k.crease_planarity_path < 1e-13
-    assert k.thickness == 0.008 and k.material == "plywood"
-    assert k.stack_height == pytest.approx(0.08, abs=1e-15)
-    assert k.mass == pytest.approx(k.plate_area * 0.008 * 600.0, rel=1e-13)
+    assert k.thickness == 0.006 and k.material == "plywood"
+    assert k.stack_height == pytest.approx(0.06, abs=1e-15)
+    assert k.mass == pytest.approx(k.plate_area * 0.006 * 600.0, rel=1e-13)
     assert 0.0 < k.bending_utilisation_characteristic < 1.0
     # the default basis, EC5 SC1 permanent: k_mod 0.6, gamma_M 1.2 (docs/thickness.md)
     assert (k.bending_basis, k.k_mod, k.gamma_M, k.k_def) == ("EC5 SC1 permanent", 0.6, 1.2, 0.8)

@@ -275,8 +275,10 @@ def test_checks_of_the_vault(vault_model):
     checks = design_checks(vault_model)
     rows = {r.name: r for r in checks.rows}
     figures = checks.figures
-    # 8 mm plywood: characteristic utilisation 0.56, design (EC5 SC1 permanent) 1.12
-    assert rows["bending"].status == "fail" and "EC5 SC1 permanent" in rows["bending"].reason
+    # 6 mm plywood: characteristic utilisation 0.46, design (EC5 SC1 permanent) 0.92: it
+    # passes, within BENDING_WARN of the limit
+    assert rows["bending"].status == "warn" and "EC5 SC1 permanent" in rows["bending"].reason
+    assert "t = 6 mm" in rows["bending"].reason
     assert rows["bending"].value == f"{figures.bending_utilisation:.3f}"
     assert rows["collision"].status == "ok" and checks.collision is None
     assert rows["crease planarity"].status == "ok"

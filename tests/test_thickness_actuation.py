@@ -36,12 +36,14 @@ def test_the_cone_pair_and_the_command_line(capsys):
     push = ThickModel(load_model("examples/cone.toml")).actuation(np.linspace(0.0, 40.0, 21))
     assert push.energy[0] == pytest.approx(0.0, abs=1e-9)
     assert np.all(np.diff(push.energy) > 0.0)  # bending more with every step
-    assert push.energy[-1] == pytest.approx(104.18, abs=0.01)
-    assert push.force[-1] == pytest.approx(-509.5, abs=0.1) and push.force_max == -push.force[-1]
+    # 5 mm plates: the 8 mm pair's 104.18 J and 509.5 N times (5/8)^3 (energy ~ t^3)
+    assert push.energy[-1] == pytest.approx(104.18 * (5 / 8) ** 3, abs=0.003)
+    assert push.energy[-1] == pytest.approx(25.436, abs=0.001)
+    assert push.force[-1] == pytest.approx(-124.40, abs=0.01) and push.force_max == -push.force[-1]
     assert main(["info", "examples/cone.toml"]) == 0
     assert (
-        "deployment effort bending energy 104.2 J at the design; force between the feet "
-        "509.5 N there, up to 509.5 N along the path" in capsys.readouterr().out
+        "deployment effort bending energy 25.44 J at the design; force between the feet "
+        "124.4 N there, up to 124.4 N along the path" in capsys.readouterr().out
     )
 
 

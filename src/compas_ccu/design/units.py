@@ -74,6 +74,14 @@ def is_length(unit: str) -> bool:
     return unit in ("m", "m, load")
 
 
+def _times(value: float, f: float) -> float:
+    """``value * f``, as ``value / (1 / f)`` where ``1 / f`` is a whole number (mm, cm to m):
+    3050 mm is then the metre value nearest to 3.05 (3050 * 0.001 is one unit in the last place
+    above it)."""
+    whole = 1.0 / f
+    return value / whole if whole > 1.0 and whole == round(whole) else value * f
+
+
 def _scale(kind: str, unit: str, value, f: float):
     if value is None or f == 1.0 or not is_length(unit):
         return value
@@ -84,12 +92,15 @@ def _scale(kind: str, unit: str, value, f: float):
         ]
     if kind == "rows":
         return [
-            [v * f if i in _ROW_LENGTH_COLUMNS.get(len(row), ()) else v for i, v in enumerate(row)]
+            [
+                _times(v, f) if i in _ROW_LENGTH_COLUMNS.get(len(row), ()) else v
+                for i, v in enumerate(row)
+            ]
             for row in value
         ]
     if isinstance(value, list):
         return [_scale(kind, unit, v, f) for v in value]
-    return value * f
+    return _times(value, f)
 
 
 def to_metres(kind: str, unit: str, value, units: str):

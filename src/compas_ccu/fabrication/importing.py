@@ -1299,7 +1299,7 @@ def import_structure(
     >>> structure = import_structure(out)
     >>> undone = structure.report["thickness_correction"]
     >>> structure.plate_ids, undone["thickness"], undone["iterations"], undone["leading"]
-    ([1, 0], 0.008, 1, 'crease 0')
+    ([1, 0], 0.005, 1, 'crease 0')
     >>> layout = structure.document["layout"]
     >>> layout["type"], layout["leading"], [(t["parent"], t["boundary"], t["id"])
     ...                                     for t in layout["patterns"]]

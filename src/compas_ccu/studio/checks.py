@@ -99,8 +99,8 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
     --------
     >>> from compas_ccu.model import load_model
     >>> checks = design_checks(load_model("examples/vault.toml"))
-    >>> [r.status for r in checks.rows if r.name == "bending"], checks.collision
-    (['fail'], None)
+    >>> [(r.value, r.status) for r in checks.rows if r.name == "bending"], checks.collision
+    ([('0.922', 'warn')], None)
     """
     t0 = time.perf_counter()
     rows = []
