@@ -53,7 +53,7 @@ from compas_ccu.curves.dxf_input import (
     spline_sampler,
     straight_polyline_points,
 )
-from compas_ccu.errors import MissingExtraError, ProfileError
+from compas_ccu.errors import ProfileError, require
 
 __all__ = [
     "dxf_sampler",
@@ -419,12 +419,8 @@ def _csv_lines(path: Path, text: str):
 def _need(module: str, extra: str, what: str):
     import importlib
 
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        raise MissingExtraError(
-            f"reading {what} needs {module} (pip install {module}, or the {extra!r} extra)"
-        ) from None
+    require(module, extra, what=f"reading {what}")
+    return importlib.import_module(module)
 
 
 def _dxf(path: Path, units=None):

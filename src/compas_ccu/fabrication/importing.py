@@ -50,7 +50,7 @@ from compas_ccu.curves.readers import UNITS, dxf_line_chains, dxf_sampler
 from compas_ccu.design import Design
 from compas_ccu.design.build import build
 from compas_ccu.design.writer import design_toml
-from compas_ccu.errors import DesignError, GeometryError, MissingExtraError, ProfileError
+from compas_ccu.errors import DesignError, GeometryError, ProfileError, require
 from compas_ccu.geometry import fit_planes, rigid_align, unit
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.kinematics.plates import hinge_and_rulings
@@ -136,10 +136,9 @@ class CreasePair:
 
 
 def _ezdxf():
-    try:
-        import ezdxf
-    except ImportError:
-        raise MissingExtraError("ccu import needs ezdxf (pip install 'compas_ccu[fab]')") from None
+    require("ezdxf", "fab", what="'ccu import'")
+    import ezdxf
+
     return ezdxf
 
 
