@@ -54,6 +54,7 @@ from compas_ccu.curves.dxf_input import (
     straight_polyline_points,
 )
 from compas_ccu.errors import ProfileError, require
+from compas_ccu.tolerances import DIVISION_FLOOR
 
 __all__ = [
     "dxf_sampler",
@@ -546,7 +547,9 @@ def dxf_line_chains(lines) -> list:
             (np.array(tuple(e.dxf.start), dtype=float), np.array(tuple(e.dxf.end), dtype=float), e)
             for e in group
         ]
-        size = max(float(np.linalg.norm(np.ptp([p for s in segs for p in s[:2]], axis=0))), 1e-300)
+        size = max(
+            float(np.linalg.norm(np.ptp([p for s in segs for p in s[:2]], axis=0))), DIVISION_FLOOR
+        )
         close = 1e-9 * size
         unused = list(range(len(segs)))
         while unused:
