@@ -252,9 +252,9 @@ def test_usage_errors_and_option_bounds_exit_2(tmp_path, capsys):
 
 
 def test_a_missing_extra_is_named(monkeypatch, capsys, tmp_path):
-    from compas_ccu.cli import common
+    from compas_ccu import errors
 
-    monkeypatch.setattr(common, "missing_modules", lambda names: [n for n in names if n == "ezdxf"])
+    monkeypatch.setattr(errors, "missing_modules", lambda names: [n for n in names if n == "ezdxf"])
     assert main(["fabricate", VAULT, "--out", str(tmp_path)]) == 2
     assert capsys.readouterr().err == (
         "ccu: error: 'ccu fabricate' needs the fab extra (ezdxf not installed): "

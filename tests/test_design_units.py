@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import warnings
 
 import numpy as np
@@ -12,7 +13,7 @@ from compas_ccu.design import Design, load_design
 from compas_ccu.design.document import read_toml
 from compas_ccu.design.inverse import write_design
 from compas_ccu.design.schema import SCHEMA, _coerce, validate
-from compas_ccu.design.units import LENGTH_UNITS, convert_document, is_length
+from compas_ccu.design.units import LENGTH_UNITS, convert_document, is_length, map_lengths
 from compas_ccu.design.variants import quadrant_design
 from compas_ccu.errors import DesignError, UnitsWarning
 from compas_ccu.model import CCUModel, flat_design
@@ -236,3 +237,53 @@ def test_derived_designs_keep_the_units():
     quadrants = quadrant_design(cone_mm)
     assert quadrants.units == "mm" and quadrants.document["layout"]["width"] == 400.0
     assert quadrants.layout.width == pytest.approx(0.4, rel=1e-15)
+
+
+def _sample_document():
+    """One value (mm) of every length key of the schema, in a document as read from TOML."""
+    doc = {}
+    for section, name, key in length_keys():
+        if key.kind == "patterns":
+            value = [{"parent": 0, "boundary": "near", "near": [[0.0, 10.0], [500.0, 250.0]],
+                      "far": [[0.0, 100.0], [5.0, 0.0]], "id": 3}]  # fmt: skip
+        else:
+            value = (ROWS[name] if key.kind == "rows" else SAMPLES[key.kind])[0]
+        doc.setdefault(section, {})[name] = value
+    return doc
+
+
+def test_one_walk_over_the_length_keys():
+    """``map_lengths`` reaches every length key (arrays of tables, point lists, load rows) as
+    the loader converts them, and nothing else; ``skip`` leaves sections and keys."""
+    doc = _sample_document()
+    doc["crease"].update(profile="funicular", segments=40)
+    doc["plates"]["grain"] = 30.0
+    doc["rulings"]["gamma"] = 80.0
+    doc["layout"]["_note"] = 5.0
+    doc["extra"] = {"span": 1.0}  # a table not in the schema
+    before = copy.deepcopy(doc)
+    out = map_lengths(doc, SCHEMA, lambda v: v * 1e-3)
+    for section, name, key in length_keys():  # the loader's conversion, key by key
+        value = _coerce(section, name, key, doc[section][name], "mm")
+        if key.kind == "patterns":
+            assert out[section][name] == value
+            continue
+        assert np.allclose(out[section][name], value, rtol=0.0, atol=0.0), (section, name)
+    assert out["crease"]["segments"] == 40 and out["crease"]["profile"] == "funicular"
+    assert out["plates"]["grain"] == 30.0 and out["rulings"]["gamma"] == 80.0
+    assert out["layout"]["_note"] == 5.0 and out["extra"] == {"span": 1.0}
+    assert out["crease"]["point_loads"] == [[-0.25, 3.0], [0.4, 1.5]]  # intensities kept
+    assert out["layout"]["patterns"][0]["id"] == 3 and out["layout"]["patterns"][0]["parent"] == 0
+    assert doc == before  # the input is not changed
+    kept = map_lengths(doc, SCHEMA, lambda v: -v, skip=("loads", "plates.thickness"))
+    assert kept["loads"] == doc["loads"] and kept["plates"]["thickness"] == 80.0
+    assert kept["plates"]["hinge_width"] == -80.0 and kept["crease"]["span"] == -80.0
+
+
+def test_a_curve_file_reference_is_kept_by_the_walk():
+    """A curve file has its own units: the walk keeps the reference (it failed on a str)."""
+    doc = {"design": {"units": "mm"}, "crease": {"points": "c.csv", "span": 2000},
+           "target": {"apex": {"file": "t.dxf", "layer": "APEX"}}}  # fmt: skip
+    out = convert_document(doc, SCHEMA, to="m")
+    assert out == {"design": {}, "crease": {"points": "c.csv", "span": 2.0},
+                   "target": {"apex": {"file": "t.dxf", "layer": "APEX"}}}  # fmt: skip

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from compas_ccu.cli import main
-from compas_ccu.design import load_design
+from compas_ccu.design import Design, load_design
 from compas_ccu.errors import OptionError
 from compas_ccu.explore.scale import law_thickness, scale_study, scaled_document
+from compas_ccu.model import CCUModel
 from conftest import EXAMPLES
 
 
@@ -76,8 +77,10 @@ def test_every_length_of_the_schema_is_scaled_and_nothing_else():
         "target": {"apex": [[0.0, 0.5], [1.0, 0.6]]},
         "plates": {"thickness": 0.008, "hinge_width": 0.05, "grain": 30.0},
         "plane": {"origin": [1.0, 2.0, 3.0], "xaxis": [1.0, 0.0, 0.0]},
+        "fabrication": {"sheets": [[3.05, 1.525]], "kerf": 0.003},
     }  # fmt: skip
     out = scaled_document(doc, 2.0)
+    assert out["fabrication"] == doc["fabrication"]  # the workshop's stock and tools
     assert out["crease"] == {**doc["crease"], "span": 4.0, "rise": 1.0,
                              "point_loads": [[0.4, 3.0]],
                              "distributed_loads": [[-2.0, 2.0, 1.0, 2.0]]}  # fmt: skip
@@ -127,3 +130,59 @@ def test_ccu_scale_writes_the_table_and_the_plots(tmp_path, capsys):
     assert "--area-load and --load-case choose the load of the FE checks: give --fe" in (
         capsys.readouterr().err
     )
+
+
+def _numbers(value):
+    """The numbers of a nested value, in order (the pattern rows' coordinates)."""
+    if isinstance(value, list):
+        return [x for v in value for x in _numbers(v)]
+    return [value]
+
+
+@pytest.fixture(scope="module")
+def imported(tmp_path_factory):
+    """The vault through ``ccu fabricate`` and ``ccu import``: a ``[[layout.patterns]]``
+    design, its document (metres) and its deployed span and rise."""
+    pytest.importorskip("ezdxf")
+    pytest.importorskip("rhino3dm")
+    pytest.importorskip("trimesh")
+    root = tmp_path_factory.mktemp("imported")
+    fab, path = root / "fab", root / "imported.toml"
+    assert main(["fabricate", str(EXAMPLES / "vault.toml"), "--out", str(fab),
+                 "--nesting", "shelf", "--allow-exceeded", "--quiet"]) == 0  # fmt: skip
+    assert main(["import", str(fab), "--out", str(path), "--quiet"]) == 0
+    design = load_design(path)
+    assert design.layout.type == "patterns" and len(design.layout.patterns) == 9
+    return path, design.metric_document(), CCUModel(design).deploy().metrics
+
+
+def test_an_imported_patterns_design_scales_with_its_patterns(imported, tmp_path):
+    """``ccu scale`` walks the loader's length keys: the cut patterns of an imported design
+    scale with the crease (they stayed at scale 1 and the design was refused)."""
+    path, document, metrics = imported
+    factor = 1.37
+    out = scaled_document(document, factor)
+    crease, layout = document["crease"], document["layout"]
+    assert out["crease"]["points"] == [[factor * x, factor * y] for x, y in crease["points"]]
+    assert len(out["layout"]["patterns"]) == len(layout["patterns"]) == 9
+    for new, old in zip(out["layout"]["patterns"], layout["patterns"]):
+        for row in ("near", "far"):
+            assert _numbers(new[row]) == [factor * v for v in _numbers(old[row])]
+            assert len(new[row]) == len(old[row]) and len(new[row][0]) == 2
+        assert {k: v for k, v in new.items() if k not in ("near", "far")} == {
+            k: v for k, v in old.items() if k not in ("near", "far")
+        }  # parent, boundary, id kept
+    assert out["plates"] == document["plates"] and out["deployment"] == document["deployment"]
+    model = CCUModel(Design(out))  # its checks pass: every pattern fits its parent
+    scaled = model.deploy().metrics
+    for key in ("span", "rise"):
+        assert scaled[key] == pytest.approx(factor * metrics[key], rel=1e-12, abs=0.0)
+    assert document["layout"]["patterns"][0]["near"] == layout["patterns"][0]["near"]
+
+    code = main(["scale", str(path), "--to", str(1.25 * metrics["span"]), "--steps", "1",
+                 "--out", str(tmp_path / "scale"), "--quiet"])  # fmt: skip
+    assert code == 0
+    with open(tmp_path / "scale" / "scale.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["status"] for r in rows] == ["ok", "ok"], [r["error"] for r in rows]
+    assert float(rows[1]["span"]) == pytest.approx(1.25 * metrics["span"], rel=1e-12)

@@ -9,6 +9,8 @@ processes): classes with keyword-only attributes define ``__reduce__``.
 
 from __future__ import annotations
 
+import importlib.util
+
 __all__ = [
     "CCUError",
     "ProfileError",
@@ -22,6 +24,8 @@ __all__ = [
     "SelfIntersectionError",
     "SweepError",
     "rebuild_error",
+    "require",
+    "missing_modules",
     "CCUWarning",
     "UnitsWarning",
 ]
@@ -59,7 +63,8 @@ class OptionError(CCUError):
 
 
 class MissingExtraError(CCUError):
-    """An optional extra (viz, fea, fab, explore) needed for this is not installed."""
+    """An optional extra (viz, fea, fab, explore) needed for this is not installed
+    (:func:`require` raises it)."""
 
 
 class LimitError(CCUError):
@@ -139,3 +144,48 @@ def rebuild_error(cls, args, attributes):
     error.args = args
     error.__dict__.update(attributes)
     return error
+
+
+def missing_modules(names) -> list:
+    """The modules of ``names`` that are not installed (found without importing them)."""
+    return [m for m in names if importlib.util.find_spec(m) is None]
+
+
+def require(modules, extra: str, *, what: str, note: str = "") -> None:
+    """Raise :class:`MissingExtraError` unless ``modules`` of the optional extra are installed.
+
+    The one message of a missing extra: what needs it, the extra, the modules not installed
+    and the line that installs them. The modules are not imported (the caller imports them
+    where it uses them).
+
+    Parameters
+    ----------
+    modules : str or sequence of str
+        The modules needed.
+    extra : str
+        The extra of compas_ccu that installs them (``"viz"``, ``"fab"``, ``"explore"`` ...).
+    what : str
+        What needs them: ``"'ccu fabricate'"``, ``"reading DXF files"``.
+    note : str
+        Appended to the message (another way out, another package to install).
+
+    Raises
+    ------
+    MissingExtraError
+        A module is not installed.
+
+    Examples
+    --------
+    >>> require("json", "viz", what="'ccu figures'")
+    >>> require(["json", "no_such_module"], "viz", what="'ccu figures'", note=" (or --no-figures)")
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.MissingExtraError: 'ccu figures' needs the viz extra (no_such_module not \
+installed): pip install 'compas_ccu[viz]' (or --no-figures)
+    """
+    missing = missing_modules([modules] if isinstance(modules, str) else modules)
+    if missing:
+        raise MissingExtraError(
+            f"{what} needs the {extra} extra ({', '.join(missing)} not installed): "
+            f"pip install 'compas_ccu[{extra}]'{note}"
+        )

@@ -28,7 +28,9 @@ ZERO_LENGTH = 1e-12
 #: Angles (radians) or angle differences below this count as zero (e.g. gamma = 90 deg).
 ZERO_ANGLE = 1e-12
 
-#: The floor of a denominator that may vanish only in degenerate input (keeps 0 / 0 finite).
+#: The floor of a denominator that may vanish only in degenerate input (keeps 0 / 0 finite);
+#: also the absolute tolerance ``xtol`` of the root finders that stop on their relative one.
+#: The one place this number is written (``tests/test_tolerances.py`` checks).
 DIVISION_FLOOR = 1e-300
 
 #: Convergence tolerance of the iterative solvers (least squares, root finding) in relative terms.

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import importlib.util
 import sys
 
-from compas_ccu.errors import MissingExtraError, OptionError
+from compas_ccu.errors import OptionError, missing_modules, require
 from compas_ccu.model import load_model
 
 __all__ = ["load_model", "say", "progress", "missing_modules", "need_extra", "need_viz"]
@@ -34,19 +33,9 @@ def progress(args, text: str) -> None:
         print(text, file=sys.stderr, flush=True)
 
 
-def missing_modules(names) -> list:
-    """The modules of ``names`` that are not installed."""
-    return [m for m in names if importlib.util.find_spec(m) is None]
-
-
 def need_extra(command: str, extra: str, modules) -> None:
     """MissingExtraError unless ``modules`` of the extra ``extra`` are installed."""
-    missing = missing_modules(modules)
-    if missing:
-        raise MissingExtraError(
-            f"'ccu {command}' needs the {extra} extra ({', '.join(missing)} not installed): "
-            f"pip install 'compas_ccu[{extra}]'"
-        )
+    require(modules, extra, what=f"'ccu {command}'")
 
 
 def need_viz(command: str) -> None:

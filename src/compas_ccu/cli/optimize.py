@@ -11,7 +11,7 @@ import sys
 
 from compas_ccu.cli.common import missing_modules, say
 from compas_ccu.cli.parser import QUIET_PROGRESS, Command, option
-from compas_ccu.errors import MissingExtraError, OptionError
+from compas_ccu.errors import OptionError, require
 from compas_ccu.explore.optimize import run_study
 from compas_ccu.explore.run import runner_label
 from compas_ccu.explore.study import load_study
@@ -26,13 +26,10 @@ def _check(args) -> None:
     """The extra's modules this run needs, and options that exclude each other."""
     needed = ["optuna", "pyarrow", "tqdm"] + ([] if args.in_process else ["distributed"])
     needed += ["bokeh"] if args.dashboard else []
-    missing = missing_modules(needed)
-    if missing:
-        raise MissingExtraError(
-            f"ccu optimize needs {', '.join(missing)}: pip install 'compas_ccu[explore]'"
-            + (" bokeh" if "bokeh" in missing else "")
-            + " (make setup installs the extra)"
-        )
+    bokeh = " bokeh" if "bokeh" in missing_modules(needed) else ""  # the dashboard: no extra
+    require(
+        needed, "explore", what="'ccu optimize'", note=f"{bokeh} (make setup installs the extra)"
+    )
     if args.in_process and (args.scheduler or args.workers):
         raise OptionError("--in-process runs without Dask: drop --scheduler / --workers")
 

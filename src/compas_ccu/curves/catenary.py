@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from compas_ccu.curves.base import SpanRiseProfile, require_positive
+from compas_ccu.tolerances import DIVISION_FLOOR
 
 __all__ = ["CatenaryProfile"]
 
@@ -50,7 +51,7 @@ def solve_catenary_parameter(*, span: float, rise: float) -> float:
         lambda t: _log_rise_ratio(t) - log_ratio,
         min(ratio, 1.0),
         2.0 * ratio,
-        xtol=1e-300,
+        xtol=DIVISION_FLOOR,
         rtol=4.0 * np.finfo(float).eps,
         maxiter=500,
     )

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from compas_ccu.curves.base import SpanRiseProfile, require_positive
+from compas_ccu.tolerances import DIVISION_FLOOR
 
 __all__ = ["ElasticaProfile"]
 
@@ -21,7 +22,11 @@ def largest_modulus() -> float:
     from scipy.special import ellipe, ellipk
 
     return brentq(
-        lambda k: 2.0 * ellipe(k * k) - ellipk(k * k), 0.5, 0.99, xtol=1e-300, rtol=4.0 * _EPS
+        lambda k: 2.0 * ellipe(k * k) - ellipk(k * k),
+        0.5,
+        0.99,
+        xtol=DIVISION_FLOOR,
+        rtol=4.0 * _EPS,
     )
 
 
@@ -45,7 +50,7 @@ def solve_elastica_modulus(*, span: float, rise: float) -> float:
         lambda k: k - ratio * (2.0 * ellipe(k * k) - ellipk(k * k)),
         0.0,
         largest_modulus(),
-        xtol=1e-300,
+        xtol=DIVISION_FLOOR,
         rtol=4.0 * _EPS,
         maxiter=500,
     )

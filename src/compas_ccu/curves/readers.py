@@ -53,7 +53,8 @@ from compas_ccu.curves.dxf_input import (
     spline_sampler,
     straight_polyline_points,
 )
-from compas_ccu.errors import MissingExtraError, ProfileError
+from compas_ccu.errors import ProfileError, require
+from compas_ccu.tolerances import DIVISION_FLOOR
 
 __all__ = [
     "dxf_sampler",
@@ -419,12 +420,8 @@ def _csv_lines(path: Path, text: str):
 def _need(module: str, extra: str, what: str):
     import importlib
 
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        raise MissingExtraError(
-            f"reading {what} needs {module} (pip install {module}, or the {extra!r} extra)"
-        ) from None
+    require(module, extra, what=f"reading {what}")
+    return importlib.import_module(module)
 
 
 def _dxf(path: Path, units=None):
@@ -550,7 +547,9 @@ def dxf_line_chains(lines) -> list:
             (np.array(tuple(e.dxf.start), dtype=float), np.array(tuple(e.dxf.end), dtype=float), e)
             for e in group
         ]
-        size = max(float(np.linalg.norm(np.ptp([p for s in segs for p in s[:2]], axis=0))), 1e-300)
+        size = max(
+            float(np.linalg.norm(np.ptp([p for s in segs for p in s[:2]], axis=0))), DIVISION_FLOOR
+        )
         close = 1e-9 * size
         unused = list(range(len(segs)))
         while unused:

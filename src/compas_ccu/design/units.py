@@ -35,6 +35,7 @@ __all__ = [
     "to_metres",
     "from_metres",
     "convert_document",
+    "map_lengths",
     "plausibility_warnings",
     "PLAUSIBLE",
 ]
@@ -82,25 +83,89 @@ def _times(value: float, f: float) -> float:
     return value / whole if whole > 1.0 and whole == round(whole) else value * f
 
 
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _map_value(kind: str, value, function):
+    """``value`` of a length key (schema ``kind``) with ``function`` applied to each length in
+    it: a number, the numbers of a point or point list, the ``near`` and ``far`` rows of every
+    ``[[layout.patterns]]`` table, the position columns of load rows. Anything else (a
+    curve-file reference, the load intensities, a pattern's ``parent``) is kept."""
+    if kind == "patterns" and isinstance(value, list):  # the point rows of every table
+        return [
+            {k: _map_value("points2", v, function) if k in ("near", "far") else v
+             for k, v in t.items()} if isinstance(t, dict) else t
+            for t in value
+        ]  # fmt: skip
+    if kind == "rows" and isinstance(value, list):
+        return [
+            [function(v) if i in _ROW_LENGTH_COLUMNS.get(len(row), ()) and _is_number(v) else v
+             for i, v in enumerate(row)] if isinstance(row, list) else row
+            for row in value
+        ]  # fmt: skip
+    if isinstance(value, list):
+        return [_map_value(kind, v, function) for v in value]
+    return function(value) if _is_number(value) else value
+
+
+def map_lengths(document: dict, schema: dict, function, *, skip=()) -> dict:
+    """A copy of a design document with ``function`` applied to every length in it.
+
+    The one walk over the length keys of a design (every key whose schema unit is a length,
+    :func:`is_length`): the loader converts each key's value with it (:func:`to_metres`),
+    :func:`convert_document` changes a document's units with it and ``ccu scale``
+    (:func:`compas_ccu.explore.scale.scaled_document`) scales a design with it.
+
+    Parameters
+    ----------
+    document : dict
+        A design document (as parsed from TOML, or validated values).
+    schema : dict
+        :data:`compas_ccu.design.schema.SCHEMA`.
+    function : callable
+        Called with every length (a number) and returns its new value: every number of a
+        length key, of its points and point lists, of the ``near`` and ``far`` rows of every
+        ``[[layout.patterns]]`` table and the positions (not the intensities) of the load
+        rows. Curve-file references, keys not in the schema, keys starting with ``_`` and
+        every other value are kept.
+    skip : iterable of str
+        Sections (``"loads"``) or dotted keys (``"plates.thickness"``) left as they are.
+
+    Returns
+    -------
+    dict
+        A new document; ``document`` is not changed.
+
+    Examples
+    --------
+    >>> from compas_ccu.design.schema import SCHEMA
+    >>> doc = {"crease": {"span": 2.5, "segments": 64, "point_loads": [[0.5, 3.0]]},
+    ...        "layout": {"type": "patterns", "patterns": [
+    ...            {"parent": 0, "boundary": "near", "near": [[0, 1]], "far": [[0, 2]]}]}}
+    >>> out = map_lengths(doc, SCHEMA, lambda v: 2 * v)
+    >>> out["crease"], out["layout"]["patterns"][0]["far"]
+    ({'span': 5.0, 'segments': 64, 'point_loads': [[1.0, 3.0]]}, [[0, 4]])
+    """
+    skip = set(skip)
+    out = copy.deepcopy(document)
+    for section, table in out.items():
+        keys = schema.get(section)
+        if keys is None or not isinstance(table, dict) or section in skip:
+            continue
+        for name, value in table.items():
+            key = keys.get(name)
+            if key is None or name.startswith("_") or f"{section}.{name}" in skip:
+                continue
+            if is_length(key.unit):
+                table[name] = _map_value(key.kind, value, function)
+    return out
+
+
 def _scale(kind: str, unit: str, value, f: float):
     if value is None or f == 1.0 or not is_length(unit):
         return value
-    if kind == "patterns":  # [[layout.patterns]]: the point rows of every table
-        return [
-            {k: _scale("points2", unit, v, f) if k in ("near", "far") else v for k, v in t.items()}
-            for t in value
-        ]
-    if kind == "rows":
-        return [
-            [
-                _times(v, f) if i in _ROW_LENGTH_COLUMNS.get(len(row), ()) else v
-                for i, v in enumerate(row)
-            ]
-            for row in value
-        ]
-    if isinstance(value, list):
-        return [_scale(kind, unit, v, f) for v in value]
-    return _times(value, f)
+    return _map_value(kind, value, lambda v: _times(v, f))
 
 
 def to_metres(kind: str, unit: str, value, units: str):
@@ -152,19 +217,10 @@ def convert_document(document: dict, schema: dict, *, to: str, source: str | Non
     if source is None:
         source = (document.get("design") or {}).get("units", DEFAULT_UNITS)
     f = unit_factor(source) / unit_factor(to)
-    out = {}
-    for section, table in copy.deepcopy(document).items():
-        keys = schema.get(section)
-        if keys is None or not isinstance(table, dict):
-            out[section] = table
-            continue
-        new = {}
-        for name, value in table.items():
-            key = keys.get(name)
-            if f != 1.0 and key is not None and not name.startswith("_") and is_length(key.unit):
-                value = _tidy(_scale(key.kind, key.unit, value, f))
-            new[name] = value
-        out[section] = new
+    if f == 1.0:
+        out = copy.deepcopy(document)
+    else:
+        out = map_lengths(document, schema, lambda v: _tidy(v * f))
     design = dict(out.get("design", {}))
     design.pop("units", None)
     if to != DEFAULT_UNITS:

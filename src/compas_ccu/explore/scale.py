@@ -2,8 +2,10 @@
 
 Every length of the design file (the schema's keys in metres: profile span and rise, control
 points, ruling apex and points, widths, spacings, the radial axis, target curves, the plane
-origin, the positions of funicular loads) is multiplied by the scale factor, so each step is the
-geometrically similar design at the new span; the plate thickness follows a *thickness law*:
+origin, the positions of funicular loads, the plates' cut patterns of a ``[[layout.patterns]]``
+design from ``ccu import``) is multiplied by the scale factor, so each step is the geometrically
+similar design at the new span; the lengths are found by the loader's walk
+(:func:`compas_ccu.design.units.map_lengths`). The plate thickness follows a *thickness law*:
 
 ======================  ==============================================================
 ``constant``            the base thickness at every span
@@ -20,7 +22,6 @@ whether every plate still fits a stock sheet.
 
 from __future__ import annotations
 
-import copy
 import math
 
 import numpy as np
@@ -28,6 +29,7 @@ import numpy as np
 from compas_ccu import limits
 from compas_ccu.analysis.plate_size import fits_sheet
 from compas_ccu.design.schema import SCHEMA, STOCK_SHEET
+from compas_ccu.design.units import map_lengths
 from compas_ccu.errors import OptionError
 from compas_ccu.explore.evaluate import evaluate_variant
 
@@ -39,6 +41,10 @@ THICKNESS_LAWS = ("constant", "proportional", "cuberoot", "given")
 #: The stock sheet the plates are checked against when none is given (the design files'
 #: default, :data:`compas_ccu.design.schema.STOCK_SHEET`), m.
 SHEET = STOCK_SHEET
+#: Lengths that do not grow with the structure: the plate thickness follows its law, the hinge
+#: strips are a product width, the loads (a concrete thickness) are the loads', the workshop's
+#: stock sheets, kerf and tools are the workshop's.
+_NOT_SCALED = ("plates.thickness", "plates.hinge_width", "loads", "fabrication")
 
 
 def law_thickness(law: str, t0: float, ratio: float, given: float | None = None) -> float:
@@ -58,19 +64,6 @@ def law_thickness(law: str, t0: float, ratio: float, given: float | None = None)
             raise OptionError("thickness law 'given' needs a thickness for every step")
         return float(given)
     raise OptionError(f"unknown thickness law {law!r}; known: {', '.join(THICKNESS_LAWS)}")
-
-
-def _scale(value, factor: float):
-    if isinstance(value, list):
-        return [_scale(v, factor) for v in value]
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return value
-    return value * factor
-
-
-def _scale_positions(rows, factor: float, columns: int):
-    """Rows of loads: the first ``columns`` entries are positions (scaled), the rest loads."""
-    return [[v * factor if i < columns else v for i, v in enumerate(row)] for row in rows]
 
 
 def scaled_document(document: dict, factor: float, *, thickness: float | None = None) -> dict:
@@ -95,23 +88,7 @@ def scaled_document(document: dict, factor: float, *, thickness: float | None = 
     """
     if not factor > 0.0:
         raise OptionError(f"the scale factor must be > 0, got {factor!r}")
-    out = copy.deepcopy(document)
-    for section, keys in SCHEMA.items():
-        table = out.get(section)
-        if not isinstance(table, dict):
-            continue
-        for name, key in keys.items():
-            if name.startswith("_") or name not in table:
-                continue
-            if section == "plates" and name in ("thickness", "hinge_width"):
-                continue  # the thickness follows its law; hinge strips are a product width
-            if section == "loads":
-                continue  # the loads (a concrete thickness) do not grow with the structure
-            if key.unit == "m":
-                table[name] = _scale(table[name], factor)
-            elif key.unit == "m, load" and isinstance(table[name], list):
-                positions = 1 if key.columns == 2 else 2
-                table[name] = _scale_positions(table[name], factor, positions)
+    out = map_lengths(document, SCHEMA, lambda v: v * factor, skip=_NOT_SCALED)
     if thickness is not None:
         out.setdefault("plates", {})["thickness"] = float(thickness)
     return out

@@ -50,14 +50,14 @@ from compas_ccu.curves.readers import UNITS, dxf_line_chains, dxf_sampler
 from compas_ccu.design import Design
 from compas_ccu.design.build import build
 from compas_ccu.design.writer import design_toml
-from compas_ccu.errors import DesignError, GeometryError, MissingExtraError, ProfileError
+from compas_ccu.errors import DesignError, GeometryError, ProfileError, require
 from compas_ccu.geometry import fit_planes, rigid_align, unit
 from compas_ccu.kinematics.mechanism import CreaseLink, Mechanism, PlateLink
 from compas_ccu.kinematics.plates import hinge_and_rulings
 from compas_ccu.model import CCUModel
 from compas_ccu.strips.intrinsics import strip_intrinsics
 from compas_ccu.thickness.axis_shift import crease_sides, place_thick, vertex_offsets
-from compas_ccu.tolerances import EXACT_RELATIVE
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 
 __all__ = [
     "PlateDrawing",
@@ -136,10 +136,9 @@ class CreasePair:
 
 
 def _ezdxf():
-    try:
-        import ezdxf
-    except ImportError:
-        raise MissingExtraError("ccu import needs ezdxf (pip install 'compas_ccu[fab]')") from None
+    require("ezdxf", "fab", what="'ccu import'")
+    import ezdxf
+
     return ezdxf
 
 
@@ -276,7 +275,7 @@ def _distance_to_polyline(points, polyline):
     """Distance of every point to a polyline, and the arc length of its nearest point."""
     a, b = polyline[:-1], polyline[1:]
     ab = b - a
-    length2 = np.maximum((ab * ab).sum(axis=1), 1e-300)
+    length2 = np.maximum((ab * ab).sum(axis=1), DIVISION_FLOOR)
     s_edges = np.r_[0.0, np.cumsum(np.sqrt(length2))]
     out_d, out_s = [], []
     for p in np.atleast_2d(points):
@@ -410,7 +409,7 @@ def _check_crossings(plate, near, far, names, tol) -> None:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (qp[:, 0] * s[:, 1] - qp[:, 1] * s[:, 0]) / denom
             u = (qp[:, 0] * r[i, 1] - qp[:, 1] * r[i, 0]) / denom
-        lim = tol / max(float(np.linalg.norm(r[i])), 1e-300)
+        lim = tol / max(float(np.linalg.norm(r[i])), DIVISION_FLOOR)
         hit = np.flatnonzero(
             (np.abs(denom) > 0) & (t > lim) & (t < 1 - lim) & (u > lim) & (u < 1 - lim)
         )
@@ -455,7 +454,7 @@ def pair_creases(plates: list) -> list:
             raise DesignError(
                 f"{plate.label} CREASE #{crease.handle}: no partner crease on another plate"
             )
-        tol = PARTNER_TOLERANCE * max(crease.length, 1e-300)
+        tol = PARTNER_TOLERANCE * max(crease.length, DIVISION_FLOOR)
         match = [(p, c) for p, c in others if abs(c.length - crease.length) <= tol]
         if not match:
             p, c = min(others, key=lambda pc: abs(pc[1].length - crease.length))
@@ -508,8 +507,8 @@ def _check_partner(pair: CreasePair, a_pattern, b_pattern):
         if flip:
             gb = 180.0 - gb
         err = max(
-            float(np.abs(ea - eb).max()) / max(float(ea.max()), 1e-300),
-            float(np.abs(la - lb).max()) / max(float(la.max()), 1e-300),
+            float(np.abs(ea - eb).max()) / max(float(ea.max()), DIVISION_FLOOR),
+            float(np.abs(la - lb).max()) / max(float(la.max()), DIVISION_FLOOR),
         )
         if best is None or err < best[0]:
             best = (err, la, lb, ea, eb, nm, flip)

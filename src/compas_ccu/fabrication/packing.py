@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from compas_ccu.errors import GeometryError, LimitError, MissingExtraError
+from compas_ccu.errors import GeometryError, LimitError, require
 
 __all__ = ["Packing", "strip_pack", "solver_version", "SOLVER", "PATIENCE"]
 
@@ -87,13 +87,14 @@ def solver_version() -> str:
     MissingExtraError
         spyrrow is not installed.
     """
-    try:
-        import spyrrow
-    except ImportError as exc:  # pragma: no cover - the fab extra installs it
-        raise MissingExtraError(
-            "nesting the parts onto sheets needs spyrrow: pip install 'compas_ccu[fab]' (or "
-            "[fabrication] nesting = 'shelf', bounding boxes in rows)"
-        ) from exc
+    require(
+        "spyrrow",
+        "fab",
+        what="nesting the parts onto sheets",
+        note=" (or [fabrication] nesting = 'shelf', bounding boxes in rows)",
+    )
+    import spyrrow
+
     return str(getattr(spyrrow, "__version__", "unknown"))
 
 

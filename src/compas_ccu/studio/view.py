@@ -19,6 +19,7 @@ from compas_ccu.analysis.plate_size import fits_sheet, plate_rectangles
 from compas_ccu.design.schema import STOCK_SHEET
 from compas_ccu.fabrication.meshes import solid_mesh
 from compas_ccu.kinematics.plates import plate_rulings
+from compas_ccu.tolerances import DIVISION_FLOOR
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.patterns import pattern_layout, plate_outline
 
@@ -100,7 +101,7 @@ def _crease_rows(model):
 
 def _scale_colors(values: np.ndarray, lo: float, hi: float, cmap: str):
     """Colours of ``values`` on [lo, hi]; a degenerate range gives the scale's middle colour."""
-    if hi - lo <= CONSTANT * max(abs(hi), abs(lo), 1e-300):
+    if hi - lo <= CONSTANT * max(abs(hi), abs(lo), DIVISION_FLOOR):
         return _cmap(cmap, np.full(values.shape, 0.5))
     return _cmap(cmap, np.clip((values - lo) / (hi - lo), 0.0, 1.0))
 
@@ -188,7 +189,7 @@ def view_state(
         finite = mid[np.isfinite(mid)]
         lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
         crease_colors = _scale_colors(np.nan_to_num(mid, nan=lo), lo, hi, C.ANGLE_CMAP)
-        constant = hi - lo <= CONSTANT * max(abs(hi), 1e-300)
+        constant = hi - lo <= CONSTANT * max(abs(hi), DIVISION_FLOOR)
         legend = {
             "title": "reflection angle α along the creases",
             **(

@@ -6,6 +6,7 @@ import numpy as np
 
 from compas_ccu.errors import OptionError
 from compas_ccu.key_figures import figure, state_figures
+from compas_ccu.tolerances import DIVISION_FLOOR
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.render import add_colorbar, camera, draw_scene
 from compas_ccu.viz.scene import scene_from_structure
@@ -58,7 +59,7 @@ def dimension_points(vertices, segments: int) -> dict:
     pts = np.asarray(vertices, dtype=float)[0, : segments + 1]
     a, b = pts[0], pts[-1]
     chord = b - a
-    t = (pts - a) @ chord / max(float(chord @ chord), 1e-300)
+    t = (pts - a) @ chord / max(float(chord @ chord), DIVISION_FLOOR)
     foot = a + t[:, None] * chord
     k = int(np.argmax(np.linalg.norm(pts - foot, axis=1)))
     return {"span": np.array([a, b]), "rise": np.array([pts[k], foot[k]])}
@@ -75,7 +76,7 @@ def _draw_dimensions(ax, points: dict, figures: dict, view, centre, size) -> boo
             return False
     (a, b), (crown, foot) = xy["span"], xy["rise"]
     down = foot - crown
-    down /= max(float(np.linalg.norm(down)), 1e-300)
+    down /= max(float(np.linalg.norm(down)), DIVISION_FLOOR)
     off = 0.07 * size * down  # the span line below the feet, away from the crown
     style = {"arrowstyle": "<|-|>", "color": DIMENSION_COLOR, "lw": 0.9, "shrinkA": 0, "shrinkB": 0}
     thin = {"color": DIMENSION_COLOR, "lw": 0.5, "zorder": 5}

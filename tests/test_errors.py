@@ -1,0 +1,89 @@
+"""A missing optional extra: one helper (``compas_ccu.errors.require``), one message."""
+
+from __future__ import annotations
+
+import re
+from argparse import Namespace
+from pathlib import Path
+
+import pytest
+
+from compas_ccu import errors
+from compas_ccu.errors import MissingExtraError, require
+
+SRC = Path(__file__).resolve().parents[1] / "src" / "compas_ccu"
+
+#: The one message: what needs it, the extra, the modules not installed, the pip line.
+MESSAGE = re.compile(
+    r"^(?P<what>.+) needs the (?P<extra>\w+) extra \((?P<missing>[\w, ]+) not installed\): "
+    r"pip install 'compas_ccu\[(?P=extra)\]'"
+)
+
+
+def test_require_names_what_needs_the_extra_and_the_modules_missing():
+    assert require("json", "viz", what="'ccu figures'") is None
+    assert require(["json", "math"], "viz", what="'ccu figures'") is None
+    with pytest.raises(MissingExtraError) as info:
+        require(["json", "no_such_module_ccu", "no_such_either"], "fab", what="'ccu x'")
+    assert str(info.value) == (
+        "'ccu x' needs the fab extra (no_such_module_ccu, no_such_either not installed): "
+        "pip install 'compas_ccu[fab]'"
+    )
+    with pytest.raises(MissingExtraError, match=r"\[viz\]' \(or --no-figures\)$"):
+        require("no_such_module_ccu", "viz", what="x", note=" (or --no-figures)")
+
+
+def _everything_missing(monkeypatch):
+    monkeypatch.setattr(errors, "missing_modules", lambda names: list(names))
+
+
+def test_every_missing_extra_says_it_the_same_way(monkeypatch):
+    """Each place that needs an extra raises through the helper: one message format."""
+    from compas_ccu.cli import explore, optimize
+    from compas_ccu.cli.common import need_extra
+    from compas_ccu.curves import readers
+    from compas_ccu.fabrication import packing
+
+    _everything_missing(monkeypatch)
+    args = Namespace(in_process=False, dashboard=True, scheduler=None, workers=None)
+    calls = {
+        "reading DXF files": lambda: readers._need("ezdxf", "fab", "DXF files"),
+        "nesting the parts onto sheets": packing.solver_version,
+        "'ccu fabricate'": lambda: need_extra("fabricate", "fab", ("ezdxf", "trimesh")),
+        "'ccu explore'": lambda: explore._check(args),
+        "'ccu optimize'": lambda: optimize._check(args),
+    }
+    pytest.importorskip("shapely")  # compas_ccu.fabrication.importing imports it
+    from compas_ccu.fabrication import importing
+
+    calls["'ccu import'"] = importing._ezdxf
+    for what, call in calls.items():
+        with pytest.raises(MissingExtraError) as info:
+            call()
+        found = MESSAGE.match(str(info.value))
+        assert found and found["what"] == what, str(info.value)
+    with pytest.raises(MissingExtraError) as info:
+        explore._check(args)
+    assert str(info.value) == (
+        "'ccu explore' needs the explore extra (pyarrow, tqdm, distributed, bokeh not "
+        "installed): pip install 'compas_ccu[explore]' bokeh (make setup installs the extra)"
+    )
+
+
+def hand_raised(root: Path) -> list:
+    """``raise MissingExtraError(`` outside ``errors.py``: the places that bypass the helper."""
+    return [
+        f"{path.relative_to(root)}:{number}"
+        for path in sorted(root.rglob("*.py"))
+        if path.name != "errors.py" or path.parent != root
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+        if re.search(r"raise\s+MissingExtraError\b", line)
+    ]
+
+
+def test_no_missing_extra_error_is_raised_by_hand(tmp_path):
+    assert hand_raised(SRC) == []
+    (tmp_path / "errors.py").write_text("raise MissingExtraError('x')\n")  # the helper's own
+    (tmp_path / "viz").mkdir()
+    (tmp_path / "viz" / "plot.py").write_text("    raise MissingExtraError(\n")
+    assert hand_raised(tmp_path) == ["viz/plot.py:1"]  # the check finds one
