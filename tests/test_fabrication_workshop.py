@@ -325,8 +325,10 @@ def test_fabrication_section_in_millimetres():
 
 @pytest.mark.slow
 def test_fabricate_exits_3_on_exceeded_bending_unless_allowed(tmp_path, capsys):
+    """The 8 mm vault (examples/overbent.toml) on 2.5 x 1.25 m sheets: both checks fail."""
     out = tmp_path / "fab"
-    args = ["fabricate", VAULT, "--out", str(out), "--quiet", "--sheet", "2.5", "1.25"]
+    overbent = str(EXAMPLES / "overbent.toml")
+    args = ["fabricate", overbent, "--out", str(out), "--quiet", "--sheet", "2.5", "1.25"]
     args += ["--nesting", "shelf"]
     assert main(args) == 3
     err = capsys.readouterr().err

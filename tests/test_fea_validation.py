@@ -328,7 +328,7 @@ def test_ccu_validate_writes_results_and_info_shows_them(tmp_path, monkeypatch, 
     assert data["positions"].shape[1:] == data["nodes"].shape
     assert main(["info", str(design)]) == 0
     info = capsys.readouterr().out
-    assert "FE validation     opensees displacement with 8 mm plywood, alpha 40 deg" in info
+    assert "FE validation     opensees displacement with 5 mm plywood, alpha 40 deg" in info
     assert f"{summary['deviation']['max_percent']:.3f} %" in info
     # a changed design shows no stale validation
     design.write_text(open(CONE).read().replace("alpha = 40.0", "alpha = 35.0"))
