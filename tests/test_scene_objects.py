@@ -167,6 +167,26 @@ def test_the_notebook_buffers_of_a_flat_cone(cone_model):
     assert set(np.asarray(positions)[:, 2].tolist()) == {0.0}
     assert index.max() < len(positions)
     assert objects_module.notebook_buffers([])["faces"] is None
+    # a mesh whose vertex keys are not 0 .. n - 1: the faces and outline index its vertices
+    mesh = Mesh()
+    for key, xyz in zip((7, 3, 9, 5), ([0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0])):
+        mesh.add_vertex(key, x=xyz[0], y=xyz[1], z=xyz[2])
+    mesh.add_face([7, 3, 9, 5])
+    piece = ccu_scene.DrawItem("plate", "plate_0", mesh, Color(0.5, 0.5, 0.5))
+    buffers = objects_module.notebook_buffers([piece])
+    positions, _, index = buffers["faces"]
+    assert positions[index].tolist() == [
+        [0, 0, 0],
+        [1, 0, 0],
+        [1, 1, 0],
+        [0, 0, 0],
+        [1, 1, 0],
+        [0, 1, 0],
+    ]
+    positions, _, index = buffers["lines"]
+    assert sorted(map(tuple, positions[index.reshape(-1, 2)].sum(axis=1).tolist())) == sorted(
+        [(1, 0, 0), (2, 1, 0), (1, 2, 0), (0, 1, 0)]
+    )
 
 
 def test_scene_add_model_design_and_thick_model(cone_model):

@@ -255,12 +255,10 @@ def notebook_buffers(pieces) -> dict:
     for piece in pieces:  # faces, and the plate outlines first among the lines
         geometry = piece.geometry
         if isinstance(geometry, Mesh):
-            vertices, polygons = geometry.to_vertices_and_faces()
-            index = {key: i for i, key in enumerate(geometry.vertices())}
-            faces.add(
-                vertices, _triangles([[index[v] for v in f] for f in polygons]), piece.color.rgb
-            )
+            vertices, polygons = geometry.to_vertices_and_faces()  # faces: vertex indices
+            faces.add(vertices, _triangles(polygons), piece.color.rgb)
             if piece.role == "plate":
+                index = geometry.vertex_index()  # edges: vertex keys
                 edges = [(index[u], index[v]) for u, v in geometry.edges_on_boundary()]
                 lines.add(vertices, edges, outline_rgb)
     for piece in pieces:  # the rulings
