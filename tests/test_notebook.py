@@ -41,3 +41,33 @@ def test_tour_notebook_runs_top_to_bottom(tmp_path, monkeypatch):
     frames = [o["data"]["text/html"] for o in outputs if "text/html" in o.get("data", {})]
     assert any("<iframe" in f and "http://127.0.0.1:" in f for f in frames), frames
     assert "studio at http://127.0.0.1:" in text
+
+
+SCENE_NOTEBOOK = NOTEBOOK.with_name("scene.ipynb")
+
+
+@pytest.mark.slow
+def test_scene_notebook_stays_small():
+    """The vault in a compas_notebook scene: 39 widget models and 221 kB executed (one pythreejs
+    line per ruling made 2,763 models and 3.9 MB; docs/benchmarks.md)."""
+    pytest.importorskip("compas_notebook")
+    nb = nbformat.read(SCENE_NOTEBOOK, as_version=4)
+    assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code"), (
+        "commit the notebook without outputs"
+    )
+    client = nbclient.NotebookClient(
+        nb,
+        timeout=300,
+        kernel_name="python3",
+        resources={"metadata": {"path": str(NOTEBOOK.parent)}},
+    )
+    client.execute()
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+    assert "scene children: {'plate': 10, 'crease': 9, 'ruling': 10}" in text
+    views = [o for o in outputs if "application/vnd.jupyter.widget-view+json" in o.get("data", {})]
+    assert len(views) == 1
+    state = nb.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
+    assert 0 < len(state) <= 50
+    assert len(nbformat.writes(nb).encode()) <= 500_000

@@ -5,16 +5,20 @@ from __future__ import annotations
 import importlib.util
 import subprocess
 import sys
+from types import SimpleNamespace
 
 import compas
+import numpy as np
 import pytest
-from compas.datastructures import Mesh
+from compas.colors import Color
+from compas.datastructures import Graph, Mesh
 from compas.geometry import Line, Polyline
 from compas.scene import Scene, SceneObject
 from compas.scene.context import ITEM_SCENEOBJECT, register, register_scene_objects
 
 import compas_ccu
 import compas_ccu.scene as ccu_scene
+import compas_ccu.scene.objects as objects_module
 from compas_ccu.design import Design
 from compas_ccu.errors import OptionError
 from compas_ccu.model import CCUModel
@@ -77,11 +81,20 @@ def test_scene_add_structure_makes_plates_creases_rulings_with_kind_colours(vaul
     assert type(obj) is CCUSceneObject
     n = structure.faces.shape[1]
     plates, creases, rulings = (obj.children_by_role(r) for r in ("plate", "crease", "ruling"))
-    assert (len(plates), len(creases), len(rulings)) == (10, 9, 10 * (n + 1))
-    assert len(scene.objects) == 1 + 10 + 9 + 650
+    # the rulings of a plate: one child (a graph, one edge per ruling), not one per ruling
+    assert (len(plates), len(creases), len(rulings)) == (10, 9, 10)
+    assert len(scene.objects) == 1 + 10 + 9 + 10
     assert all(isinstance(c.item, Mesh) and c.item.number_of_faces() == n for c in plates)
     assert all(isinstance(c.item, Polyline) and len(c.item.points) == n + 1 for c in creases)
-    assert all(isinstance(c.item, Line) for c in rulings)
+    assert all(isinstance(c.item, Graph) and c.item.number_of_edges() == n + 1 for c in rulings)
+    assert [c.name for c in rulings] == [f"rulings_{pid}" for pid in structure.plate_ids]
+    assert all(c.show_nodes is False for c in rulings)
+    # the ruling graph of a plate joins its vertex rows: ruling j from near[j] to far[j]
+    segments = ccu_scene.draw.ruling_segments(rulings[0].item)
+    deployed = structure.deployed[0]
+    assert np.allclose(segments[:, 0], deployed[: n + 1]) and np.allclose(
+        segments[:, 1], deployed[n + 1 :]
+    )
     by_kind = {}
     for child, record in zip(creases, structure.creases):
         by_kind.setdefault(record["kind"], set()).add(child.color.hex)
@@ -98,23 +111,82 @@ def test_scene_add_structure_makes_plates_creases_rulings_with_kind_colours(vaul
     assert creases[0].contrastcolor.hex == creases[0].color.hex
 
 
-def test_compas_notebook_draws_the_children_in_their_colours(vault_model):
+def test_compas_notebook_draws_the_structure_as_one_mesh_and_one_line_set(vault_model):
     """Runs where the notebook extra is installed (pip install "compas_ccu[notebook]")."""
     viewer_module = pytest.importorskip("compas_notebook.viewer")
     viewer = viewer_module.Viewer()
     obj = viewer.scene.add(vault_model, alpha=20.0)
     assert type(obj) is NotebookCCUObject
+    assert [len(obj.children_by_role(r)) for r in ("plate", "crease", "ruling")] == [10, 9, 10]
     viewer.scene.draw()
-    three = [g for child in obj.children for g in child.guids]
-    counts = {}
-    for g in three:
-        counts[type(g).__name__] = counts.get(type(g).__name__, 0) + 1
-    assert counts == {"LineSegments": 10, "Mesh": 10, "Line": 9 + 650}
-    crease = obj.children_by_role("crease")[0]
-    assert crease.guids[0].material.color == crease.color.hex
-    plate = next(g for g in obj.children[0].guids if type(g).__name__ == "Mesh")
-    rgb = plate.geometry.attributes["color"].array[0]
-    assert [round(float(c), 4) for c in rgb] == [round(c, 4) for c in obj.children[0].color.rgb]
+    assert [g for child in obj.children for g in child.guids] == []  # the parent draws them
+    mesh, lines = obj.guids
+    assert (type(mesh).__name__, type(lines).__name__) == ("Mesh", "LineSegments")
+    n = vault_model.segments
+    positions = mesh.geometry.attributes["position"].array
+    colors = mesh.geometry.attributes["color"].array
+    assert positions.shape == (10 * 2 * (n + 1), 3) and colors.shape == positions.shape
+    assert len(mesh.geometry.index.array) == 10 * n * 2 * 3  # two triangles per quad
+    rgb = [round(float(c), 4) for c in colors[0]]
+    assert rgb == [round(c, 4) for c in obj.children[0].color.rgb]  # the plate's tint
+    # lines: plate outlines, then rulings (10 x 65), then creases (9 x 64) in the kind colours
+    index = lines.geometry.index.array
+    outline = 10 * (2 * n + 2)
+    assert len(index) == 2 * (outline + 10 * (n + 1) + 9 * n)
+    line_rgb = lines.geometry.attributes["color"].array[index[2 * (outline + 10 * (n + 1)) :]]
+    kinds = {Color(*map(float, c)).hex for c in line_rgb}
+    assert kinds == {KIND_COLORS["synclastic"], KIND_COLORS["anticlastic"]}
+    # a hidden child is left out of the buffers
+    for child in obj.children_by_role("ruling"):
+        child.show = False
+    obj.draw()
+    assert len(obj.guids[1].geometry.index.array) == 2 * (outline + 9 * n)
+
+
+def test_the_notebook_scene_of_the_vault_makes_at_most_50_widget_models(vault_model):
+    """Was 2,763 (one pythreejs line, geometry, attribute and material per ruling and crease);
+    now the structure is 12 models and the viewer's own page (buttons, layouts, camera) 27."""
+    viewer_module = pytest.importorskip("compas_notebook.viewer")
+    widgets = pytest.importorskip("ipywidgets")
+    registry = getattr(widgets.widgets.widget, "_instances", None)  # ipywidgets 8
+    if registry is None:
+        registry = widgets.Widget.widgets  # ipywidgets 7
+    before = set(registry)
+    viewer = viewer_module.Viewer()
+    viewer.scene.add(vault_model)
+    viewer.show()  # draws the scene and builds the viewer's widgets (no frontend here)
+    created = set(registry) - before
+    assert len(created) <= 50, len(created)
+
+
+def test_the_notebook_buffers_of_a_flat_cone(cone_model):
+    items = ccu_scene.draw_items(cone_model, state="flat")
+    buffers = objects_module.notebook_buffers(items)
+    positions, colors, index = buffers["faces"]
+    assert positions.dtype == np.float32 and index.dtype == np.uint16
+    assert set(np.asarray(positions)[:, 2].tolist()) == {0.0}
+    assert index.max() < len(positions)
+    assert objects_module.notebook_buffers([])["faces"] is None
+    # a mesh whose vertex keys are not 0 .. n - 1: the faces and outline index its vertices
+    mesh = Mesh()
+    for key, xyz in zip((7, 3, 9, 5), ([0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0])):
+        mesh.add_vertex(key, x=xyz[0], y=xyz[1], z=xyz[2])
+    mesh.add_face([7, 3, 9, 5])
+    piece = ccu_scene.DrawItem("plate", "plate_0", mesh, Color(0.5, 0.5, 0.5))
+    buffers = objects_module.notebook_buffers([piece])
+    positions, _, index = buffers["faces"]
+    assert positions[index].tolist() == [
+        [0, 0, 0],
+        [1, 0, 0],
+        [1, 1, 0],
+        [0, 0, 0],
+        [1, 1, 0],
+        [0, 1, 0],
+    ]
+    positions, _, index = buffers["lines"]
+    assert sorted(map(tuple, positions[index.reshape(-1, 2)].sum(axis=1).tolist())) == sorted(
+        [(1, 0, 0), (2, 1, 0), (1, 2, 0), (0, 1, 0)]
+    )
 
 
 def test_scene_add_model_design_and_thick_model(cone_model):
@@ -140,6 +212,8 @@ def test_cut_patterns_lie_on_the_xy_plane(cone_model):
 def _zs(item) -> list:
     if isinstance(item, Mesh):
         return [xyz[2] for xyz in item.vertices_attributes("xyz")]
+    if isinstance(item, Graph):
+        return [xyz[2] for xyz in item.nodes_attributes("xyz")]
     if isinstance(item, Line):
         return [item.start[2], item.end[2]]
     return [p[2] for p in item.points]
@@ -216,7 +290,10 @@ def test_compas_viewer_builds_buffers_of_the_children(monkeypatch, cone_model):
     assert len(positions) == 2 * n and {c.hex for c in colors} == {"#1f63d6"}
     plate = obj.children_by_role("plate")[0]
     assert {c.hex for c in plate._frontfaces_data[1]} == {"#9ab8ec"}
-    assert len(manager.objects) == 1 + 2 + 1 + 2 * (n + 1)
+    assert len(manager.objects) == 1 + 2 + 1 + 2  # the rulings: one object per plate
+    rulings = obj.children_by_role("ruling")[0]
+    positions, colors, _ = rulings._lines_data
+    assert len(positions) == 2 * (n + 1) and {c.hex for c in colors} == {RULING_COLOR}
 
 
 def test_import_stays_cheap_and_discovery_loads_no_plotting_or_writers():
@@ -232,3 +309,56 @@ def test_import_stays_cheap_and_discovery_loads_no_plotting_or_writers():
     ).stdout.split("\n")
     assert out[0] == "[]"
     assert out[1] == "True []"
+
+
+class _ViewerSceneObjectDouble(SceneObject):
+    """compas_viewer's ``ViewerSceneObject`` double: ``init()`` (called by the renderer before
+    it computes the view) and ``viewer.renderer.camera`` (``target``, ``distance``, ``fov``,
+    ``far``, ``scale``, as compas_viewer's ``Camera``)."""
+
+    viewer = None
+
+    def __init__(self, **kwargs):
+        kwargs.pop("show_nodes", None), kwargs.pop("edgecolor", None), kwargs.pop("facecolor", None)
+        super().__init__(**kwargs)
+        self.initialised = False
+
+    def init(self):
+        self.initialised = True
+
+    def draw(self):
+        return []
+
+
+def test_the_viewer_scene_object_sets_the_camera_on_the_structure(monkeypatch, vault_model):
+    camera = SimpleNamespace(fov=45.0, near=0.1, far=1000.0, scale=1.0, target=[0, 0, 0],
+                             distance=17.3)  # fmt: skip
+    monkeypatch.setattr(
+        _ViewerSceneObjectDouble, "viewer", SimpleNamespace(renderer=SimpleNamespace(camera=camera))
+    )
+    cls = objects_module._viewer_class(_ViewerSceneObjectDouble)
+    assert cls.__mro__[1:3] == (objects_module._ViewerFraming, CCUSceneObject)
+    monkeypatch.setattr(compas.scene.context, "ITEM_SCENEOBJECT", ITEM_SCENEOBJECT.copy())
+    compas.scene.context.ITEM_SCENEOBJECT["Viewer"] = {}
+    for geometry_type in (Mesh, Polyline, Graph):
+        register(geometry_type, _ViewerSceneObjectDouble, context="Viewer")
+    ccu_scene.register_context("Viewer", cls)
+    scene = Scene(context="Viewer")
+    obj = scene.add(vault_model.deploy(30.0))
+    assert type(obj) is cls and len(obj.children) == 10 + 9 + 10
+    obj.init()
+    assert obj.initialised  # the viewer's own init ran
+    lo, hi = obj.bounding_box()
+    assert np.allclose(camera.target, (lo + hi) / 2)
+    radius = np.linalg.norm(hi - lo) / 2
+    # the bounding sphere inside the field of view, with a margin, and not much more
+    assert radius < camera.distance * np.sin(np.radians(camera.fov / 2)) < 1.3 * radius
+    assert 1.0 < camera.distance < 10.0 and camera.far == 1000.0  # the vault: about 3 m
+    # millimetres: 1000 times further, the far plane moved out to keep it in view
+    mm = scene.add(vault_model.deploy(30.0), scale=1000.0)
+    mm.init()
+    assert 1000.0 < camera.distance < 10000.0 and camera.far > camera.distance + 1000 * radius
+    # zoom=False leaves the camera alone
+    camera.distance = 17.3
+    scene.add(vault_model.deploy(30.0), zoom=False).init()
+    assert camera.distance == 17.3

@@ -26,7 +26,7 @@ from compas_ccu.ghpython.convert import crease_plane, curve_points, to_host, to_
 from compas_ccu.key_figures.text import utilisation_text
 from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.model import CCUModel
-from compas_ccu.scene.draw import draw_items, item_structure
+from compas_ccu.scene.draw import draw_items, item_structure, ruling_lines
 from compas_ccu.thickness import ThickModel
 
 __all__ = [
@@ -254,6 +254,10 @@ def deploy_component(
     points = structure.points(state)
     n = structure.faces.shape[1]
     for item in items:
+        if item.role == "ruling":  # one output line per ruling (a plate's graph of rulings)
+            for line in ruling_lines(item.geometry):
+                out["ruling"].append(to_host(_to_document(line, scale), color=item.color))
+            continue
         geometry = _to_document(item.geometry, scale)
         host = None
         if item.role == "plate" and surfaces:

@@ -12,7 +12,7 @@ host.
 >>> from compas_ccu.model import load_model
 >>> obj = Scene().add(load_model("examples/vault.toml"))
 >>> [len(obj.children_by_role(r)) for r in ("plate", "crease", "ruling")]
-[10, 9, 650]
+[10, 9, 10]
 """
 
 from __future__ import annotations

@@ -1,11 +1,14 @@
 """What a CCU structure looks like in any COMPAS context: plates, creases, rulings, solids.
 
 The scene objects of every context (no context, the COMPAS Viewer, notebooks, Rhino,
-Grasshopper) draw the same :class:`DrawItem` list, built here from COMPAS geometry
-(:class:`compas.datastructures.Mesh`, :class:`compas.geometry.Polyline`,
-:class:`compas.geometry.Line`) with the colours of :mod:`compas_ccu.viz.colors`: creases in the
-colour of their kind, plates in a light tint of the kind of their creases, rulings in the ruling
-colour. Nothing here needs a window or a host application.
+Grasshopper) draw the same :class:`DrawItem` list, built here from COMPAS data
+(:class:`compas.datastructures.Mesh` for plates and solids, :class:`compas.geometry.Polyline`
+for creases, one :class:`compas.datastructures.Graph` of line segments for the rulings of each
+plate) with the colours of :mod:`compas_ccu.viz.colors`: creases in the colour of their kind,
+plates in a light tint of the kind of their creases, rulings in the ruling colour. One graph per
+plate rather than one line per ruling keeps the scenes light: a context draws a graph's edges as
+one line-segments buffer (compas_viewer, notebooks) or as one group of lines (Rhino). Nothing
+here needs a window or a host application.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from compas.colors import Color
 from compas.data import Data
-from compas.datastructures import Mesh
+from compas.datastructures import Graph, Mesh
 from compas.geometry import Line, Polyline, Scale
 
 from compas_ccu.design import Design
@@ -33,6 +36,10 @@ __all__ = [
     "PLATE_TINT",
     "PLATE_COLORS",
     "draw_items",
+    "bounding_box",
+    "ruling_graph",
+    "ruling_segments",
+    "ruling_lines",
     "item_structure",
     "plate_kinds",
     "color",
@@ -58,14 +65,16 @@ class DrawItem:
     ----------
     role : {"plate", "crease", "ruling", "solid"}
     name : str
-        ``plate_<id>``, ``crease_<id>``, ``ruling_<plate id>_<j>`` or ``solid_<id>``.
+        ``plate_<id>``, ``crease_<id>``, ``rulings_<plate id>`` or ``solid_<id>``.
     geometry : compas.data.Data
         A :class:`~compas.datastructures.Mesh` (plates, solids), a
-        :class:`~compas.geometry.Polyline` (creases) or a :class:`~compas.geometry.Line`.
+        :class:`~compas.geometry.Polyline` (creases) or a :class:`~compas.datastructures.Graph`
+        (the rulings of one plate: one edge per ruling, see :func:`ruling_graph`).
     color : compas.colors.Color
     attributes : dict
         ``plate`` (id) for plates, rulings and solids; ``crease`` (id) and ``kind`` for creases;
-        ``kind`` for plates (the kind of their creases, ``None`` for a plate without creases).
+        ``kind`` for plates (the kind of their creases, ``None`` for a plate without creases);
+        ``count`` (number of rulings) for rulings.
     """
 
     role: str
@@ -90,6 +99,61 @@ def tint(hex_color: str, amount: float = PLATE_TINT) -> Color:
         raise OptionError(f"tint amount must be in [0, 1], got {amount!r}")
     r, g, b = hex_to_rgb(hex_color)
     return Color(*(c + (1.0 - c) * amount for c in (r, g, b)))
+
+
+def ruling_graph(segments, name: str = "rulings") -> Graph:
+    """The rulings of one plate as one :class:`~compas.datastructures.Graph`.
+
+    Node ``2 j`` and ``2 j + 1`` are the two ends of ruling ``j`` (attributes ``x, y, z``),
+    edge ``(2 j, 2 j + 1)`` is the ruling: every COMPAS context draws a graph, and draws its
+    edges as one object (a line-segments buffer in compas_viewer and notebooks).
+
+    >>> g = ruling_graph([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]])
+    >>> g.number_of_nodes(), list(g.edges())
+    (4, [(0, 1), (2, 3)])
+    """
+    ends = np.asarray(segments, dtype=float).reshape(-1, 3)
+    graph = Graph(name=name)
+    for key, (x, y, z) in enumerate(ends.tolist()):
+        graph.add_node(key, x=x, y=y, z=z)
+    for j in range(len(ends) // 2):
+        graph.add_edge(2 * j, 2 * j + 1)
+    return graph
+
+
+def ruling_segments(graph: Graph) -> np.ndarray:
+    """``(m, 2, 3)`` end points of the edges of a rulings graph (:func:`ruling_graph`)."""
+    xyz = {key: graph.node_attributes(key, "xyz") for key in graph.nodes()}
+    return np.array([[xyz[u], xyz[v]] for u, v in graph.edges()], dtype=float).reshape(-1, 2, 3)
+
+
+def ruling_lines(graph: Graph) -> list:
+    """The edges of a rulings graph as :class:`~compas.geometry.Line` s, in ruling order."""
+    return [Line(a, b) for a, b in ruling_segments(graph).tolist()]
+
+
+def bounding_box(items) -> np.ndarray:
+    """``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` of the geometry of :class:`DrawItem` s.
+
+    >>> from compas_ccu.model import load_model
+    >>> bounding_box(draw_items(load_model("examples/cone.toml"))).shape
+    (2, 3)
+    """
+    points = []
+    for piece in items:
+        geometry = piece.geometry
+        if isinstance(geometry, Mesh):
+            points.extend(geometry.vertices_attributes("xyz"))
+        elif isinstance(geometry, Graph):
+            points.extend(geometry.nodes_attributes("xyz"))
+        elif isinstance(geometry, Polyline):
+            points.extend(list(p) for p in geometry.points)
+        elif isinstance(geometry, Line):
+            points.extend([list(geometry.start), list(geometry.end)])
+    if not points:
+        return np.zeros((2, 3))
+    xyz = np.asarray(points, dtype=float)
+    return np.array([xyz.min(axis=0), xyz.max(axis=0)])
 
 
 def plate_kinds(structure: Structure) -> dict:
@@ -199,7 +263,8 @@ def draw_items(
     Returns
     -------
     list of DrawItem
-        Plates, then creases, then rulings, then solids; plates in the structure's order.
+        Plates, then creases, then rulings (one item per plate), then solids; plates in the
+        structure's order.
 
     Raises
     ------
@@ -212,7 +277,10 @@ def draw_items(
     >>> from compas_ccu.model import load_model
     >>> items = draw_items(load_model("examples/cone.toml"))
     >>> [sum(i.role == r for i in items) for r in ("plate", "crease", "ruling")]
-    [2, 1, 98]
+    [2, 1, 2]
+    >>> rulings = next(i for i in items if i.role == "ruling")
+    >>> rulings.name, rulings.geometry.number_of_edges(), rulings.attributes["count"]
+    ('rulings_0', 49, 49)
     >>> crease = next(i for i in items if i.role == "crease")
     >>> crease.attributes["kind"], crease.color.hex
     ('synclastic', '#1f63d6')
@@ -251,11 +319,10 @@ def draw_items(
     if rulings:
         ruling_color = color(RULING_COLOR)
         for pid, segments in zip(scene.plate_ids, scene.rulings):
-            for j, (a, b) in enumerate(segments):
-                name = f"ruling_{pid}_{j}"
-                line = Line(a.tolist(), b.tolist())
-                line.name = name
-                out.append(DrawItem("ruling", name, line, ruling_color, {"plate": pid}))
+            name = f"rulings_{pid}"
+            graph = ruling_graph(segments, name=name)
+            attributes = {"plate": pid, "count": graph.number_of_edges()}
+            out.append(DrawItem("ruling", name, graph, ruling_color, attributes))
     if thickness is not None or isinstance(item, ThickModel):
         for pid, mesh in _solids(item, structure, thickness):
             kind = kinds[pid]
