@@ -85,6 +85,13 @@ def test_deploy_writes_obj_and_compas_json(tmp_path):
     meshes = compas.json_load(str(tmp_path / "structure.compas.json"))
     assert len(meshes) == 10
     assert meshes[0].number_of_faces() == 64 and meshes[0].number_of_vertices() == 130
+    assert [m.name for m in meshes] == [f"plate_{i}" for i in range(10)]
+    assert len({str(m.guid) for m in meshes}) == 10  # name-based ids, one per plate
+    # the same structure, the same file: no random COMPAS guid in it
+    again = tmp_path / "again"
+    assert main(["deploy", VAULT, "--out", str(again), "--quiet"]) == 0
+    first = (tmp_path / "structure.compas.json").read_bytes()
+    assert (again / "structure.compas.json").read_bytes() == first
 
 
 def test_path_writes_states_and_table(tmp_path, capsys):

@@ -102,8 +102,9 @@ def test_cone_pair_deploys_within_0_3_percent_of_span_of_the_exact_cone(cone_run
     fe_centre = circumcentre(fe[0], fe[len(fe) // 2], fe[-1])
     fe_radius = np.linalg.norm(fe - fe_centre, axis=1)
     assert np.abs(fe_radius - radius).max() <= 0.003 * s["span"]
-    # active bending: about 20 MPa for 8 mm plywood at this opening, membrane much smaller
-    assert 15.0 < s["stresses"]["max_bending_MPa"] < 25.0
+    # active bending: about 13 MPa for 5 mm plywood at this opening (20.9 MPa for 8 mm: the
+    # stress grows with t), membrane much smaller
+    assert 10.0 < s["stresses"]["max_bending_MPa"] < 16.0
     assert s["stresses"]["max_membrane_MPa"] < 0.2 * s["stresses"]["max_bending_MPa"]
     # deployment stores energy: the work of the supports grows with alpha
     work = np.asarray(s["load_path"]["work_J"])

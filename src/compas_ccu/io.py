@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import hashlib
 import json
 from pathlib import Path
 
@@ -10,7 +11,7 @@ import compas
 import numpy as np
 
 from compas_ccu.errors import GeometryError
-from compas_ccu.outputs import write_json
+from compas_ccu.outputs import name_id, write_json
 from compas_ccu.structure import Structure
 
 __all__ = [
@@ -52,10 +53,20 @@ def write_obj(structure, path, *, state: str = "deployed") -> Path:
 
 
 def write_compas_json(structure, path) -> Path:
-    """Write the deployed plates as a list of COMPAS meshes (``compas.json_load`` reads it)."""
+    """Write the deployed plates as a list of COMPAS meshes (``compas.json_load`` reads it).
+
+    Every mesh's ``guid`` is a name-based id of its name and its data (:func:`name_id`), not
+    COMPAS' random one: the same structure gives the same file.
+    """
     path = Path(path)
     _check_finite(structure.deployed, path)
-    path.write_text(compas.json_dumps(structure.to_meshes()), encoding="utf-8")
+    documents = []
+    for mesh in structure.to_meshes():
+        document = mesh.__jsondump__()
+        data = hashlib.sha256(compas.json_dumps(document["data"]).encode()).hexdigest()
+        document["guid"] = str(name_id(mesh.name, data))
+        documents.append(document)
+    path.write_text(compas.json_dumps(documents), encoding="utf-8")
     return path
 
 

@@ -26,13 +26,28 @@ import os
 import shutil
 import signal
 import threading
+import uuid
 from contextlib import contextmanager
 from pathlib import Path
 
 from compas_ccu.errors import GeometryError, OptionError
 
 __all__ = ["MANIFEST", "check_output_folder", "staged_folder", "manifest_files", "signals_held"]
-__all__ += ["json_text", "write_json", "first_non_finite"]
+__all__ += ["json_text", "write_json", "first_non_finite", "NAMESPACE", "name_id"]
+
+#: The namespace of :func:`name_id` (name-based UUIDs of ``compas_ccu``).
+NAMESPACE = uuid.uuid5(uuid.NAMESPACE_DNS, "compas-ccu.org")
+
+
+def name_id(*parts) -> uuid.UUID:
+    """A fixed id of the object named by ``parts`` (a name-based UUID, version 5): written files
+    carry ids that are the same every time, never random ones.
+
+    >>> name_id("vault", "plate 0") == name_id("vault", "plate 0") != name_id("dome", "plate 0")
+    True
+    """
+    return uuid.uuid5(NAMESPACE, "/".join(str(p) for p in parts))
+
 
 #: The manifest of the files of the last complete run, inside the output folder.
 MANIFEST = ".ccu-files.json"

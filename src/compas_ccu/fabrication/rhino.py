@@ -46,6 +46,7 @@ import numpy as np
 
 from compas_ccu.fabrication.meshes import crease_line, layout_offsets, solid_mesh
 from compas_ccu.kinematics.plates import plate_rulings
+from compas_ccu.outputs import name_id
 
 __all__ = ["LAYERS", "read_3dm_summary", "write_3dm"]
 
@@ -178,10 +179,6 @@ def write_3dm(data, path, *, gap: float = 0.1, version: int = 8) -> Path:
     return path
 
 
-#: The namespace of :func:`object_id` (a name-based UUID of ``compas_ccu``).
-NAMESPACE = uuid.uuid5(uuid.NAMESPACE_DNS, "compas-ccu.org")
-
-
 def object_id(design: str, name: str) -> uuid.UUID:
     """The fixed id of object (or layer) ``name`` of design ``design`` in a 3DM file.
 
@@ -190,7 +187,7 @@ def object_id(design: str, name: str) -> uuid.UUID:
     >>> object_id("vault", "plate 0") == object_id("dome", "plate 0")
     False
     """
-    return uuid.uuid5(NAMESPACE, f"{design}/{name}")
+    return name_id(design, name)
 
 
 def read_3dm_summary(path) -> dict:
