@@ -367,3 +367,38 @@ def test_offset_strip_straight_and_degenerate():
         offset_strip(np.array([[0.0, 0.0], [0.0, 0.0], [1.0, 0.0]]), 0.1)
     with pytest.raises(GeometryError, match="turns back"):
         offset_strip(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 0.0]]), 0.1)
+
+
+_WRITE_ONE = """
+import sys
+from compas_ccu.fabrication.dxf import new_document, save_document
+doc = new_document({"CUT": 1, "LABEL": 3})
+msp = doc.modelspace()
+msp.add_lwpolyline([(0, 0), (10, 0), (10, 5)], dxfattribs={"layer": "CUT"})
+msp.add_line((0, 0), (5, 5))
+msp.add_text("P0", dxfattribs={"layer": "LABEL"})
+msp.add_mtext("plate 0")
+msp.add_circle((1, 1), 0.5)
+msp.add_arc((2, 2), 1.0, 0, 90)
+msp.add_point((3, 3))
+msp.add_spline([(0, 0), (1, 2), (3, 1), (4, 4)])
+msp.add_ellipse((5, 5), major_axis=(2, 0), ratio=0.5)
+msp.add_hatch().paths.add_polyline_path([(0, 0), (1, 0), (1, 1)])
+save_document(doc, sys.argv[1])
+"""
+
+
+def test_a_drawing_writes_the_same_bytes_in_every_process(tmp_path):
+    """ezdxf lists the CLASS of every entity type in use in a set's order, which follows the
+    process's string hashing: save_document fixes the order (the same file in every run)."""
+    import os
+    import subprocess
+    import sys
+
+    files = []
+    for seed in range(4):
+        path = tmp_path / f"seed{seed}.dxf"
+        env = {**os.environ, "PYTHONHASHSEED": str(seed)}
+        subprocess.run([sys.executable, "-c", _WRITE_ONE, str(path)], env=env, check=True)
+        files.append(path.read_bytes())
+    assert b"CLASSES" in files[0] and all(f == files[0] for f in files[1:])

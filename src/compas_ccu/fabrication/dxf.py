@@ -102,8 +102,23 @@ def save_document(doc, path: Path) -> None:
         doc.header["$EXTMAX"] = (hi.x, hi.y, hi.z)
         msp.reset_extents((lo.x, lo.y, lo.z), (hi.x, hi.y, hi.z))
         zoom.center(msp, box.center, box.size)
+    _fixed_class_order(doc)
     with _fixed_metadata():
         doc.saveas(path)
+
+
+def _fixed_class_order(doc) -> None:
+    """The CLASSES section in a fixed order: ezdxf adds a CLASS for every entity type in use
+    from a set, whose order follows Python's string hashing and so changes from one process to
+    the next (the same drawing wrote other bytes in every run). Its required classes first, in
+    its order, then the others by name; saving adds nothing more (ezdxf keeps a class once)."""
+    from ezdxf.sections.classes import REQUIRED_CLASSES
+
+    doc.commit_pending_changes()
+    doc.classes.add_required_classes(doc.dxfversion)
+    required = {n: k for k, n in enumerate(REQUIRED_CLASSES.get(doc.dxfversion, ()))}
+    keys = sorted(doc.classes.classes, key=lambda key: (required.get(key[0], len(required)), key))
+    doc.classes.classes = {key: doc.classes.classes[key] for key in keys}
 
 
 def xy_list(points) -> list:
