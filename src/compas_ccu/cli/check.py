@@ -15,7 +15,7 @@ from pathlib import Path
 from compas_ccu.cli.common import load_model
 from compas_ccu.cli.model_commands import INFO_PATH_STATES, INFO_THICKNESS_STATES
 from compas_ccu.cli.parser import DESIGN, Command, option
-from compas_ccu.errors import CCUError
+from compas_ccu.errors import CCUError, GeometryError
 from compas_ccu.key_figures import key_figures
 from compas_ccu.key_figures.checks import (
     check_lines,
@@ -25,6 +25,7 @@ from compas_ccu.key_figures.checks import (
     fe_checks,
 )
 from compas_ccu.outputs import json_text
+from compas_ccu.thickness import ThickModel
 
 __all__ = ["COMMANDS", "read_record"]
 
@@ -52,9 +53,6 @@ def read_record(folder, name: str, fmt: str) -> dict:
 
 def sheet(model, *, fabrication=None, fe=None) -> list:
     """Every :class:`~compas_ccu.key_figures.checks.Check` of ``model`` (and the records)."""
-    from compas_ccu.errors import GeometryError
-    from compas_ccu.thickness import ThickModel
-
     figures = key_figures(model, path=INFO_PATH_STATES).to_dict()
     try:
         summary = ThickModel(model).summary(path_states=INFO_THICKNESS_STATES)
@@ -103,7 +101,6 @@ def check(args) -> int:
 COMMANDS = (
     Command(
         "check",
-        "the check sheet: every check with value, limit and clause",
         "Print every check of DESIGN an engineer signs (kinematic invariants, deployment and "
         "collision limits, the thick plates' penetration and bending, EN 1995-1-1 / EN 1999-1-1 "
         "clauses), and with --fabrication / --fe those of a ccu fabricate / ccu validate "
