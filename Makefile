@@ -12,7 +12,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio clean
+.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -107,6 +107,7 @@ TESTS39 = tests/test_model_*.py tests/test_design_*.py tests/test_kinematics_*.p
 	tests/test_curves_*.py tests/test_strips_*.py tests/test_thickness_*.py \
 	tests/test_fabrication_*.py tests/test_examples_baselines.py tests/test_shape_control.py \
 	tests/test_limits.py tests/test_outputs.py tests/test_robustness.py tests/test_cli.py \
+	tests/test_cli_startup.py \
 	tests/test_key_figures.py tests/test_compas_data.py tests/test_scene_*.py tests/test_ghpython_*.py
 
 $(VENV39)/bin/ccu: pyproject.toml
@@ -178,6 +179,10 @@ bench-relax: setup
 # the interpenetration certificate's cost per model (docs/benchmarks.md)
 bench-interference: setup
 	$(BIN)/python benchmarks/bench_interference.py
+
+# the CPU time of ccu --help / --version (a fresh process each, median of 15; docs/benchmarks.md)
+bench-cli: setup
+	$(BIN)/python benchmarks/bench_cli_startup.py
 
 clean:
 	rm -rf $(VENV) $(VENV39) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info

@@ -48,7 +48,8 @@ def test_every_top_level_module_is_in_a_layer():
 
 
 def test_no_function_local_imports_of_the_package():
-    """Intra-package imports are module-level: only optional third-party extras load lazily."""
+    """Intra-package imports are module-level: only optional third-party extras load lazily
+    (and the command modules of the ccu command table, by name: the next tests)."""
     local = []
     for path in sorted(SRC.rglob("*.py")):
         tree = ast.parse(path.read_text(encoding="utf-8"))
@@ -66,6 +67,77 @@ def test_no_function_local_imports_of_the_package():
                 if any(n == "compas_ccu" or n.startswith("compas_ccu.") for n in names):
                     local.append(f"{path.relative_to(ROOT)}:{node.lineno}")
     assert local == []
+
+
+#: The modules that import a module named by a variable (``importlib.import_module(name)``), and
+#: what they import. The command table is the one place the package imports its own modules by
+#: name (docs/architecture.md): ``ccu --help`` lists the commands without importing them.
+IMPORTS_BY_NAME = {
+    "cli/table.py": "the command modules of the ccu command table (compas_ccu.cli.*)",
+    "curves/readers.py": "the optional readers of curve files: ezdxf, svgelements, rhino3dm",
+    "ghpython/convert.py": "Rhino's modules, where they import (Rhino, compas_rhino)",
+}
+
+
+def _names_package(node) -> bool:
+    """A string (literal, f-string, sum) that holds ``compas_ccu``."""
+    return any(
+        isinstance(n, ast.Constant) and isinstance(n.value, str) and "compas_ccu" in n.value
+        for n in ast.walk(node)
+    )
+
+
+def imports_by_name(root: Path) -> dict:
+    """``{"path:line": what}`` of every call of ``import_module`` / ``__import__`` under ``root``:
+    ``"compas_ccu"`` if its argument names the package in a string, ``"name"`` if it is a
+    variable (a literal naming another package is not listed)."""
+    found = {}
+    for path in sorted(root.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Call) or not node.args:
+                continue
+            func = node.func
+            name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+            if name not in ("import_module", "__import__"):
+                continue
+            where = f"{path.relative_to(root).as_posix()}:{node.lineno}"
+            if _names_package(node.args[0]):
+                found[where] = "compas_ccu"
+            elif not isinstance(node.args[0], ast.Constant):
+                found[where] = "name"
+    return found
+
+
+def test_the_package_imports_its_own_modules_by_name_only_in_the_command_table(tmp_path):
+    found = imports_by_name(SRC)
+    assert [k for k, v in found.items() if v == "compas_ccu"] == []
+    assert {k.split(":")[0] for k in found} == set(IMPORTS_BY_NAME)
+    # the check can fail: a module that imports one of the package's modules by name is found
+    (tmp_path / "bad.py").write_text(
+        "import importlib\n\n\ndef f(x):\n"
+        "    importlib.import_module('compas_ccu.model')\n"
+        "    __import__(f'compas_ccu.{x}')\n"
+        "    importlib.import_module(x)\n"
+        "    importlib.import_module('ezdxf')\n"
+    )
+    assert imports_by_name(tmp_path) == {
+        "bad.py:5": "compas_ccu",
+        "bad.py:6": "compas_ccu",
+        "bad.py:7": "name",
+    }
+
+
+def test_the_command_table_names_command_modules_only():
+    """What the table imports by name is a ``compas_ccu.cli`` module, the layer's own: the
+    import contracts, which see ``import`` statements only, lose nothing."""
+    from compas_ccu.cli import table
+
+    modules = {e.module for e in table.TABLE} | set(table.EXPORTS.values())
+    for module in modules:
+        package, _, name = module.rpartition(".")
+        assert package == "compas_ccu.cli" and (SRC / "cli" / f"{name}.py").exists(), module
+    with pytest.raises(ValueError, match="not a module of the command table"):
+        table._module("compas_ccu.model")
 
 
 def private_imports(root: Path) -> list:

@@ -304,10 +304,18 @@ def test_every_error_class_pickles_with_its_attributes():
 
 
 def test_the_commands_are_declared_once_and_help_needs_no_extra():
+    import importlib
+
     from compas_ccu.cli import COMMANDS, thickness_lines  # noqa: F401 - still exported
+    from compas_ccu.cli.table import TABLE
 
     names = [c.name for c in COMMANDS]
     assert len(names) == len(set(names)) == 19
+    assert names == [e.name for e in TABLE]  # in the order of ccu --help
+    # the table names every command of a module, and only there, where it is declared
+    for module in {e.module for e in TABLE}:
+        declared = sorted(c.name for c in importlib.import_module(module).COMMANDS)
+        assert declared == sorted(e.name for e in TABLE if e.module == module), module
     code = (
         "import sys; from compas_ccu.cli import build_parser; build_parser(); "
         "print(sorted(m for m in ('matplotlib', 'plotly', 'distributed', 'pyarrow', 'optuna', "

@@ -1,12 +1,22 @@
+# PYTHON_ARGCOMPLETE_OK  (argcomplete's global completion: this module completes ``ccu``)
 """Command line interface: ``ccu new | deploy | path | info | planarity | catalog | validate |
-fabricate | explore | optimize | scale | figures | animate | view | sheet | report | studio``.
+fabricate | explore | optimize | scale | figures | animate | view | sheet | report | studio |
+check | import``; ``python -m compas_ccu`` is the same command.
 
 Every command takes a design TOML file (see ``docs/design-files.md``; ``ccu new`` writes one), a
 sweep or a study file.
 The commands are declared as data, one module per group (:mod:`.new`, :mod:`.model_commands`,
 :mod:`.pictures`, :mod:`.catalog`, :mod:`.fea`, :mod:`.fabrication`, :mod:`.explore`,
-:mod:`.optimize`; the parser is built by :mod:`.parser`); each parses its options, calls the
-library and formats the result (:mod:`.text`).
+:mod:`.optimize`, :mod:`.scale`, :mod:`.check`, :mod:`.studio`; the parser is built by
+:mod:`.parser`); each parses its options, calls the library and formats the result
+(:mod:`.text`).
+
+A command's module is imported only when that command runs (or ``ccu NAME --help`` asks for its
+options): the command table (:mod:`.table`) lists every command by name and help line, so
+``ccu --help`` and ``ccu --version`` import neither COMPAS nor SciPy and start at once
+(docs/cli.md). Tab completion of the commands and their options is argcomplete's: the shell
+runs ``ccu`` with ``_ARGCOMPLETE`` set, and :func:`main` answers with the completions and exits
+(``eval "$(register-python-argcomplete ccu)"``, README).
 
 Errors: a :class:`compas_ccu.errors.CCUError` (a bad design, option or state; a missing extra)
 or an OSError on the user's files is printed as one line ``ccu: error: ...`` naming the cause
@@ -20,55 +30,31 @@ staging folder of the output folder being written.
 
 from __future__ import annotations
 
+import os
 import sys
 import traceback
 import warnings
 
-from compas_ccu.cli import (
-    catalog,
-    check,
-    explore,
-    fabrication,
-    fea,
-    model_commands,
-    new,
-    optimize,
-    pictures,
-    scale,
-    studio,
-)
 from compas_ccu.cli.parser import OUT, check_options
 from compas_ccu.cli.parser import build_parser as _build_parser
 from compas_ccu.cli.process import process_habits, stop_report
-from compas_ccu.cli.text import thickness_lines
+from compas_ccu.cli.table import EXPORTS, TABLE, command_word, export, load, load_all
 from compas_ccu.errors import CCUError, CCUWarning
 from compas_ccu.limits import apply, raised
 from compas_ccu.outputs import check_output_folder, staged_folder
 
 __all__ = ["main", "build_parser", "COMMANDS", "thickness_lines"]
 
-#: Every command, in the order ``ccu --help`` lists them.
-_ALL = {
-    c.name: c
-    for module in (
-        new,
-        model_commands,
-        pictures,
-        catalog,
-        fea,
-        explore,
-        optimize,
-        scale,
-        fabrication,
-        check,
-        studio,
-    )
-    for c in module.COMMANDS
-}
-_ORDER = ("new", "deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
-_ORDER += ("catalog", "validate", "explore", "optimize", "scale", "fabricate", "check")
-_ORDER += ("import", "report", "studio")
-COMMANDS = tuple(_ALL[name] for name in _ORDER)
+
+def __getattr__(name: str):
+    """``COMMANDS`` (every command, in the order ``ccu --help`` lists them) and the names of
+    :data:`compas_ccu.cli.table.EXPORTS` import their modules when first asked for."""
+    if name == "COMMANDS":
+        return load_all()
+    if name in EXPORTS:
+        return export(name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 BUG = (
     "ccu: this is a bug in compas_ccu, not a problem with your input: please report it with "
@@ -76,9 +62,27 @@ BUG = (
 )
 
 
-def build_parser():
-    """The ``ccu`` argument parser."""
-    return _build_parser(COMMANDS)
+def build_parser(argv=None):
+    """The ``ccu`` argument parser: with ``argv`` (the arguments after ``ccu``), the options of
+    the command it names only (the others are listed by name, their modules not imported);
+    without, of every command."""
+    if argv is None:
+        return _build_parser(TABLE, load_all())
+    name = command_word(argv)
+    return _build_parser(TABLE, () if name is None else (load(name),))
+
+
+def _complete() -> None:
+    """Answer the shell's tab completion and exit, if this process was started for it
+    (argcomplete's protocol: ``_ARGCOMPLETE``, ``COMP_LINE`` and ``COMP_POINT`` in the
+    environment); the parser has the options of the command on the line, if it names one."""
+    try:
+        import argcomplete
+    except ImportError:  # pragma: no cover - a dependency; without it nothing is completed
+        return
+    words = argcomplete.split_line(os.environ["COMP_LINE"], int(os.environ["COMP_POINT"]))[3]
+    start = int(os.environ["_ARGCOMPLETE"])  # 1: ccu ARGS, 3: python -m compas_ccu ARGS
+    argcomplete.autocomplete(build_parser(words[start:]))
 
 
 def _fail(message: str) -> int:
@@ -135,7 +139,9 @@ def main(argv=None) -> int:
 
 
 def _main(argv) -> int:
-    args = build_parser().parse_args(argv)
+    if argv is None and "_ARGCOMPLETE" in os.environ:
+        _complete()
+    args = build_parser(sys.argv[1:] if argv is None else argv).parse_args(argv)
     try:
         with raised(**apply(args.limit)), warnings.catch_warnings():
             warnings.showwarning = _show_warning

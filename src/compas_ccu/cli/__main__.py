@@ -1,3 +1,4 @@
+# PYTHON_ARGCOMPLETE_OK  (argcomplete's global completion of ``python -m compas_ccu.cli``)
 """``python -m compas_ccu.cli``: the ``ccu`` command."""
 
 from __future__ import annotations

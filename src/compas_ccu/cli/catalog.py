@@ -36,7 +36,6 @@ def catalog(args) -> int:
 COMMANDS = (
     Command(
         "catalog",
-        "regenerate and measure the rule catalog (paper Fig. 9-12)",
         "Build every catalog design (crease profiles, plane distance, inclination "
         "about and perpendicular to the actuation axis, target curves), measure it and write "
         "DIR/<name>/design.toml + structure.json, catalog.csv / .md / .json and one contact "

@@ -101,7 +101,6 @@ def check(args) -> int:
 COMMANDS = (
     Command(
         "check",
-        "the check sheet: every check with value, limit and clause",
         "Print every check of DESIGN an engineer signs (kinematic invariants, deployment and "
         "collision limits, the thick plates' penetration and bending, EN 1995-1-1 / EN 1999-1-1 "
         "clauses), and with --fabrication / --fe those of a ccu fabricate / ccu validate "

@@ -1,14 +1,17 @@
-"""What the command modules share: loading a design, printing, the extras a command needs."""
+"""What the command modules share: loading a design, printing, the extras a command needs, the
+``--sheet`` option."""
 
 from __future__ import annotations
 
 import sys
 
+from compas_ccu.cli.parser import MAX_SHEET, Option, option
+from compas_ccu.design.schema import STOCK_SHEET
 from compas_ccu.errors import OptionError, missing_modules, require
 from compas_ccu.model import load_model
 
 __all__ = ["load_model", "say", "progress", "missing_modules", "need_extra", "need_viz"]
-__all__ += ["comma_list"]
+__all__ += ["comma_list", "sheet_option"]
 
 #: Modules of the optional extras the commands check for before they import them.
 VIZ = ("matplotlib", "plotly", "tqdm")
@@ -51,3 +54,30 @@ def comma_list(text: str, allowed, option: str) -> list:
         allowed = ", ".join(allowed)
         raise OptionError(f"{option} must be a comma list of {allowed}, got {text!r}")
     return list(dict.fromkeys(items))
+
+
+def sheet_option(*, repeat: bool = False) -> Option:
+    """The ``--sheet LENGTH WIDTH`` option: one syntax and one default for every command that
+    takes a stock sheet (``ccu fabricate``, repeatable; ``ccu scale``). Without it the design's
+    ``[fabrication] sheets`` are used, :data:`compas_ccu.design.schema.STOCK_SHEET` unless it
+    names its own (the studio draws the same sheet).
+
+    >>> sheet_option().flags, sheet_option(repeat=True).settings["action"]
+    (('--sheet',), 'append')
+    """
+    default = f"{STOCK_SHEET[0]:g} x {STOCK_SHEET[1]:g}"
+    more = {"action": "append"} if repeat else {}
+    return option(
+        "--sheet",
+        type=float,
+        positive=True,
+        maximum=MAX_SHEET,
+        nargs=2,
+        default=None,
+        metavar=("LENGTH", "WIDTH"),
+        help="a stock sheet, m, length along the face grain"
+        + (" (repeat for several)" if repeat else "")
+        + f"; default: the design's {'' if repeat else 'first '}[fabrication] "
+        + f"sheet{'s' if repeat else ''} ({default} unless it names its own)",
+        **more,
+    )

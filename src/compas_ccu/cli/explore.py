@@ -89,7 +89,6 @@ def explore(args) -> int:
 COMMANDS = (
     Command(
         "explore",
-        "explore a design space: a sweep of variants on Dask",
         "Build, deploy and measure every variant of SWEEP (a TOML file naming a base "
         "design and the parameters to vary, docs/explore.md) on a local Dask cluster or the "
         "cluster at --scheduler. Writes DIR/results.parquet (one row per variant: parameters, "

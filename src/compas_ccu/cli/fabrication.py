@@ -6,19 +6,18 @@ import hashlib
 import sys
 from pathlib import Path
 
-from compas_ccu.cli.common import FAB, load_model, need_extra, progress, say
+from compas_ccu.cli.common import FAB, load_model, need_extra, progress, say, sheet_option
 from compas_ccu.cli.parser import (
     DESIGN,
-    MAX_LENGTH,
     MAX_THICKNESS,
     OUT,
     QUIET,
     Command,
     option,
-    sheet_option,
 )
 from compas_ccu.cli.text import thickness_lines
 from compas_ccu.design import load_design
+from compas_ccu.design.schema import MAX_LENGTH
 from compas_ccu.design.writer import design_toml
 from compas_ccu.errors import OptionError
 from compas_ccu.fabrication.fabricate import fabricate as write_fabrication
@@ -165,7 +164,6 @@ def import_plates(args) -> int:
 COMMANDS = (
     Command(
         "fabricate",
-        "write the workshop files (DXF, 3dm, OBJ/glTF, FOLD, assembly sheet)",
         "Model the plates' thickness (axis-shift hinges), check collisions from "
         "the flat stack to the design state and the bending of the plates; split the plates "
         "that fit no sheet along rulings (splice plates) and nest every part onto the sheets; "
@@ -243,7 +241,6 @@ COMMANDS = (
     ),
     Command(
         "import",
-        "rebuild a design from plate DXFs (the reverse of fabricate)",
         "Read a folder of plate cut files (layers CUT, CREASE, RULING_SCORE; as ccu fabricate "
         "writes them or drawn by hand to the same convention, docs/import.md) and write the "
         "design of the whole structure: the leading plate's crease polyline and ruling ends "

@@ -14,7 +14,6 @@ from compas_ccu.cli.parser import (
     DESIGN,
     MAX_AREA_LOAD,
     MAX_HINGE_STIFFNESS,
-    MAX_LENGTH,
     MAX_THICKNESS,
     OUT,
     QUIET,
@@ -22,6 +21,7 @@ from compas_ccu.cli.parser import (
     option,
 )
 from compas_ccu.cli.text import basis_text, load_case_lines
+from compas_ccu.design.schema import MAX_LENGTH
 from compas_ccu.fea.loads import CASE_NAMES
 from compas_ccu.fea.problem import ConvergenceError
 from compas_ccu.fea.record import agreement, remember
@@ -166,7 +166,6 @@ def _summary_lines(summary: dict) -> list:
 COMMANDS = (
     Command(
         "validate",
-        "validate the deployment with a nonlinear FE engine",
         "Mesh the plates as quad shells (8 mm plywood by default), tie the hinges, "
         "deploy geometrically nonlinearly and compare with the kinematic model; then check "
         "the deployed state under the design's load cases ([loads], [supports], [hinges]: "

@@ -152,7 +152,6 @@ def planarity(args) -> int:
 COMMANDS = (
     Command(
         "deploy",
-        "deploy a design to one reflection angle",
         "Deploy DESIGN to --alpha and write structure.json "
         "(docs/structure-json.md), structure.obj and structure.compas.json into --out.",
         (
@@ -170,7 +169,6 @@ COMMANDS = (
     ),
     Command(
         "path",
-        "deploy along a path from the flat stack",
         "Deploy DESIGN from alpha = 0 to the design alpha (or "
         "--alpha) in --steps equal steps; write states/state_NNNN.json and "
         "path.csv (alpha, span, rise, planarity per state).",
@@ -192,7 +190,6 @@ COMMANDS = (
     ),
     Command(
         "info",
-        "print the key figures of a design",
         "Print plates, creases by kind, design alpha, deployment "
         "limit, span, rise and the flat stack footprint of DESIGN. With --json, the same "
         "figures as one JSON object on stdout (lengths in metres, angles in degrees; every "
@@ -205,7 +202,6 @@ COMMANDS = (
     ),
     Command(
         "planarity",
-        "crease planarity along the deployment path",
         "Measure how far every crease leaves its plane from alpha = 0 to the design "
         "alpha; write planarity.csv (every state and crease) and planarity.json (per-crease "
         "maximum). With --relax, also relax the worst state by least squares and report "

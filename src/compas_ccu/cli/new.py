@@ -23,7 +23,6 @@ def new(args) -> int:
 COMMANDS = (
     Command(
         "new",
-        "write a commented design file from a preset",
         "Write NAME.toml, a design file to start from, with a comment on every key: "
         + "; ".join(f"{name}: {text}" for name, text in PRESETS.items())
         + ". Lengths in metres ([design] units changes that). An existing file is not "

@@ -122,7 +122,6 @@ def optimize(args) -> int:
 COMMANDS = (
     Command(
         "optimize",
-        "optimise a design: the best designs under constraints (Optuna on Dask)",
         "Search the parameters of STUDY (a TOML file naming a base design, the parameters and "
         "their ranges, the objectives and the constraints, docs/optimize.md) with Optuna (TPE "
         "for one objective, NSGA-II for several) and evaluate every proposed design on a local "

@@ -1,8 +1,12 @@
 """The ``ccu`` command line as data: every command with its help texts and options.
 
-Each command module declares its commands as :class:`Command` records (name, help, description,
-options, the function that runs it) and :func:`build_parser` turns them into the argparse
-parser. After parsing, :func:`check_options` checks every value (an
+Each command module declares its commands as :class:`Command` records (name, description,
+options, the function that runs it; the line ``ccu --help`` gives a command is in the command
+table, :mod:`compas_ccu.cli.table`) and :func:`build_parser` turns them into the argparse
+parser: every command of the table is listed, the commands loaded have their options. This
+module imports neither COMPAS nor NumPy (``ccu --help`` builds its parser).
+
+After parsing, :func:`check_options` checks every value (an
 :class:`compas_ccu.errors.OptionError` naming the option and the value otherwise): a number
 option (``type=float``) must be finite, ``positive`` ones > 0, and every number lies within its
 ``minimum`` / ``maximum``; an integer count with a ``limit`` counts against that work limit of
@@ -18,13 +22,12 @@ from dataclasses import dataclass, field, fields
 from typing import Callable
 
 from compas_ccu import __version__
-from compas_ccu.design.schema import MAX_LENGTH, STOCK_SHEET
 from compas_ccu.errors import OptionError
 from compas_ccu.limits import LIMITS, check
 
 __all__ = ["Option", "Command", "option", "DESIGN", "OUT", "QUIET", "QUIET_PROGRESS"]
-__all__ += ["build_parser", "check_options", "numbers", "COUNT_LIMITS", "sheet_option"]
-__all__ += ["MAX_LENGTH", "MAX_THICKNESS", "MAX_SHEET", "MAX_AREA_LOAD", "MAX_HINGE_STIFFNESS"]
+__all__ += ["build_parser", "check_options", "numbers", "COUNT_LIMITS"]
+__all__ += ["MAX_THICKNESS", "MAX_SHEET", "MAX_AREA_LOAD", "MAX_HINGE_STIFFNESS"]
 
 #: The largest plate thickness an option takes, m (the bound of ``plates.thickness``).
 MAX_THICKNESS = 0.1
@@ -76,10 +79,10 @@ def option(
 
 @dataclass(frozen=True)
 class Command:
-    """One ``ccu`` command: what ``ccu --help`` and ``ccu NAME --help`` say, and what it runs."""
+    """One ``ccu`` command: what ``ccu NAME --help`` says, and what it runs (the line of
+    ``ccu --help`` is its entry in :data:`compas_ccu.cli.table.TABLE`)."""
 
     name: str
-    help: str
     description: str
     options: tuple
     run: Callable  # (argparse.Namespace) -> exit status
@@ -96,41 +99,21 @@ QUIET_PROGRESS = option(
 )
 
 
-def sheet_option(*, repeat: bool = False) -> Option:
-    """The ``--sheet LENGTH WIDTH`` option: one syntax and one default for every command that
-    takes a stock sheet (``ccu fabricate``, repeatable; ``ccu scale``). Without it the design's
-    ``[fabrication] sheets`` are used, :data:`compas_ccu.design.schema.STOCK_SHEET` unless it
-    names its own (the studio draws the same sheet).
-
-    >>> sheet_option().flags, sheet_option(repeat=True).settings["action"]
-    (('--sheet',), 'append')
-    """
-    default = f"{STOCK_SHEET[0]:g} x {STOCK_SHEET[1]:g}"
-    more = {"action": "append"} if repeat else {}
-    return option(
-        "--sheet",
-        type=float,
-        positive=True,
-        maximum=MAX_SHEET,
-        nargs=2,
-        default=None,
-        metavar=("LENGTH", "WIDTH"),
-        help="a stock sheet, m, length along the face grain"
-        + (" (repeat for several)" if repeat else "")
-        + f"; default: the design's {'' if repeat else 'first '}[fabrication] "
-        + f"sheet{'s' if repeat else ''} ({default} unless it names its own)",
-        **more,
-    )
-
-
-def build_parser(commands) -> argparse.ArgumentParser:
-    """The ``ccu`` parser of ``commands`` (sequence of :class:`Command`)."""
+def build_parser(entries, commands=()) -> argparse.ArgumentParser:
+    """The ``ccu`` parser: every command of ``entries`` (:class:`compas_ccu.cli.table.Entry`,
+    the lines of ``ccu --help``), with the options of those in ``commands`` (:class:`Command`);
+    the others are listed only."""
     parser = argparse.ArgumentParser(prog="ccu", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"compas_ccu {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for command in commands:
-        p = sub.add_parser(command.name, help=command.help, description=command.description)
+    loaded = {c.name: c for c in commands}
+    for entry in entries:
+        command = loaded.get(entry.name)
+        if command is None:
+            sub.add_parser(entry.name, help=entry.help)
+            continue
+        p = sub.add_parser(command.name, help=entry.help, description=command.description)
         for o in command.options:
             p.add_argument(*o.flags, help=o.help, **o.settings)
         p.add_argument(

@@ -230,7 +230,6 @@ VIEW_HELP = (
 COMMANDS = (
     Command(
         "figures",
-        "write the figures of a design (PNG, SVG)",
         "Write into --out: 3D views (views-<colouring>), the cut patterns, the "
         "deployment sequence, the four quadrants of the leading crease and the crease "
         "planarity along the path.",
@@ -277,7 +276,6 @@ COMMANDS = (
     ),
     Command(
         "animate",
-        "animate the deployment (GIF, MP4)",
         "Write --out/deployment.gif (and .mp4 where an encoder is available) from "
         "the flat-folded stack to the design alpha.",
         (
@@ -308,7 +306,6 @@ COMMANDS = (
     ),
     Command(
         "view",
-        "write the interactive 3D viewer page",
         "Write --out/viewer.html: one self-contained page (works offline) with "
         "orbit / zoom, a deployment slider and toggles for plates, creases, rulings and cut "
         "patterns (with --fabrication: the sheets of the workshop, every part at its nested "
@@ -339,7 +336,6 @@ COMMANDS = (
     ),
     Command(
         "sheet",
-        "contact sheet of several designs",
         "Write --out/contact-sheet.png (and .svg): one perspective per design.",
         (
             option("designs", nargs="+", help="design TOML files"),
@@ -359,7 +355,6 @@ COMMANDS = (
     ),
     Command(
         "report",
-        "write the design report (index.html, report.pdf)",
         "Write --out/index.html and --out/report.pdf: the engineering record of a design (the "
         "design file as read with its SHA-256, the compas_ccu version, the date, the units and "
         "the material constants), its key figures and checks as 'ccu info' words them, the FE "

@@ -4,20 +4,18 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from compas_ccu.cli.common import load_model, missing_modules, say
+from compas_ccu.cli.common import load_model, missing_modules, say, sheet_option
 from compas_ccu.cli.parser import (
     DESIGN,
     MAX_AREA_LOAD,
-    MAX_LENGTH,
     MAX_THICKNESS,
     OUT,
     QUIET,
     Command,
     numbers,
     option,
-    sheet_option,
 )
-from compas_ccu.design.schema import design_sheet
+from compas_ccu.design.schema import MAX_LENGTH, design_sheet
 from compas_ccu.errors import OptionError
 from compas_ccu.explore.scale import THICKNESS_LAWS, plot_scale, scale_study, write_csv
 from compas_ccu.fea.loads import CASE_NAMES
@@ -104,7 +102,6 @@ NO_FE_NOTE = (
 COMMANDS = (
     Command(
         "scale",
-        "scale a design to other spans (a span scaling study)",
         "Scale every length of DESIGN from its crease span to --to in --steps equal steps, the "
         "plate thickness following --thickness-law, and measure every span as ccu explore does "
         "(stack and plate size, mass, bending utilisation, actuation force, collisions; FE "

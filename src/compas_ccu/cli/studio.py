@@ -57,7 +57,6 @@ def studio(args) -> int:
 COMMANDS = (
     Command(
         "studio",
-        "edit a design live in the browser",
         "Start the design studio on a local web server and open it in the browser: every "
         "design key as a control, the structure deploying live with a slider, the checks "
         "updated as you edit, undo / redo, save and export (docs/studio.md). Designs are "

@@ -1,0 +1,15 @@
+# PYTHON_ARGCOMPLETE_OK  (argcomplete's global completion of ``python -m compas_ccu``)
+"""``python -m compas_ccu``: the ``ccu`` command (:func:`compas_ccu.cli.main`)."""
+
+from __future__ import annotations
+
+import sys
+
+try:
+    from compas_ccu.cli import main
+except KeyboardInterrupt:  # Ctrl-C while the command is still loading
+    print("ccu: interrupted", file=sys.stderr)
+    sys.exit(130)
+
+if __name__ == "__main__":
+    sys.exit(main())
