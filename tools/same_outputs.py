@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -65,12 +66,18 @@ def digests(out: Path) -> dict:
     }
 
 
-def outputs(rev: str, scratch: Path) -> dict:
-    tree = scratch / f"tree-{rev.replace('/', '_')}"
+def outputs(rev: str, scratch: Path, keep: Path | None = None) -> dict:
+    """The digests of what ``rev`` writes; both revisions run in the same folders (a path may
+    be written into a file), ``keep`` receives the files."""
+    tree, out = scratch / "tree", scratch / "out"
     subprocess.run(["git", "-C", ROOT, "worktree", "add", "--detach", "-q", tree, rev], check=True)
     try:
-        run(tree, scratch / f"out-{rev.replace('/', '_')}")
-        return digests(scratch / f"out-{rev.replace('/', '_')}")
+        run(tree, out)
+        found = digests(out)
+        if keep is not None:
+            shutil.copytree(out, keep / rev.replace("/", "_"), dirs_exist_ok=True)
+        shutil.rmtree(out)
+        return found
     finally:
         subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", tree], check=True)
 
@@ -79,10 +86,11 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("before", help="a git revision")
     parser.add_argument("after", help="another git revision")
+    parser.add_argument("--keep", type=Path, help="a folder to keep both revisions' files in")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as scratch:
-        a = outputs(args.before, Path(scratch))
-        b = outputs(args.after, Path(scratch))
+        a = outputs(args.before, Path(scratch), args.keep)
+        b = outputs(args.after, Path(scratch), args.keep)
     differ = sorted(k for k in a.keys() & b.keys() if a[k] != b[k])
     only = sorted(a.keys() ^ b.keys())
     print(f"{len(a)} files from {args.before}, {len(b)} from {args.after}: "
