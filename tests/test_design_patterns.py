@@ -306,7 +306,7 @@ def test_ccu_import_of_the_22_plate_dome(dome22, tmp_path, capsys):
 def test_an_undoing_that_does_not_converge_is_refused_with_the_way_out(dome22, monkeypatch):
     """No tolerance can be met: the leading crease fails, every other crease diverges (until
     a pattern degenerates, a GeometryError that escaped before); the error says what to do."""
-    import compas_ccu.fabrication.importing as importing
+    import compas_ccu.fabrication.import_thickness as importing
 
     monkeypatch.setattr(importing, "UNDO_RELATIVE", 0.0)
     monkeypatch.setattr(importing, "UNDO_TOLERANCE", 0.0)

@@ -54,9 +54,9 @@ def test_every_missing_extra_says_it_the_same_way(monkeypatch):
         "'ccu optimize'": lambda: optimize._check(args),
     }
     pytest.importorskip("shapely")  # compas_ccu.fabrication.importing imports it
-    from compas_ccu.fabrication import importing
+    from compas_ccu.fabrication import plate_drawings
 
-    calls["'ccu import'"] = importing._ezdxf
+    calls["'ccu import'"] = plate_drawings._ezdxf
     for what, call in calls.items():
         with pytest.raises(MissingExtraError) as info:
             call()

@@ -22,7 +22,7 @@ pytest.importorskip("shapely")
 pytest.importorskip("rhino3dm")
 pytest.importorskip("trimesh")
 
-from compas_ccu.fabrication import importing  # noqa: E402
+from compas_ccu.fabrication import import_thickness  # noqa: E402
 from compas_ccu.fabrication.fabricate import fabricate  # noqa: E402
 from compas_ccu.fabrication.importing import (  # noqa: E402
     UNDO_TOLERANCE,
@@ -184,7 +184,7 @@ def test_round_trip_undoes_the_thickness_correction(inclined3):
 def test_undoing_that_does_not_converge_is_refused(inclined3, monkeypatch):
     model, folder = inclined3
     crease = leading_crease(model, folder)
-    monkeypatch.setattr(importing, "UNDO_ITERATIONS", 1)
+    monkeypatch.setattr(import_thickness, "UNDO_ITERATIONS", 1)
     with pytest.raises(
         DesignError,
         match=rf"{re.escape(str(folder))}: undoing the thickness correction of the cut patterns "
