@@ -19,10 +19,10 @@ from compas_ccu.design import Design  # noqa: E402
 from compas_ccu.errors import DesignError, GeometryError  # noqa: E402
 from compas_ccu.fabrication import workshop_ids  # noqa: E402
 from compas_ccu.fabrication.hinges import hinge_strips  # noqa: E402
+from compas_ccu.fabrication.splices import fitting_size  # noqa: E402
 from compas_ccu.fabrication.workshop import (  # noqa: E402
     Part,
     WorkshopOptions,
-    fitting_size,
     nest_parts,
     plan_workshop,
     splice_bending,
