@@ -29,6 +29,11 @@ ELEMENT = "LegacyThickShellCorotationalElement3D4N"
 #: The first property id of the element sections with an offset (after hinges and springs).
 OFFSET_PROPERTIES = 1_000_000
 _KM = None
+#: Kratos' OpenMP threads unless ``OMP_NUM_THREADS`` is set: one. The time of a solve is the
+#: single-threaded sparse LU; a second thread only assembles, and on a shared machine its
+#: waiting threads spin: the cone's validation took 21 s of CPU with two threads on two busy
+#: cores, 3.4 s with one (docs/benchmarks.md), with the same numbers.
+THREADS = 1
 #: How :meth:`_Model.buckling` finds the state with the loads raised by δ (see there).
 BUCKLING_STATES = ("predictor", "converged")
 BUCKLING_STATE = "predictor"
@@ -60,6 +65,8 @@ def _kratos():
             import KratosMultiphysics.StructuralMechanicsApplication as SMA
 
             KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
+            if not os.environ.get("OMP_NUM_THREADS"):
+                KM.ParallelUtilities.SetNumThreads(THREADS)
         _KM = (KM, SMA, LSA)
     return _KM
 
