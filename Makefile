@@ -12,7 +12,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli clean
+.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -159,6 +159,10 @@ bench-studio: setup browser
 
 bench-fea: setup
 	$(BIN)/python benchmarks/bench_fea.py
+
+# ccu validate examples/vault.toml: CPU time per stage (docs/benchmarks.md)
+bench-validate: setup
+	$(BIN)/python benchmarks/bench_validate.py
 
 bench-fabricate: setup
 	$(BIN)/python benchmarks/bench_fabricate.py

@@ -29,6 +29,14 @@ ELEMENT = "LegacyThickShellCorotationalElement3D4N"
 #: The first property id of the element sections with an offset (after hinges and springs).
 OFFSET_PROPERTIES = 1_000_000
 _KM = None
+#: Kratos' OpenMP threads unless ``OMP_NUM_THREADS`` is set: one. The time of a solve is the
+#: single-threaded sparse LU; a second thread only assembles, and on a shared machine its
+#: waiting threads spin: the cone's validation took 21 s of CPU with two threads on two busy
+#: cores, 3.4 s with one (docs/benchmarks.md), with the same numbers.
+THREADS = 1
+#: How :meth:`_Model.buckling` finds the state with the loads raised by δ (see there).
+BUCKLING_STATES = ("predictor", "converged")
+BUCKLING_STATE = "predictor"
 
 
 @contextlib.contextmanager
@@ -57,6 +65,8 @@ def _kratos():
             import KratosMultiphysics.StructuralMechanicsApplication as SMA
 
             KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
+            if not os.environ.get("OMP_NUM_THREADS"):
+                KM.ParallelUtilities.SetNumThreads(THREADS)
         _KM = (KM, SMA, LSA)
     return _KM
 
@@ -356,37 +366,101 @@ class _Model:
         k = sp.csr_matrix(to_csr(A))
         return k[self._active][:, self._active]
 
-    def buckling(self, delta: float = 0.05) -> tuple:
+    def buckling(self, delta: float = 0.05, *, state: str | None = None) -> tuple:
         """Linearised buckling factor of the current state under its loads (Kratos only).
 
         ``K(λ) ≈ K0 + (λ - 1) ΔK`` with ``ΔK = (K(1 + δ) - K0) / δ`` from a second state with the
         loads raised by δ; the smallest positive λ with ``K(λ)`` singular is the factor by which
         the loads (self-weight + area load) may grow before the prestressed structure buckles.
-        """
-        import scipy.sparse.linalg as sla
 
+        ``state`` (default :data:`BUCKLING_STATE`) is how the second state is found:
+        ``"predictor"``, one Newton iteration from the loaded state with its tangent K0 — the
+        linear predictor ``u0 + K0⁻¹ δ F``, which differs from the converged state by O(δ²) —
+        and the steps that follow start from there (no solve back); ``"converged"``, the full
+        Newton solve to the raised loads and back to the loaded state (the reference: two
+        nonlinear solves more per analysis, the same factor within 1e-3 on the examples).
+        """
+        state = BUCKLING_STATE if state is None else state
+        if state not in BUCKLING_STATES:
+            raise FEError(f"buckling state must be one of {BUCKLING_STATES}, got {state!r}")
         self.__dict__.pop("_active", None)  # the free DOFs of this state's supports
         k0 = self.tangent()
         self.load_scale = 1.0 + delta
-        ok, _, _ = self.advance(self.time)
-        k1 = self.tangent() if ok else None
-        self.load_scale = 1.0  # back to the state itself, for the steps that follow
-        back, _, _ = self.advance(self.time)
-        if not back:
-            raise FEError("the state did not converge again after the buckling analysis")
+        if state == "predictor":
+            ok = self.predict(self.time)
+            if ok:  # the system matrix as the converged solve leaves it, see tangent
+                self.system(self.time)
+            k1 = self.tangent() if ok else None
+            self.load_scale = 1.0  # the next step solves from the predicted state
+        else:
+            ok, _, _ = self.advance(self.time)
+            k1 = self.tangent() if ok else None
+            self.load_scale = 1.0  # back to the state itself, for the steps that follow
+            back, _, _ = self.advance(self.time)
+            if not back:
+                raise FEError("the state did not converge again after the buckling analysis")
         if not ok:
             return None, "the loads raised by 5 % did not converge: the state is near a limit point"
+        return _smallest_factor(k0, k1, delta)
 
-        dk = (k1 - k0) / delta
-        lu = sla.splu(k0.tocsc())
-        op = sla.LinearOperator(k0.shape, matvec=lambda x: lu.solve(-(dk @ x)), dtype=float)
-        theta = sla.eigs(op, k=min(6, k0.shape[0] - 2), which="LR", return_eigenvectors=False)
-        theta = theta.real[
-            (np.abs(theta.imag) < EXACT_RELATIVE * np.abs(theta).max()) & (theta.real > 0)
-        ]
-        if not theta.size:
-            return float("inf"), "no buckling under increasing load (no positive eigenvalue)"
-        return float(1.0 + 1.0 / theta.max()), "linearised buckling of the loaded deployed state"
+    def system(self, t: float) -> None:
+        """Leave the strategy's system matrix as a Newton iteration at the current state does:
+        built afresh, with the constraints and the supports applied.
+
+        :meth:`tangent` builds onto the system matrix without clearing it (the builder's
+        ``Build`` adds), so a tangent is the sum of the matrix the last Newton iteration left
+        and the new one; with the hinges' master–slave constraints the slaves' diagonal of the
+        old matrix turns into a stiffness on their masters. The reference buckling analysis
+        (``"converged"``) takes its second tangent after a Newton solve; this reproduces its
+        system matrix after one predictor iteration, so that both give the same factor.
+        """
+        KM, mp = self.KM, self.mp
+        A, b = self.strategy.GetSystemMatrix(), self.strategy.GetSystemVector()
+        dx = self.strategy.GetSolutionVector()
+        space = KM.UblasSparseSpace()
+        space.SetToZeroMatrix(A)
+        space.SetToZeroVector(b)
+        self.builder.Build(self.scheme, mp, A, b)
+        self.builder.ApplyConstraints(self.scheme, mp, A, b)
+        self.builder.ApplyDirichletConditions(self.scheme, mp, A, dx, b)
+
+    def predict(self, t: float) -> bool:
+        """One Newton iteration towards the loads at pseudo-time ``t`` (with the current
+        ``load_scale``) from the current state, kept as the state; False if it failed."""
+        KM, mp = self.KM, self.mp
+        mp.CloneTimeStep(t)
+        mp.ProcessInfo[KM.STEP] += 1
+        self._apply(t)
+        # a Newton iteration with the tangent of the current state (not the previous step's)
+        limit = self.strategy.GetMaxIterationNumber()
+        self.strategy.SetMaxIterationNumber(1)
+        self.strategy.SetUseOldStiffnessInFirstIterationFlag(False)
+        try:
+            self.strategy.InitializeSolutionStep()
+            self.strategy.Predict()
+            self.strategy.SolveSolutionStep()  # not converged after one iteration, as meant
+            self.strategy.FinalizeSolutionStep()
+        finally:
+            self.strategy.SetMaxIterationNumber(limit)
+            self.strategy.SetUseOldStiffnessInFirstIterationFlag(True)
+        disp = KM.VariableUtils().GetSolutionStepValuesVector(mp.Nodes, KM.DISPLACEMENT, 0, 3)
+        return bool(np.all(np.isfinite(np.array(disp))))
+
+
+def _smallest_factor(k0, k1, delta: float) -> tuple:
+    """The smallest λ > 1 with ``K0 + (λ - 1) (K1 - K0) / δ`` singular (shift-invert ARPACK)."""
+    import scipy.sparse.linalg as sla
+
+    dk = (k1 - k0) / delta
+    lu = sla.splu(k0.tocsc())
+    op = sla.LinearOperator(k0.shape, matvec=lambda x: lu.solve(-(dk @ x)), dtype=float)
+    theta = sla.eigs(op, k=min(6, k0.shape[0] - 2), which="LR", return_eigenvectors=False)
+    theta = theta.real[
+        (np.abs(theta.imag) < EXACT_RELATIVE * np.abs(theta).max()) & (theta.real > 0)
+    ]
+    if not theta.size:
+        return float("inf"), "no buckling under increasing load (no positive eigenvalue)"
+    return float(1.0 + 1.0 / theta.max()), "linearised buckling of the loaded deployed state"
 
 
 def solve(
