@@ -30,7 +30,7 @@ from compas_ccu.key_figures.checks import failed, fe_checks
 from compas_ccu.key_figures.text import deployment_utilisation_text
 from compas_ccu.outputs import write_json
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "drive_lines"]
 
 
 def _write_failure(out: Path, model, args, exc) -> None:
@@ -64,6 +64,8 @@ def validate(args) -> int:
         hinge_stiffness=args.hinge_stiffness,
         hinge_eccentricity=args.hinge_eccentricity,
         control=args.control,
+        drive=args.drive,
+        prebend=args.prebend,
         checks=not args.no_checks,
         area_load=args.area_load,
         load_cases=args.load_case,
@@ -120,6 +122,28 @@ def _hinge_line(settings: dict) -> str:
     return f"hinges: {on}, {ties}, {turn}"
 
 
+def drive_lines(drive: dict) -> list:
+    """What ``--drive leading`` found: every crease's alpha at the end, FE against kinematic.
+
+    >>> row = {"crease": 1, "fe_alpha": [3.5, 29.9], "kinematic_alpha": [3.75, 30.0],
+    ...        "residual": [-0.25, -0.1], "residual_max": [0.3, 0.2], "follow": 0.99}
+    >>> drive_lines({"prebend_deg": 3.75, "creases": [row]})[1]
+    'crease 1: alpha 29.90 deg (kinematic 30.00), residual -0.10 (edges up to 0.20), follows 99 %'
+    """
+    lines = [
+        f"driven: the leading crease's plates alone after pre-bending to "
+        f"{drive['prebend_deg']:.4g} deg; every crease's mean alpha at the end:"
+    ]
+    for c in drive["creases"]:
+        follow = "" if c["follow"] is None else f", follows {100.0 * c['follow']:.0f} %"
+        lines.append(
+            f"crease {c['crease']}: alpha {c['fe_alpha'][-1]:.2f} deg (kinematic "
+            f"{c['kinematic_alpha'][-1]:.2f}), residual {c['residual'][-1]:+.2f} (edges up to "
+            f"{c['residual_max'][-1]:.2f}){follow}"
+        )
+    return lines
+
+
 def _summary_lines(summary: dict) -> list:
     d, st, sol = summary["deviation"], summary["stresses"], summary["solver"]
     p = summary["plates"]
@@ -149,6 +173,8 @@ def _summary_lines(summary: dict) -> list:
             )
         if c.get("stiffness"):
             lines.append(f"stiffness of the governing buckling case: {c['stiffness']['text']}")
+    if "drive" in summary:
+        lines.extend(drive_lines(summary["drive"]))
     if "agreement" in summary:
         a = summary["agreement"]
         lines.append(
@@ -228,6 +254,22 @@ COMMANDS = (
                 choices=("supports", "edges"),
                 default="supports",
                 help="nodes that follow the kinematic path (displacement mode)",
+            ),
+            option(
+                "--drive",
+                choices=("all", "leading"),
+                default="all",
+                help="displacement mode: drive the end rulings of every plate, or (leading) "
+                "after pre-bending those of the leading crease's two plates alone and measure "
+                "how every crease follows (no load cases)",
+            ),
+            option(
+                "--prebend",
+                type=float,
+                positive=True,
+                default=None,
+                help="pre-bending angle, degrees (actuation: default a quarter of the target; "
+                "--drive leading: an eighth)",
             ),
             option(
                 "--area-load",

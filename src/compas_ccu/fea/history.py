@@ -140,7 +140,11 @@ class DeploymentHistory:
         k = min(self.deployment_steps, self.result.steps)
         a = np.r_[0.0, self.alphas[:k]]
         w = np.r_[0.0, self.work()[:k]]
-        force = np.gradient(w, np.radians(a)) if len(a) > 2 else np.zeros_like(a)
+        force = np.zeros_like(a)
+        if len(a) > 2:
+            # steps at one angle (the release of the leading drive, fea.leading): no dW/dalpha
+            with np.errstate(divide="ignore", invalid="ignore"):
+                force = np.gradient(w, np.radians(a))
         span = np.r_[self.kinematic_span_at_zero(), self.spans[:k]]
         foot = actuation_force(a, w, span)
         reac = np.r_[0.0, np.linalg.norm(self.result.reactions[:k].sum(axis=1), axis=1)]
@@ -148,7 +152,9 @@ class DeploymentHistory:
         return {
             "alpha": a.tolist(),
             "work_J": w.tolist(),
-            "generalised_force_J_per_rad": force.tolist(),
+            "generalised_force_J_per_rad": [
+                None if not np.isfinite(f) else float(f) for f in force
+            ],
             "foot_force_N": [None if not np.isfinite(f) else float(f) for f in foot],
             "reaction_resultant_N": reac.tolist(),
             "reaction_peak_N": peak.tolist(),

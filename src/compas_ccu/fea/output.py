@@ -119,7 +119,7 @@ def write_figures(out, comparison: Comparison) -> list:
         np.r_[0.0, h.alphas[: k + 1]],
         deviation_max=np.r_[0.0, d.max(axis=1)],
         deviation_mean=np.r_[0.0, d.mean(axis=1)],
-        force=np.asarray(lp["generalised_force_J_per_rad"]),
+        force=np.array(lp["generalised_force_J_per_rad"], dtype=float),  # None: nan
         energy=np.asarray(lp["work_J"]),
         title=f"{name}: deployment ({h.settings.mode})",
     )

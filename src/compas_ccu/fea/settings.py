@@ -17,10 +17,13 @@ from compas_ccu.fea.supports import SUPPORT_TYPES
 from compas_ccu.materials import DesignFactors, design_factors
 from compas_ccu.materials import material as get_material
 
-__all__ = ["FESettings", "MODES", "CONTROLS", "GRAVITY", "DEFAULT_AREA_LOAD"]
+__all__ = ["FESettings", "MODES", "CONTROLS", "DRIVES", "GRAVITY", "DEFAULT_AREA_LOAD"]
 
 MODES = ("displacement", "actuation")
 CONTROLS = ("supports", "edges")
+#: Which plates the displacement mode drives: every plate's end rulings, or the leading
+#: crease's two plates alone after pre-bending (:mod:`compas_ccu.fea.leading`).
+DRIVES = ("all", "leading")
 #: The ``area-load`` case of a design without a ``[loads]`` action, N/m².
 DEFAULT_AREA_LOAD = 1500.0
 _VARIABLE = ("concrete_thickness", "live", "snow", "wind")
@@ -63,6 +66,11 @@ class FESettings:
         at their thick placement (:mod:`compas_ccu.fea.eccentric`).
     control : {"supports", "edges"}
         Displacement mode: which nodes follow the kinematic path.
+    drive : {"all", "leading"}
+        Displacement mode: the end rulings of every plate follow the kinematic path (``all``),
+        or, after pre-bending to ``prebend`` and a release, those of the leading crease's two
+        plates alone (``leading``: does one crease drive all? :mod:`compas_ccu.fea.leading`;
+        no load cases are run).
     self_weight : bool
         Displacement mode: self-weight during the deployment too.
     checks : bool
@@ -83,7 +91,8 @@ class FESettings:
     deflection_limit : float
         Allowed deflection as a fraction of the span (1/500).
     prebend : float
-        Actuation mode: pre-bending angle, degrees (default: a quarter of the target).
+        Actuation mode and ``drive="leading"``: pre-bending angle, degrees (default: a quarter
+        of the target under actuation, an eighth with the leading drive).
     actuator_stiffness : float
         Actuation mode: stiffness of the actuator at every crease end, N/m.
     tolerance, max_cuts, max_iterations
@@ -103,6 +112,7 @@ class FESettings:
     hinge_translational_stiffness: float | None = None
     hinge_eccentricity: str = "none"
     control: str = "supports"
+    drive: str = "all"
     self_weight: bool = False
     checks: bool = True
     loads: dict | None = None
@@ -136,6 +146,7 @@ class FESettings:
             )
         if self.control not in CONTROLS:
             raise FEError(f"control must be one of {CONTROLS}, got {self.control!r}")
+        self._check_drive()
         if not (isinstance(self.steps, int) and self.steps >= 1):
             raise FEError(f"steps must be an integer >= 1, got {self.steps!r}")
         for key in ("thickness", "element_size"):
@@ -171,6 +182,25 @@ class FESettings:
                 raise FEError(
                     f"load case(s) {missing} are not defined: the loads give {known} (set the "
                     "action in the design's [loads] section, or --area-load)"
+                )
+
+    def _check_drive(self) -> None:
+        """The leading drive is a displacement-mode deployment on the supports alone."""
+        if self.drive not in DRIVES:
+            raise FEError(f"drive must be one of {DRIVES}, got {self.drive!r}")
+        if self.drive == "all":
+            return
+        clash = {
+            "mode": (self.mode, "displacement"),
+            "control": (self.control, "supports"),
+            "hinge_eccentricity": (self.hinge_eccentricity, "none"),
+            "self_weight": (self.self_weight, False),
+        }
+        for key, (value, needed) in clash.items():
+            if value != needed:
+                raise FEError(
+                    f"drive {self.drive!r} needs {key} = {needed!r} (the supports of the "
+                    f"leading plates drive a displacement-mode deployment), got {value!r}"
                 )
 
     def cases(self, *, select: bool = True) -> list:

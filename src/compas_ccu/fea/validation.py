@@ -6,7 +6,8 @@
 2. the target state is checked (deployment limit, self-intersection) and the plates meshed
    (:mod:`compas_ccu.fea.mesh`);
 3. the structure is deployed by the strategy of ``mode`` — ``displacement``
-   (:mod:`compas_ccu.fea.displacement`) or ``actuation`` (:mod:`compas_ccu.fea.actuation`) —
+   (:mod:`compas_ccu.fea.displacement`; with ``drive="leading"`` the leading crease's plates
+   alone, :mod:`compas_ccu.fea.leading`) or ``actuation`` (:mod:`compas_ccu.fea.actuation`) —
    into a :class:`~compas_ccu.fea.history.DeploymentHistory`;
 4. the history is compared with the kinematic model (:mod:`compas_ccu.fea.comparison`), after a
    rigid alignment under actuation only (:data:`ALIGNMENT`), and checked under load
@@ -27,10 +28,11 @@ from compas_ccu.fea.checks import structural_checks
 from compas_ccu.fea.comparison import Comparison, compare
 from compas_ccu.fea.displacement import deploy_by_displacement, deployment_problem
 from compas_ccu.fea.history import DeploymentHistory
+from compas_ccu.fea.leading import deploy_by_leading_crease
 from compas_ccu.fea.mesh import ShellMesh, mesh_model
 from compas_ccu.fea.output import write_figures, write_results
 from compas_ccu.fea.problem import FEProblem, FEResult
-from compas_ccu.fea.settings import CONTROLS, MODES, FESettings
+from compas_ccu.fea.settings import CONTROLS, DRIVES, MODES, FESettings
 from compas_ccu.fea.stresses import stress_summary
 from compas_ccu.materials import DesignFactors
 
@@ -41,11 +43,13 @@ __all__ = [
     "deployment_problem",
     "MODES",
     "CONTROLS",
+    "DRIVES",
     "STRATEGIES",
     "ALIGNMENT",
 ]
 
-#: The deployment strategy of every mode.
+#: The deployment strategy of every mode (the displacement mode with ``drive="leading"``:
+#: :func:`~compas_ccu.fea.leading.deploy_by_leading_crease`).
 STRATEGIES = {"displacement": deploy_by_displacement, "actuation": actuate}
 
 #: How :func:`validate` lays the FE shape onto the kinematic one in every mode: under
@@ -214,10 +218,10 @@ def validate(model, **options) -> Validation:
     model : compas_ccu.model.CCUModel
     **options
         Fields of :class:`FESettings` (engine, mode, element_size, steps, alpha, material,
-        thickness, orthotropic, hinge_stiffness, control, checks, loads, load_cases,
-        area_load, supports, design_code, ...). Without ``thickness`` or ``material`` (or
-        with None) the design's ``[plates]`` values are used (a material name may be one of
-        the file's ``[materials.NAME]``); without ``loads``, ``supports``,
+        thickness, orthotropic, hinge_stiffness, control, drive, prebend, checks, loads,
+        load_cases, area_load, supports, design_code, ...). Without ``thickness`` or
+        ``material`` (or with None) the design's ``[plates]`` values are used (a material name
+        may be one of the file's ``[materials.NAME]``); without ``loads``, ``supports``,
         ``deflection_limit``, ``hinge_stiffness`` or ``hinge_translational_stiffness`` the
         design's ``[loads]``, ``[supports]`` and ``[hinges]``; and the design's
         ``[design_code]`` gives the design strength of the checks. ``summary()["plates"]``
@@ -270,7 +274,10 @@ def validate(model, **options) -> Validation:
     model.deploy(alpha)  # the limit and self-intersection checks, with their errors
     mesh = mesh_model(model, element_size=settings.element_size)
     start = time.perf_counter()
-    history = STRATEGIES[settings.mode](model, mesh, settings, alpha=alpha)
+    strategy = STRATEGIES[settings.mode]
+    if settings.drive == "leading":
+        strategy = deploy_by_leading_crease
+    history = strategy(model, mesh, settings, alpha=alpha)
     comparison = compare(history, alignment=ALIGNMENT[settings.mode])
     validation = Validation(history, comparison)
     validation.extra["plates"] = plates
