@@ -300,7 +300,7 @@ def test_the_commands_are_declared_once_and_help_needs_no_extra():
     from compas_ccu.cli import COMMANDS, thickness_lines  # noqa: F401 - still exported
 
     names = [c.name for c in COMMANDS]
-    assert len(names) == len(set(names)) == 19
+    assert len(names) == len(set(names)) == 21
     code = (
         "import sys; from compas_ccu.cli import build_parser; build_parser(); "
         "print(sorted(m for m in ('matplotlib', 'plotly', 'distributed', 'pyarrow', 'optuna', "

@@ -1,5 +1,6 @@
 """Command line interface: ``ccu new | deploy | path | info | planarity | catalog | validate |
-fabricate | explore | optimize | scale | figures | animate | view | sheet | report | studio``.
+fabricate | explore | optimize | scale | figures | animate | view | sheet | report | studio |
+asbuilt | fit``.
 
 Every command takes a design TOML file (see ``docs/design-files.md``; ``ccu new`` writes one), a
 sweep or a study file.
@@ -30,6 +31,7 @@ from compas_ccu.cli import (
     explore,
     fabrication,
     fea,
+    fit,
     model_commands,
     new,
     optimize,
@@ -61,13 +63,14 @@ _ALL = {
         scale,
         fabrication,
         check,
+        fit,
         studio,
     )
     for c in module.COMMANDS
 }
 _ORDER = ("new", "deploy", "path", "info", "figures", "animate", "view", "sheet", "planarity")
 _ORDER += ("catalog", "validate", "explore", "optimize", "scale", "fabricate", "check")
-_ORDER += ("import", "report", "studio")
+_ORDER += ("import", "report", "studio", "asbuilt", "fit")
 COMMANDS = tuple(_ALL[name] for name in _ORDER)
 
 BUG = (

@@ -262,11 +262,17 @@ def fit_design(
     tpts = target.points[sub]
     ttree = cKDTree(target.points)
     probe = target.points[:: max(1, len(target) // 20000)]
-    spacing = float(np.median(ttree.query(probe, k=2)[0][:, 1]))
+    # the target's point spacing: tangential offsets within it are not distance (the median
+    # nearest-neighbour distance in the fit; the 99th percentile, random samples leave gaps,
+    # for the Hausdorff distance)
+    nn = ttree.query(probe, k=2)[0][:, 1]
+    spacing, gaps = float(np.median(nn)), float(np.quantile(nn, 0.99))
     f_scale = float(f_scale) if f_scale is not None else tsize / 200.0
 
     model0, v0 = _plates(_design(document, free, start.values(), base, name))
     tri0, _ = plate_triangles(v0, model0.faces)
+    spacing0 = model0.size / 100.0
+    plan = PlateSurface(tri0, np.zeros(len(tri0), dtype=np.int64), spacing=spacing0).plan
     nplate = min(int(points), len(tri0) * len(_BARY))
     pick = np.sort(rng.choice(len(tri0) * len(_BARY), size=nplate, replace=False))
     count = 0
@@ -281,8 +287,10 @@ def fit_design(
             model, v = _plates(_design(document, free, values, base, name))
         except CCUError:
             return np.full(len(tpts) + nplate, FAILED_RESIDUAL)
-        surf = PlateSurface.from_vertices(v, model.faces, spacing=model.size / 100.0)
-        r1 = surf.query(tpts).signed
+        surf = PlateSurface.from_vertices(v, model.faces, spacing=spacing0, plan=plan)
+        # unsigned (the sign flips where the nearest plate changes side; for Gauss-Newton
+        # |s| and s are the same)
+        r1 = surf.query(tpts, candidates=8, max_candidates=64).distance
         tri = surf.triangles
         a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
         pts = (
@@ -318,7 +326,7 @@ def fit_design(
     model, v = _plates(design)
     surf = PlateSurface.from_vertices(v, model.faces, spacing=model.size / 150.0)
     d = surf.query(target.points)
-    back = _to_target(surf.samples, target, ttree, spacing)
+    back = _to_target(surf.samples, target, ttree, gaps)
     rows = d.plate
     ids = model.plate_ids
     cnt = np.bincount(rows, minlength=len(ids))

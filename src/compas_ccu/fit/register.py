@@ -410,7 +410,7 @@ def register(
             f"{gate * 1000:.1f} mm of the plates (at least {100 * MIN_INLIER_SHARE:.0f} % needed)"
         )
     plates = _plate_records(
-        model, surf, d, inlier, design_points, tolerance, sigma, gate, per_plate
+        model, surf, d, inlier, design_points, tolerance, sigma, per_plate
     )
     coverage, radius, per = _coverage(surf, design_points[inlier], tolerance)
     plates = tuple(
