@@ -70,7 +70,7 @@ def _check_key(key: str, lower, upper) -> FreeKey:
             "not a design key (free keys are section.name, e.g. crease.rise)", key=key
         )
     spec = SCHEMA[section][name]
-    if spec.kind != "float":
+    if spec.kind not in ("float", "float_or_list"):
         raise DesignError(f"a free key must be a real number, this one is {spec.kind}", key=key)
     if lower is None or upper is None:
         raise OptionError(f"{key}: a free key needs bounds, e.g. {key}=LOWER:UPPER")
@@ -246,6 +246,8 @@ def fit_design(
         value = base.values[f.section][f.name]
         if value is None:
             raise DesignError(f"the base design does not set it; add it to {f.section}", key=f.key)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise DesignError(f"a free key must be one number, the base gives {value!r}", key=f.key)
         if not f.lower <= float(value) <= f.upper:
             raise OptionError(
                 f"{f.key}: the base value {float(value):g} lies outside the bounds "

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import io
 import math
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -266,9 +267,11 @@ def _read_text(path: Path) -> np.ndarray:
             skip += 1  # a header line
         break
     try:
-        data = np.loadtxt(
-            io.StringIO("\n".join(lines[skip:])), comments="#", usecols=(0, 1, 2), ndmin=2
-        )
+        with warnings.catch_warnings():  # an empty file: refused below as "no points"
+            warnings.simplefilter("ignore", UserWarning)
+            data = np.loadtxt(
+                io.StringIO("\n".join(lines[skip:])), comments="#", usecols=(0, 1, 2), ndmin=2
+            )
     except (ValueError, IndexError) as exc:
         raise GeometryError(f"{path}: not x y z rows of numbers ({exc})") from None
     return data.astype(np.float64).reshape(-1, 3)

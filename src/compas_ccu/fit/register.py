@@ -409,9 +409,7 @@ def register(
             f"{alpha:.2f} deg) only {100 * inlier.mean():.0f} % of its {len(p)} points lie within "
             f"{gate * 1000:.1f} mm of the plates (at least {100 * MIN_INLIER_SHARE:.0f} % needed)"
         )
-    plates = _plate_records(
-        model, surf, d, inlier, design_points, tolerance, sigma, per_plate
-    )
+    plates = _plate_records(model, surf, d, inlier, design_points, tolerance, sigma, per_plate)
     coverage, radius, per = _coverage(surf, design_points[inlier], tolerance)
     plates = tuple(
         PlateDeviation(**{**rec.__dict__, "coverage": float(per[i])})
