@@ -12,7 +12,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio clean
+.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-fit clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -178,6 +178,10 @@ bench-relax: setup
 # the interpenetration certificate's cost per model (docs/benchmarks.md)
 bench-interference: setup
 	$(BIN)/python benchmarks/bench_interference.py
+
+# fitting to geometry: a design fit to 50,000 points, a 10^6-point scan registered (docs/fit.md)
+bench-fit: setup
+	$(BIN)/python benchmarks/bench_fit.py
 
 clean:
 	rm -rf $(VENV) $(VENV39) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info

@@ -5,6 +5,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from compas_ccu.cli.common import load_model, missing_modules, progress, say
 from compas_ccu.cli.parser import MAX_LENGTH, OUT, QUIET, Command, option
 from compas_ccu.design import load_design
@@ -66,9 +68,10 @@ def asbuilt(args) -> int:
         say(args, line)
     say(args, f"wrote {out / 'asbuilt.json'}")
     if not missing_modules(["matplotlib"]):
+        inlier = np.abs(result.signed) <= result.outlier_distance  # outliers are not drawn
         fig = deviation_figure(
-            result.design_points,
-            result.signed,
+            result.design_points[inlier],
+            result.signed[inlier],
             [p.to_dict() for p in result.plates],
             title=f"{model.design.name} as built: alpha {result.alpha:.2f} deg, RMS "
             f"{_mm(result.rms)} mm",

@@ -226,7 +226,7 @@ class PlateSurface:
         max_candidates : int
             The most samples tried for a point.
         chunk : int
-            Points per batch (memory: ``chunk * candidates`` triangle tests).
+            Points per batch (at most 4e6 triangle tests per batch).
 
         Returns
         -------
@@ -241,8 +241,9 @@ class PlateSurface:
         todo = np.arange(n)
         k = int(min(candidates, len(self.samples)))
         while len(todo):
-            for s in range(0, len(todo), chunk):
-                idx = todo[s : s + chunk]
+            step = max(1, min(chunk, 4_000_000 // k))  # memory: step * k triangle tests
+            for s in range(0, len(todo), step):
+                idx = todo[s : s + step]
                 d_s, i_s = self.tree.query(p[idx], k=k)
                 d_s, i_s = d_s.reshape(len(idx), -1), i_s.reshape(len(idx), -1)
                 cand = self.sample_triangle[i_s]  # (m, k)

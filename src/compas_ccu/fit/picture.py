@@ -42,8 +42,10 @@ def deviation_figure(points, signed, plates, *, title: str, limit: float, outlin
     mm = 1000.0 * np.asarray(signed)
     lim = 1000.0 * limit
     if outlines is not None:
-        for v in np.asarray(outlines):
-            ax.plot(v[:, 0], v[:, 1], color="0.75", lw=0.3)
+        for v in np.asarray(outlines):  # the crease-side and the far boundary of every plate
+            half = len(v) // 2
+            ax.plot(v[:half, 0], v[:half, 1], color="0.6", lw=0.4)
+            ax.plot(v[half:, 0], v[half:, 1], color="0.6", lw=0.4)
     p = np.asarray(points)
     step = max(1, len(p) // 200_000)
     art = ax.scatter(

@@ -399,7 +399,7 @@ def register(
     # 4. every point, measured at the fitted state
     design_points = apply(m, p)
     surf = fine(alpha)
-    d = surf.query(design_points)
+    d = surf.query(design_points, candidates=16, max_candidates=64)  # exact within ~0.1 m
     sigma = noise if noise is not None else _robust_sigma(d.signed, sigma_fit)
     gate = outlier_distance if outlier_distance is not None else max(5.0 * sigma, 3.0 * tolerance)
     inlier = d.distance <= gate
