@@ -43,6 +43,8 @@ MIN_INLIER_SHARE = 0.5
 MIN_POINTS = 50
 #: Points a plate needs for its own rigid deviation (``per_plate``).
 MIN_PLATE_POINTS = 30
+#: The most points of a plate its own deviation is fitted to (an even subset; all are measured).
+PLATE_SAMPLE = 2000
 
 
 @dataclass(frozen=True)
@@ -294,7 +296,8 @@ def register(
         m: points beyond it count as ``beyond_tolerance``, plates whose deviation moves a
         vertex further are ``slipped``.
     outlier_distance : float, optional
-        m; default the larger of 5 noise and 3 tolerances.
+        m; default the larger of 5 noise and 3 tolerances (the estimated noise is at most the
+        tolerance).
     noise : float, optional
         Standard deviation of the scan's noise, m; default estimated.
     sample : int
@@ -400,7 +403,9 @@ def register(
     design_points = apply(m, p)
     surf = fine(alpha)
     d = surf.query(design_points, candidates=16, max_candidates=64)  # exact within ~0.1 m
-    sigma = noise if noise is not None else _robust_sigma(d.signed, sigma_fit)
+    # the noise, estimated unless given; at most the tolerance (a scan noisier than the
+    # tolerance cannot check it, and a scan of something else must not widen its own gate)
+    sigma = noise if noise is not None else min(_robust_sigma(d.signed, sigma_fit), tolerance)
     gate = outlier_distance if outlier_distance is not None else max(5.0 * sigma, 3.0 * tolerance)
     inlier = d.distance <= gate
     if inlier.mean() < MIN_INLIER_SHARE:
@@ -525,6 +530,9 @@ def _plate_deviation(rec, surf, row, pts, tolerance, sigma):
     """The plate's own small rigid deviation, fitted robustly to its points."""
     if len(pts) < MIN_PLATE_POINTS:
         return rec
+    every = pts
+    if len(pts) > PLATE_SAMPLE:  # an even, reproducible subset for the fit
+        pts = pts[np.linspace(0, len(pts) - 1, PLATE_SAMPLE).astype(np.int64)]
     tri = surf.triangles[surf.plate == row]
     own = PlateSurface(tri, np.zeros(len(tri), dtype=np.int64), spacing=surf.spacing)
     corners = tri.reshape(-1, 3)
@@ -552,7 +560,7 @@ def _plate_deviation(rec, surf, row, pts, tolerance, sigma):
     deviation = invert(inverse(res.x))  # design plate -> as built
     moved = apply(deviation, corners)
     slip = float(np.linalg.norm(moved - corners, axis=1).max())
-    after = own.query(apply(inverse(res.x), pts)).distance
+    after = own.query(apply(inverse(res.x), every), candidates=16, max_candidates=64).distance
     return PlateDeviation(
         **{
             **rec.__dict__,
