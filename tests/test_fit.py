@@ -81,6 +81,21 @@ def test_meshes_are_sampled_evenly_and_reproducibly(tmp_path):
     assert abs(a.points[:, 0].mean() - 1.0) < 0.05 and np.allclose(np.abs(a.normals[:, 2]), 1.0)
 
 
+def test_a_3dm_mesh_is_read_in_its_model_units(tmp_path):
+    rhino3dm = pytest.importorskip("rhino3dm")
+    mesh = rhino3dm.Mesh()
+    for p in [(0, 0, 0), (2000, 0, 0), (2000, 1000, 0), (0, 1000, 0)]:
+        mesh.Vertices.Add(*p)
+    mesh.Faces.AddFace(0, 1, 2, 3)
+    model = rhino3dm.File3dm()
+    model.Settings.ModelUnitSystem = rhino3dm.UnitSystem.Millimeters
+    model.Objects.AddMesh(mesh)
+    model.Write(str(tmp_path / "square.3dm"), 7)
+    p = read_points(tmp_path / "square.3dm", count=500)
+    assert p.kind == "mesh" and p.area == pytest.approx(2.0)
+    assert p.points.max(axis=0)[:2] == pytest.approx([2.0, 1.0], abs=0.02)
+
+
 @pytest.mark.parametrize(
     ("name", "text", "words"),
     [
