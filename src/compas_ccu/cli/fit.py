@@ -23,6 +23,11 @@ from compas_ccu.viz.export import save_figure
 
 __all__ = ["COMMANDS", "FIT_KEYS"]
 
+#: Bounds of the integer options (they are sizes of the fits, not counts of a work limit).
+MAX_SEED = 2**32 - 1
+MAX_FIT_POINTS = 200_000
+MAX_EVALUATIONS = 100_000
+
 #: The keys of a FIT.toml file's [fit] table (besides [free]).
 FIT_KEYS = {"points": int, "seed": int, "max_evaluations": int, "f_scale": float, "name": str}
 
@@ -167,7 +172,12 @@ _UNITS = option(
     help="length units of the file's coordinates (default m; a .3dm file names its own)",
 )
 _SEED = option(
-    "--seed", type=int, minimum=0, default=None, help="seed of every random subset (default 0)"
+    "--seed",
+    type=int,
+    minimum=0,
+    maximum=MAX_SEED,
+    default=None,
+    help="seed of every random subset (default 0)",
 )
 _SAMPLES = option(
     "--samples",
@@ -223,6 +233,7 @@ COMMANDS = (
                 "--sample",
                 type=int,
                 minimum=100,
+                maximum=MAX_FIT_POINTS,
                 default=3000,
                 help="points the fit uses (default 3000)",
             ),
@@ -230,13 +241,19 @@ COMMANDS = (
                 "--max-evaluations",
                 type=int,
                 minimum=4,
+                maximum=MAX_EVALUATIONS,
                 default=200,
                 help="distance evaluations per least-squares pass (default 200)",
             ),
             _SAMPLES,
             _UNITS,
             option(
-                "--seed", type=int, minimum=0, default=0, help="seed of the subsets (default 0)"
+                "--seed",
+                type=int,
+                minimum=0,
+                maximum=MAX_SEED,
+                default=0,
+                help="seed of the subsets (default 0)",
             ),
             QUIET,
         ),
@@ -264,6 +281,7 @@ COMMANDS = (
                 "--points",
                 type=int,
                 minimum=50,
+                maximum=MAX_FIT_POINTS,
                 default=None,
                 help="residual points (default 3000)",
             ),
@@ -271,6 +289,7 @@ COMMANDS = (
                 "--max-evaluations",
                 type=int,
                 minimum=2,
+                maximum=MAX_EVALUATIONS,
                 default=None,
                 help="models built at most (default 100)",
             ),
