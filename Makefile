@@ -12,7 +12,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli clean
+.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli bench-fit clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -187,6 +187,9 @@ bench-interference: setup
 # the CPU time of ccu --help / --version (a fresh process each, median of 15; docs/benchmarks.md)
 bench-cli: setup
 	$(BIN)/python benchmarks/bench_cli_startup.py
+# fitting to geometry: a design fit to 50,000 points, a 10^6-point scan registered (docs/fit.md)
+bench-fit: setup
+	$(BIN)/python benchmarks/bench_fit.py
 
 clean:
 	rm -rf $(VENV) $(VENV39) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info

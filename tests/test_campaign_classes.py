@@ -247,6 +247,9 @@ NOT_COUNTS |= {("sheet", "--columns")}  # at most the number of designs (checked
 # the nesting's seed, and its steps per packing: bounded as the design file's keys
 # (fabrication.nesting_seed, nesting_steps <= 100000), the time guarded by nesting_time
 NOT_COUNTS |= {("fabricate", "--nesting-seed"), ("fabricate", "--nesting-steps")}
+# the fits' seeds and sizes (points, evaluations, mesh samples): bounded (docs/fit.md)
+NOT_COUNTS |= {("asbuilt", o) for o in ("--sample", "--max-evaluations", "--samples", "--seed")}
+NOT_COUNTS |= {("fit", o) for o in ("--points", "--max-evaluations", "--samples", "--seed")}
 
 
 def _int_options():

@@ -23,6 +23,7 @@ __all__ = [
     "LimitError",
     "SelfIntersectionError",
     "SweepError",
+    "FitError",
     "rebuild_error",
     "require",
     "missing_modules",
@@ -136,6 +137,12 @@ class SweepError(CCUError):
     def __init__(self, message: str, *, key: str | None = None):
         self.key = key
         super().__init__(f"{key}: {message}" if key else message)
+
+
+class FitError(CCUError):
+    """A fit to geometry failed (``ccu asbuilt``, ``ccu fit``): a scan that fits no state of
+    the design, a target no design within the bounds can reach, a fit that did not converge
+    within its evaluations; the message names the cause and the value."""
 
 
 def rebuild_error(cls, args, attributes):

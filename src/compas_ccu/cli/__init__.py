@@ -1,7 +1,7 @@
 # PYTHON_ARGCOMPLETE_OK  (argcomplete's global completion: this module completes ``ccu``)
 """Command line interface: ``ccu new | deploy | path | info | planarity | catalog | validate |
 fabricate | explore | optimize | scale | figures | animate | view | sheet | report | studio |
-check | import``; ``python -m compas_ccu`` is the same command.
+check | import | asbuilt | fit``; ``python -m compas_ccu`` is the same command.
 
 Every command takes a design TOML file (see ``docs/design-files.md``; ``ccu new`` writes one), a
 sweep or a study file.

@@ -72,6 +72,8 @@ TABLE = (
     _entry("import", "fabrication", "rebuild a design from plate DXFs (the reverse of fabricate)"),
     _entry("report", "pictures", "write the design report (index.html, report.pdf)"),
     _entry("studio", "studio", "edit a design live in the browser"),
+    _entry("asbuilt", "fit", "register a scan to the design's 1-DOF deployment (as-built check)"),
+    _entry("fit", "fit", "fit free design keys to a target surface or point cloud"),
 )
 
 NAMES = {e.name: e for e in TABLE}
