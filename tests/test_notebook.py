@@ -13,10 +13,10 @@ pytest.importorskip("matplotlib")
 NOTEBOOK = Path(__file__).resolve().parents[1] / "notebooks" / "tour.ipynb"
 
 
-@pytest.mark.slow
-def test_tour_notebook_runs_top_to_bottom(tmp_path, monkeypatch):
-    monkeypatch.setenv("CCU_NOTEBOOK_OUT", str(tmp_path))
-    nb = nbformat.read(NOTEBOOK, as_version=4)
+def _executed(path, *, notebook: bool = False):
+    """The outputs of the notebook ``path`` run top to bottom (committed without outputs, no
+    error), and the executed notebook itself with ``notebook``."""
+    nb = nbformat.read(path, as_version=4)
     assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code"), (
         "commit the notebook without outputs"
     )
@@ -29,6 +29,13 @@ def test_tour_notebook_runs_top_to_bottom(tmp_path, monkeypatch):
     client.execute()
     outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
+    return (nb, outputs) if notebook else outputs
+
+
+@pytest.mark.slow
+def test_tour_notebook_runs_top_to_bottom(tmp_path, monkeypatch):
+    monkeypatch.setenv("CCU_NOTEBOOK_OUT", str(tmp_path))
+    outputs = _executed(NOTEBOOK)
     images = [o for o in outputs if "image/png" in o.get("data", {})]
     assert len(images) == 4  # two views, the sequence, the cut patterns
     text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
@@ -51,19 +58,7 @@ def test_scene_notebook_stays_small():
     """The vault in a compas_notebook scene: 39 widget models and 221 kB executed (one pythreejs
     line per ruling made 2,763 models and 3.9 MB; docs/benchmarks.md)."""
     pytest.importorskip("compas_notebook")
-    nb = nbformat.read(SCENE_NOTEBOOK, as_version=4)
-    assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code"), (
-        "commit the notebook without outputs"
-    )
-    client = nbclient.NotebookClient(
-        nb,
-        timeout=300,
-        kernel_name="python3",
-        resources={"metadata": {"path": str(NOTEBOOK.parent)}},
-    )
-    client.execute()
-    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
-    assert not [o for o in outputs if o.output_type == "error"]
+    nb, outputs = _executed(SCENE_NOTEBOOK, notebook=True)
     text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
     assert "scene children: {'plate': 10, 'crease': 9, 'ruling': 10}" in text
     views = [o for o in outputs if "application/vnd.jupyter.widget-view+json" in o.get("data", {})]

@@ -327,19 +327,7 @@ def register(
         The scan fits no state: fewer than half of its points within the outlier distance of
         the best state.
     """
-    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    if len(p) < MIN_POINTS:
-        raise GeometryError(f"a scan needs at least {MIN_POINTS} points, got {len(p)}")
-    if not np.isfinite(p).all():
-        raise GeometryError("the scan holds non-finite coordinates")
-    for name, value in (("tolerance", tolerance), ("outlier distance", outlier_distance)):
-        if value is not None and not (value > 0.0 and math.isfinite(value)):
-            raise OptionError(f"the {name} must be a positive length in m, got {value!r}")
-    if noise is not None and not (noise > 0.0 and math.isfinite(noise)):
-        raise OptionError(f"the noise must be a positive length in m, got {noise!r}")
-    for name, value, low in (("sample", sample, 100), ("max_evaluations", max_evaluations, 4)):
-        if int(value) < low:
-            raise OptionError(f"{name} must be at least {low}, got {value!r}")
+    p = _checked_scan(points, tolerance, outlier_distance, noise, sample, max_evaluations)
     rng = np.random.default_rng(seed)
     fit_idx = np.sort(rng.choice(len(p), size=min(int(sample), len(p)), replace=False))
     few = np.sort(rng.choice(len(fit_idx), size=min(500, len(fit_idx)), replace=False))
@@ -352,42 +340,8 @@ def register(
     coarse = _States(model, model.size / 60.0)
     fine = _States(model, model.size / 150.0)
 
-    # 1. global start: principal axes, 24 axis rotations, a coarse alpha grid, the scan's
-    # centroid or its ends put on the model's (a partial scan), scored, the best refined by ICP
-    cs, es = _pca(scan_start)
-    cap = model.size / 60.0
-    scored = []
-    for alpha in np.linspace(lo + 0.5, hi - 0.5, int(alpha_grid)):
-        surf = coarse(float(alpha))
-        cm, em = _pca(surf.samples, surf.sample_weight)
-        model_proj = (surf.samples - cm) @ em
-        m_lo, m_hi = model_proj.min(axis=0), model_proj.max(axis=0)
-        for q in axis_rotations():
-            rot = em @ q @ es.T
-            x = (scan_start - cs) @ rot.T
-            proj = x @ em
-            shifts = [np.zeros(3)]
-            for k in range(3):
-                shifts += [(m_lo[k] - proj[:, k].min()) * em[:, k]]
-                shifts += [(m_hi[k] - proj[:, k].max()) * em[:, k]]
-            for shift in shifts:
-                m, score = _icp(matrix(rot, cm + shift - rot @ cs), scan_few, surf, 5, 0.6, cap)
-                scored.append((score, float(alpha), m))
-    scored.sort(key=lambda s: s[0])
-    # 2. the best starts followed along a fine alpha grid (continuation: each alpha starts from
-    # the pose of its neighbour), a few ICP iterations at each
-    fine_grid = np.linspace(lo + 0.5, hi - 0.5, max(2, int(round((hi - lo) / 2.0))))
-    starts = []
-    for _, alpha0, m0 in scored[: int(refine)]:
-        at = int(np.argmin(np.abs(fine_grid - alpha0)))
-        m_at, _ = _icp(m0, scan_start, coarse(float(fine_grid[at])), 10, 0.6, cap)
-        for direction in (range(at, len(fine_grid)), range(at, -1, -1)):
-            m = m_at
-            for j in direction:
-                alpha = float(fine_grid[j])
-                m, score = _icp(m, scan_start, coarse(alpha), 4, 0.6, cap)
-                starts.append((score, alpha, m))
-    starts.sort(key=lambda s: s[0])
+    starts = _starts(model, scan_start, scan_few, coarse, lo, hi, alpha_grid, refine)
+    cap = model.size / 60.0  # the ICP's trimming distance, as in the starts
     best = None
     evaluations = 0
     for _, alpha0, m0 in starts[: int(candidates)]:
@@ -455,6 +409,65 @@ def register(
         plate_row=d.plate,
         design_points=design_points,
     )
+
+
+def _checked_scan(points, tolerance, outlier_distance, noise, sample, max_evaluations):
+    """The scan as (n, 3) float64, its options checked (:func:`register`'s Raises)."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    if len(p) < MIN_POINTS:
+        raise GeometryError(f"a scan needs at least {MIN_POINTS} points, got {len(p)}")
+    if not np.isfinite(p).all():
+        raise GeometryError("the scan holds non-finite coordinates")
+    for name, value in (("tolerance", tolerance), ("outlier distance", outlier_distance)):
+        if value is not None and not (value > 0.0 and math.isfinite(value)):
+            raise OptionError(f"the {name} must be a positive length in m, got {value!r}")
+    if noise is not None and not (noise > 0.0 and math.isfinite(noise)):
+        raise OptionError(f"the noise must be a positive length in m, got {noise!r}")
+    for name, value, low in (("sample", sample, 100), ("max_evaluations", max_evaluations, 4)):
+        if int(value) < low:
+            raise OptionError(f"{name} must be at least {low}, got {value!r}")
+    return p
+
+
+def _starts(model, scan_start, scan_few, coarse, lo, hi, alpha_grid, refine) -> list:
+    """The starts of the robust fit, best first: ``(score, alpha, pose)`` (steps 1 and 2)."""
+    # 1. global start: principal axes, 24 axis rotations, a coarse alpha grid, the scan's
+    # centroid or its ends put on the model's (a partial scan), scored, the best refined by ICP
+    cs, es = _pca(scan_start)
+    cap = model.size / 60.0
+    scored = []
+    for alpha in np.linspace(lo + 0.5, hi - 0.5, int(alpha_grid)):
+        surf = coarse(float(alpha))
+        cm, em = _pca(surf.samples, surf.sample_weight)
+        model_proj = (surf.samples - cm) @ em
+        m_lo, m_hi = model_proj.min(axis=0), model_proj.max(axis=0)
+        for q in axis_rotations():
+            rot = em @ q @ es.T
+            x = (scan_start - cs) @ rot.T
+            proj = x @ em
+            shifts = [np.zeros(3)]
+            for k in range(3):
+                shifts += [(m_lo[k] - proj[:, k].min()) * em[:, k]]
+                shifts += [(m_hi[k] - proj[:, k].max()) * em[:, k]]
+            for shift in shifts:
+                m, score = _icp(matrix(rot, cm + shift - rot @ cs), scan_few, surf, 5, 0.6, cap)
+                scored.append((score, float(alpha), m))
+    scored.sort(key=lambda s: s[0])
+    # 2. the best starts followed along a fine alpha grid (continuation: each alpha starts from
+    # the pose of its neighbour), a few ICP iterations at each
+    fine_grid = np.linspace(lo + 0.5, hi - 0.5, max(2, int(round((hi - lo) / 2.0))))
+    starts = []
+    for _, alpha0, m0 in scored[: int(refine)]:
+        at = int(np.argmin(np.abs(fine_grid - alpha0)))
+        m_at, _ = _icp(m0, scan_start, coarse(float(fine_grid[at])), 10, 0.6, cap)
+        for direction in (range(at, len(fine_grid)), range(at, -1, -1)):
+            m = m_at
+            for j in direction:
+                alpha = float(fine_grid[j])
+                m, score = _icp(m, scan_start, coarse(alpha), 4, 0.6, cap)
+                starts.append((score, alpha, m))
+    starts.sort(key=lambda s: s[0])
+    return starts
 
 
 def _fit_state(states, scan, alpha0, m0, lo, hi, noise, max_evaluations):
