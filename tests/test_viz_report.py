@@ -135,9 +135,20 @@ def test_thickness_checks_are_on_the_page(report):
     )
     assert "characteristic utilisation 0.461" in text
     assert "creep: k_def 0.8, final stiffness E/(1 + k_def) 5 / 5 GPa (E1 / E2)" in text
-    # the failed check is marked on the page
+    # a passed check is not marked on the page (a failed one is, test_the_failed_check_is_marked)
+    html_text = (out / "index.html").read_text(encoding="utf-8")
+    assert "<tr><th>bending check</th>" in html_text and "class=bad" not in html_text
+
+
+def test_the_failed_check_is_marked_on_the_page(tmp_path, monkeypatch):
+    """The 8 mm vault (examples/overbent.toml) exceeds its design bending strength (1.229)."""
+    monkeypatch.setenv("CCU_CACHE_DIR", str(tmp_path / "cache"))
+    out = tmp_path / "report"
+    argv = ["report", str(EXAMPLES / "overbent.toml"), "--out", str(out), "--steps", "1"]
+    assert main(argv + ["--frames", "2"]) == 0
     html_text = (out / "index.html").read_text(encoding="utf-8")
     assert "<tr class=bad><th>bending check</th>" in html_text
+    assert "utilisation 1.229" in html_text and "EXCEEDED" in html_text
 
 
 def _load_case_checks() -> dict:

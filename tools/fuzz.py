@@ -8,7 +8,8 @@
 CCUError) or bug (anything else). A design that takes more than ``--budget`` CPU seconds is a
 hang. Malformed design files (bad TOML, UTF-16, binary) and bad command lines go through
 ``ccu`` itself: exit 2 with one line and no output folder left is refused (and exit 3 with the
-failed checks named, ``ccu fabricate``'s documented outcome), anything else a bug.
+failed checks named, ``ccu fabricate``'s documented outcome, or ``ccu optimize``'s: no feasible
+design, the least violating trials listed), anything else a bug.
 Any message that says "this is a bug" or "please report" is a bug, whatever its exit code.
 The exit status is 1 if any bug or hang was found.
 """
@@ -89,9 +90,12 @@ def cli_outcome(argv: list, out: Path) -> tuple:
     if code == 2 and (one_line or usage) and not left_behind:
         return "refused", re.sub(r"/tmp/\S+", "<file>", text.splitlines()[-1])[:70]
     # a check that fails (ccu fabricate without --allow-exceeded): the documented exit 3, the
-    # files written for inspection and the failed checks named, no traceback
+    # files written for inspection and the failed checks named, no traceback; ccu optimize's
+    # documented exit 3: no feasible design, the least violating trials listed
     if code == 3 and lines and "exit status 3" in lines[-1] and "Traceback" not in text:
         return "refused", "a check failed: exit 3, the files written for inspection"
+    if code == 3 and "ccu optimize: no feasible design" in text and "Traceback" not in text:
+        return "refused", "no feasible design: exit 3, the least violating trials listed"
     return "bug", f"exit {code}: {text[-300:]}"
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.errors import MissingExtraError
+from compas_ccu.errors import require
 
 __all__ = ["deviation_figure"]
 
@@ -31,12 +31,9 @@ def deviation_figure(points, signed, plates, *, title: str, limit: float, outlin
     -------
     matplotlib.figure.Figure
     """
-    try:
-        from matplotlib.figure import Figure
-    except ImportError:  # pragma: no cover - without the viz extra
-        raise MissingExtraError(
-            "the deviation picture needs matplotlib (the viz extra): pip install 'compas_ccu[viz]'"
-        ) from None
+    require("matplotlib", "viz", what="the deviation picture")
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(11, 4.8), layout="constrained")
     ax, bars = fig.subplots(1, 2, width_ratios=[2.2, 1])
     mm = 1000.0 * np.asarray(signed)

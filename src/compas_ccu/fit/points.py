@@ -20,7 +20,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from compas_ccu.design.units import LENGTH_UNITS
-from compas_ccu.errors import GeometryError, MissingExtraError, OptionError
+from compas_ccu.errors import GeometryError, OptionError, require
 
 __all__ = ["PointSet", "read_points", "sample_triangles", "estimate_normals", "point_set"]
 __all__ += ["MESH_SUFFIXES", "TEXT_SUFFIXES", "FORMATS", "DEFAULT_SAMPLES", "MAX_POINTS"]
@@ -278,12 +278,9 @@ def _read_text(path: Path) -> np.ndarray:
 
 
 def _trimesh():
-    try:
-        import trimesh
-    except ImportError:  # pragma: no cover - without the fab extra
-        raise MissingExtraError(
-            "reading meshes needs trimesh (the fab extra): pip install 'compas_ccu[fab]'"
-        ) from None
+    require("trimesh", "fab", what="reading meshes")
+    import trimesh
+
     return trimesh
 
 
@@ -316,12 +313,9 @@ def _read_mesh(path: Path, count: int, seed: int) -> PointSet:
 
 
 def _read_3dm(path: Path, count: int, seed: int) -> PointSet:
-    try:
-        import rhino3dm
-    except ImportError:  # pragma: no cover - without the fab extra
-        raise MissingExtraError(
-            "reading .3dm files needs rhino3dm (the fab extra): pip install 'compas_ccu[fab]'"
-        ) from None
+    require("rhino3dm", "fab", what="reading .3dm files")
+    import rhino3dm
+
     model = rhino3dm.File3dm.Read(str(path))
     if model is None:
         raise GeometryError(f"{path}: cannot read it as a Rhino .3dm file")

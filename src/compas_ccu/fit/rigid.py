@@ -6,6 +6,8 @@ import itertools
 
 import numpy as np
 
+from compas_ccu.tolerances import DIVISION_FLOOR
+
 __all__ = ["rotation", "matrix", "apply", "invert", "kabsch", "axis_rotations"]
 
 
@@ -13,7 +15,7 @@ def rotation(r) -> np.ndarray:
     """(3, 3) rotation of the rotation vector ``r`` (3,) (Rodrigues)."""
     r = np.asarray(r, dtype=np.float64)
     angle = float(np.linalg.norm(r))
-    if angle < 1e-300:
+    if angle < DIVISION_FLOOR:
         return np.eye(3)
     k = r / angle
     kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
