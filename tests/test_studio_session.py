@@ -478,7 +478,10 @@ def test_the_exported_report_records_the_design_as_edited(session, folders):
     manifest = json.loads((written["fabrication"] / "fabrication.json").read_text("utf-8"))
     assert manifest["design_sha256"] == sha
     sheets = manifest["workshop"]["sheet_count"]
-    assert f"cut patterns: {sheets} sheets, 40 parts" in (report / "viewer.html").read_text("utf-8")
+    parts = manifest["bom"]["plates"] + manifest["bom"]["splices"]
+    assert parts == 10  # the vault's 1525 x 3050 mm stock sheets take every plate whole
+    page = (report / "viewer.html").read_text("utf-8")
+    assert f"cut patterns: {sheets} sheets, {parts} parts" in page
 
 
 # -- nothing lost (issue 27) --------------------------------------------------------------------
