@@ -381,6 +381,7 @@ def test_validate_uses_the_designs_plates_and_says_so(tmp_path, capsys):
         > plywood.summary()["stresses"]["max_bending_MPa"]
     )
     args = ["validate", str(design), "--out", str(tmp_path / "fe"), "--no-figures", "--steps", "4"]
+    args += ["--allow-exceeded"]  # the aluminium pair's ULS check fails (1.73): not the point here
     assert main(args + ["--element-size", "0.1", "--thickness", "0.01"]) == 0
     out = capsys.readouterr().out
     assert "plates: 10 mm aluminium (thickness from option, material from design [plates])" in out
