@@ -343,6 +343,9 @@ def test_fabricate_exits_3_on_exceeded_bending_unless_allowed(tmp_path, capsys):
     assert manifest["workshop"]["sheet_count"] == len(list((out / "sheets").glob("*.dxf")))
     assert manifest["bom"]["cost_total"] > 0 and manifest["assembly"]
     assert main([*args[:3], str(tmp_path / "ok"), *args[4:], "--allow-exceeded"]) == 0
+    allowed = capsys.readouterr().err  # allowed, still named
+    assert "check failed: bending utilisation 1.229 > 1" in allowed
+    assert "exit status 3" not in allowed
 
 
 def test_fabricate_refuses_sheets_too_small_naming_the_plate(tmp_path, capsys):

@@ -64,9 +64,9 @@ def fabricate(args) -> int:
     for f in manifest["files"]:
         say(args, f"wrote {Path(args.out) / f}")
     failed = manifest["failed_checks"]
+    for reason in failed:
+        print(f"ccu: check failed: {reason}", file=sys.stderr)
     if failed and not args.allow_exceeded:
-        for reason in failed:
-            print(f"ccu: check failed: {reason}", file=sys.stderr)
         print(
             "ccu: the files are written for inspection; exit status 3 (--allow-exceeded: 0)",
             file=sys.stderr,

@@ -96,9 +96,9 @@ def validate(args) -> int:
     for f in files:
         say(args, f"wrote {f}")
     bad = failed(fe_checks(summary))
+    for c in bad:
+        print(f"ccu: check failed: {c.brief()} ({c.clause})", file=sys.stderr)
     if bad and not args.allow_exceeded:
-        for c in bad:
-            print(f"ccu: check failed: {c.brief()} ({c.clause})", file=sys.stderr)
         print(
             f"ccu: {len(bad)} FE check{'s' if len(bad) != 1 else ''} failed; the files are "
             "written for inspection; exit status 3 (--allow-exceeded: 0)",
