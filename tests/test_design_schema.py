@@ -7,6 +7,9 @@ import pytest
 
 from compas_ccu.cli import main
 from compas_ccu.design import Design, load_design
+from compas_ccu.design.keys_fabrication import FABRICATION_SECTIONS
+from compas_ccu.design.keys_shape import SHAPE_SECTIONS
+from compas_ccu.design.keys_structure import STRUCTURE_SECTIONS
 from compas_ccu.design.schema import SCHEMA, schema_markdown
 from compas_ccu.errors import DesignError
 from compas_ccu.fea.settings import FESettings
@@ -114,6 +117,13 @@ def test_docs_list_every_key_and_are_up_to_date():
         for name in keys:
             if not name.startswith("_"):
                 assert f"| `{name}` |" in doc
+
+
+def test_the_schema_holds_every_section_table_once():
+    """SCHEMA puts the sections of the keys_* modules in order: none is left out or doubled."""
+    tables = [SHAPE_SECTIONS, STRUCTURE_SECTIONS, FABRICATION_SECTIONS]
+    assert sum(len(t) for t in tables) == len(SCHEMA)
+    assert {s: k for t in tables for s, k in t.items()} == SCHEMA
 
 
 # -- [materials.NAME] and [design_code] --------------------------------------------------------

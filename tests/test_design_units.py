@@ -12,8 +12,9 @@ from compas_ccu.cli import main
 from compas_ccu.design import Design, load_design
 from compas_ccu.design.document import read_toml
 from compas_ccu.design.inverse import write_design
-from compas_ccu.design.schema import SCHEMA, _coerce, validate
+from compas_ccu.design.schema import SCHEMA, validate
 from compas_ccu.design.units import LENGTH_UNITS, convert_document, is_length, map_lengths
+from compas_ccu.design.values import coerce_value
 from compas_ccu.design.variants import quadrant_design
 from compas_ccu.errors import DesignError, UnitsWarning
 from compas_ccu.model import CCUModel, flat_design
@@ -64,25 +65,27 @@ def test_the_length_keys_are_the_expected_ones():
 def test_every_length_key_is_converted_to_metres(section, name, key):
     if key.kind == "patterns":  # the point rows of every table
         table = {"parent": 0, "boundary": "near", "near": [[0.0, 0.0], [500.0, 250.0]]}
-        value = _coerce(section, name, key, [{**table, "far": [[0.0, 100.0], [5.0, 0.0]]}], "mm")
+        value = coerce_value(
+            section, name, key, [{**table, "far": [[0.0, 100.0], [5.0, 0.0]]}], "mm"
+        )
         assert value == [
             {"parent": 0, "boundary": "near", "near": [[0.0, 0.0], [0.5, 0.25]],
              "far": [[0.0, 0.1], [0.005, 0.0]], "id": None}
         ]  # fmt: skip
         return
     given, metres = ROWS[name] if key.kind == "rows" else SAMPLES[key.kind]
-    value = _coerce(section, name, key, given, "mm")
+    value = coerce_value(section, name, key, given, "mm")
     assert np.allclose(value, metres, rtol=1e-15, atol=0.0)
-    assert np.array_equal(_coerce(section, name, key, metres, "m"), metres)
+    assert np.array_equal(coerce_value(section, name, key, metres, "m"), metres)
 
 
 @pytest.mark.parametrize(
     "value, units, metres", [(12.0, "in", 0.3048), (1.0, "ft", 0.3048), (30.0, "cm", 0.3)]
 )
 def test_the_unit_factors(value, units, metres):
-    assert _coerce("layout", "width", SCHEMA["layout"]["width"], value, units) == pytest.approx(
-        metres, rel=1e-15
-    )
+    assert coerce_value(
+        "layout", "width", SCHEMA["layout"]["width"], value, units
+    ) == pytest.approx(metres, rel=1e-15)
 
 
 def test_non_length_keys_are_not_converted():
@@ -264,7 +267,7 @@ def test_one_walk_over_the_length_keys():
     before = copy.deepcopy(doc)
     out = map_lengths(doc, SCHEMA, lambda v: v * 1e-3)
     for section, name, key in length_keys():  # the loader's conversion, key by key
-        value = _coerce(section, name, key, doc[section][name], "mm")
+        value = coerce_value(section, name, key, doc[section][name], "mm")
         if key.kind == "patterns":
             assert out[section][name] == value
             continue

@@ -11,7 +11,7 @@ is most likely written in other units than declared: :func:`plausibility_warning
 key, the value, the units and the units that fit (:class:`compas_ccu.errors.UnitsWarning`).
 
 This module knows the schema's key kinds and unit strings, not the schema itself
-(:mod:`compas_ccu.design.schema` imports it).
+(:mod:`compas_ccu.design.values` imports it).
 
 >>> to_metres("point2", "m", [1500.0, 250.0], "mm")
 [1.5, 0.25]
