@@ -5,6 +5,7 @@
 # `make explore`: the example design-space sweep (270 variants on a local Dask cluster).
 # `make optimize`: the example optimisation study (300 trials of Optuna's TPE on Dask).
 # `make studio`: the live design studio in the browser on the vault (docs/studio.md).
+# `make docs`: the documentation site into site/ (guides, glossary, API and CLI reference).
 PYTHON   ?= python3
 VENV     ?= .venv
 BIN      := $(VENV)/bin
@@ -12,12 +13,12 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli bench-fit clean
+.PHONY: setup blas browser demo docs explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli bench-fit clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab,explore,studio,notebook]"
+	$(BIN)/python -m pip install --quiet -e ".[viz,video,dev,fea,fab,explore,studio,notebook,docs]"
 	@touch $(BIN)/ccu
 
 setup: $(BIN)/ccu blas
@@ -91,12 +92,21 @@ optimize: setup
 	$(BIN)/ccu optimize examples/optimize/vault-sheets.toml --out $(OUT)/vault-sheets --workers $(WORKERS)
 	@echo "Open $(OUT)/vault-sheets/plots/convergence.png; the best designs are in $(OUT)/vault-sheets/best/"
 
+# the documentation site (docs/index.md): the guides of docs/, the glossary, the API reference
+# from the docstrings and the CLI reference generated from the command table, into site/
+# (git-ignored); --strict: any warning fails, a broken link between pages or to a heading too.
+# A stage of `make test` (about 10 s). The docs extra needs Python 3.11+.
+docs: setup
+	@test -x $(BIN)/mkdocs || { echo "make docs: no mkdocs in $(VENV): the docs extra needs Python 3.11+ (python3 is $$($(BIN)/python -c 'import platform; print(platform.python_version())'))" >&2; exit 1; }
+	@# not --quiet: it drops the warnings before --strict counts them
+	$(BIN)/mkdocs build --strict
+
 lint: setup
 	$(BIN)/ruff check src tests benchmarks tools scripts
 	$(BIN)/ruff format --check src tests benchmarks tools scripts
 	$(BIN)/lint-imports --no-cache
 
-test: setup browser lint validators test-py39 test-simd
+test: setup browser lint docs validators test-py39 test-simd
 	$(BIN)/python -m pytest -q
 
 # Rhino 8 runs CPython 3.9: the model, design, kinematics, fabrication, CLI and robustness tests
@@ -192,4 +202,4 @@ bench-fit: setup
 	$(BIN)/python benchmarks/bench_fit.py
 
 clean:
-	rm -rf $(VENV) $(VENV39) $(OUT) .pytest_cache .ruff_cache .hypothesis build src/*.egg-info
+	rm -rf $(VENV) $(VENV39) $(OUT) site .pytest_cache .ruff_cache .hypothesis build src/*.egg-info

@@ -43,6 +43,8 @@ class Structure(Data):
         Invariant errors and key figures.
     plate_ids : list of int, optional
 
+    Notes
+    -----
     A callable is called once, on the first read of :attr:`creases` / :attr:`metrics` (or of
     the contract): a redeployed model builds its structures with lazy records
     (:class:`compas_ccu.model.records.StateRecords`), so a caller that reads only the vertices
