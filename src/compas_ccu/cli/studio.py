@@ -8,9 +8,11 @@ from pathlib import Path
 
 from compas_ccu.cli.common import VIZ, need_extra
 from compas_ccu.cli.parser import Command, option
+from compas_ccu.design.units import LENGTH_UNITS
 from compas_ccu.errors import OptionError
 from compas_ccu.studio.app import LOOPBACK, Studio
 from compas_ccu.studio.session import StudioSession
+from compas_ccu.studio.target import load_target
 
 __all__ = ["COMMANDS", "STUDIO"]
 
@@ -33,7 +35,10 @@ def studio(args) -> int:
         if not Path(folder).expanduser().is_dir():
             raise OptionError(f"--allow-dir {folder}: no such folder")
     session = StudioSession.start(args.design, out=args.out, allowed=args.allow_dir or ())
-    app = Studio(session, host=args.host, port=args.port)
+    target = None
+    if args.target is not None:
+        target = load_target(session.files, args.target, command_line=True, units=args.units)
+    app = Studio(session, host=args.host, port=args.port, target=target)
     print(
         f"compas_ccu studio: {app.url}  (design folder {session.files.design_folder}, "
         f"output folder {session.files.out}; Ctrl-C stops)",
@@ -84,6 +89,19 @@ COMMANDS = (
                 help="interface to listen on (default 127.0.0.1: this machine only)",
             ),
             option("--no-browser", action="store_true", help="do not open a browser"),
+            option(
+                "--target",
+                default=None,
+                metavar="FILE",
+                help="a target surface or point cloud (as ccu fit reads them): the plates are "
+                "coloured by their distance to it; the Target tab fits free keys to it",
+            ),
+            option(
+                "--units",
+                default="m",
+                choices=tuple(LENGTH_UNITS),
+                help="length units of the --target file's coordinates (default m)",
+            ),
             option(
                 "--allow-dir",
                 action="append",

@@ -28,6 +28,7 @@ from compas_ccu.fit.distance import PlateSurface, plate_triangles
 from compas_ccu.model import CCUModel
 
 __all__ = ["FreeKey", "DesignFit", "fit_design", "parse_free", "free_keys", "TARGET_SIZE_FACTOR"]
+__all__ += ["target_distance", "target_spacing"]
 
 #: A target whose bounding box diagonal exceeds this many times the largest design size within
 #: the bounds is refused: no deployable design of this base can reach it.
@@ -263,12 +264,10 @@ def fit_design(
     sub = np.sort(rng.choice(len(target), size=min(int(points), len(target)), replace=False))
     tpts = target.points[sub]
     ttree = cKDTree(target.points)
-    probe = target.points[:: max(1, len(target) // 20000)]
     # the target's point spacing: tangential offsets within it are not distance (the median
     # nearest-neighbour distance in the fit; the 99th percentile, random samples leave gaps,
     # for the Hausdorff distance)
-    nn = ttree.query(probe, k=2)[0][:, 1]
-    spacing, gaps = float(np.median(nn)), float(np.quantile(nn, 0.99))
+    spacing, gaps = target_spacing(target.points, ttree)
     f_scale = float(f_scale) if f_scale is not None else tsize / 200.0
 
     model0, v0 = _plates(_design(document, free, start.values(), base, name))
@@ -301,7 +300,7 @@ def fit_design(
             + _BARY[None, :, 1:] * (c - a)[:, None]
         )
         pts = pts.reshape(-1, 3)[pick]
-        r2 = _to_target(pts, target, ttree, spacing)
+        r2 = target_distance(pts, target, ttree, spacing)
         return np.concatenate([r1, r2])
 
     lower = np.array([(f.lower - s) / w for f, s, w in zip(free, x0, scale)])
@@ -328,7 +327,7 @@ def fit_design(
     model, v = _plates(design)
     surf = PlateSurface.from_vertices(v, model.faces, spacing=model.size / 150.0)
     d = surf.query(target.points)
-    back = _to_target(surf.samples, target, ttree, gaps)
+    back = target_distance(surf.samples, target, ttree, gaps)
     rows = d.plate
     ids = model.plate_ids
     cnt = np.bincount(rows, minlength=len(ids))
@@ -361,15 +360,55 @@ def fit_design(
     )
 
 
-def _to_target(pts, target, tree, spacing):
-    """Distance of points to the target: point-to-plane at the nearest target point, plus the
-    tangential offset beyond the target's point spacing."""
+def target_distance(pts, target, tree, spacing):
+    """Signed distance of points to a target: point-to-plane at the nearest target point, plus
+    the tangential offset beyond the target's point spacing (a point past the target's edge).
+
+    The plates-to-target term of :func:`fit_design`, and the distance the studio colours the
+    plates by (docs/studio.md).
+
+    Parameters
+    ----------
+    pts : (m, 3) float
+        Points, m.
+    target : PointSet
+        The target, with normals (:meth:`PointSet.with_normals`).
+    tree : scipy.spatial.cKDTree
+        Of ``target.points``.
+    spacing : float
+        The target's point spacing, m (:func:`target_spacing`): tangential offsets within it
+        are not distance.
+
+    Returns
+    -------
+    (m,) float
+        Signed by the side of the nearest target point's normal, m.
+    """
     dist, idx = tree.query(pts)
     delta = pts - target.points[idx]
     normal = (delta * target.normals[idx]).sum(axis=1)
     tangential = np.sqrt(np.maximum(dist**2 - normal**2, 0.0))
     excess = np.maximum(tangential - spacing, 0.0)
     return np.sign(normal) * np.sqrt(normal**2 + excess**2)
+
+
+def target_spacing(points, tree) -> tuple:
+    """The point spacing of a target: the median and the 99th percentile of the distance of
+    (at most 20,000 of) its points to their nearest neighbour, m.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    tree : scipy.spatial.cKDTree
+        Of ``points``.
+
+    Returns
+    -------
+    median, p99 : float
+    """
+    probe = points[:: max(1, len(points) // 20000)]
+    nn = tree.query(probe, k=2)[0][:, 1]
+    return float(np.median(nn)), float(np.quantile(nn, 0.99))
 
 
 def _check_reach(document, free, start, base, target_size) -> None:

@@ -38,6 +38,7 @@ from compas_ccu.studio.controls import (
 from compas_ccu.studio.export import EXPORTS, ExportProcess
 from compas_ccu.studio.panels import checks_html, message_html, patterns_html, status_html
 from compas_ccu.studio.scene import TOGGLES, StudioScene
+from compas_ccu.studio.target_panel import TargetPanel
 from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, view_state
 from compas_ccu.studio.workers import LatestWorker
 from compas_ccu.thickness import ThickModel
@@ -106,6 +107,9 @@ class Studio:
         Interface to listen on (default: this machine only).
     port : int
         Port (the next free one is taken if it is busy).
+    target : StudioTarget, optional
+        A target or scan to colour the structure by (``ccu studio --target``; the Target tab
+        loads one from the design folder).
 
     Examples
     --------
@@ -115,7 +119,7 @@ class Studio:
         studio.show()   # the live studio inline
     """
 
-    def __init__(self, session, *, host: str = "127.0.0.1", port: int = 8080):
+    def __init__(self, session, *, host: str = "127.0.0.1", port: int = 8080, target=None):
         import viser
 
         self.session = session
@@ -151,6 +155,8 @@ class Studio:
         self.server.on_client_connect(self._on_connect)
         self._sync_panel()
         self._model_changed(reset_alpha=True)
+        if target is not None:
+            self.target_panel.show_target(target)
 
     # -- lifecycle -----------------------------------------------------------------------------
     @property
@@ -186,6 +192,7 @@ class Studio:
         for worker in (self._view, self._checker, self._relaxer):
             worker.stop()
         self._exporter.stop()
+        self.target_panel.stop()
         self.server.stop()
 
     def _on_connect(self, client) -> None:
@@ -220,6 +227,7 @@ class Studio:
             self._build_design_tab(gui)
         with tabs.add_tab("Checks"):
             self.checks_panel = gui.add_html("<i>measuring ...</i>")
+            target_checks = gui.add_html("")
         with tabs.add_tab("View"):
             self.layers = {}
             for key, label, default in TOGGLES:
@@ -229,6 +237,8 @@ class Studio:
             self.patterns_panel = gui.add_html("")
         with tabs.add_tab("File"):
             self._build_file_tab(gui)
+        with tabs.add_tab("Target"):
+            self.target_panel = TargetPanel(self, gui, checks=target_checks)
 
     def _build_design_tab(self, gui) -> None:
         self.open_menu = gui.add_dropdown("open", self._open_options())
@@ -271,7 +281,7 @@ class Studio:
                 value = edited_value(control, handle.value)
                 self.session.edit(control.section, control.name, value)
 
-            self._apply(edit, panel="design")
+            self.apply_action(edit, panel="design")
 
         handle.on_update(on_update)
         return control, handle, error
@@ -294,16 +304,23 @@ class Studio:
         self.file_panel = gui.add_html("")
 
     # -- callbacks (from the page) -------------------------------------------------------------
-    def _apply(self, action, *, panel: str = "file") -> bool:
+    def redraw(self) -> None:
+        """Draw the current state again (the view worker)."""
+        if not self._stopped:
+            self._view.submit()
+
+    def apply_action(self, action, *, panel="file") -> bool:
         """Run a session action, then bring the page up to date; a refused action is said in
-        ``panel`` ("file" or "design") and changes nothing."""
+        ``panel`` ("file", "design" or a function of the message) and changes nothing."""
         try:
             with self.session.lock:
                 before = self.session.generation
                 action()
                 changed = self.session.generation != before
         except CCUError as exc:
-            if panel == "design":
+            if callable(panel):
+                panel(str(exc))
+            elif panel == "design":
                 self.design_error.content = message_html(str(exc), "fail", size="0.9em")
             else:
                 self._say(str(exc), "fail")
@@ -349,12 +366,14 @@ class Studio:
     def _on_open(self, _) -> None:
         kind, _, name = self.open_menu.value.partition(": ")
         opener = self.session.open_file if kind == "file" else self.session.open_catalog
-        if self._apply(lambda: opener(name), panel="design"):
+        if self.apply_action(lambda: opener(name), panel="design"):
             self._reset_view()
 
     def _on_upload(self, event) -> None:
         file = event.target.value
-        if self._apply(lambda: self.session.open_upload(file.name, file.content), panel="design"):
+        if self.apply_action(
+            lambda: self.session.open_upload(file.name, file.content), panel="design"
+        ):
             self._reset_view()
 
     def _reset_view(self) -> None:
@@ -371,7 +390,7 @@ class Studio:
     def _on_history(self, event) -> None:
         which = event.target.value
         done = []
-        self._apply(
+        self.apply_action(
             lambda: done.append(self.session.undo() if which == "Undo" else self.session.redo())
         )
         if done and not done[0]:
@@ -380,7 +399,7 @@ class Studio:
     def _on_recovery(self, event) -> None:
         s = self.session
         action = s.restore_recovery if event.target.value == "Restore it" else s.discard_recovery
-        if self._apply(action):
+        if self.apply_action(action):
             self._say(s.notice, "ok")
             self._reset_view()
 
@@ -536,10 +555,12 @@ class Studio:
         layers = {k: bool(box.value) for k, box in self.layers.items()}
         thick = self._thick_model(generation, model)
         relaxed = self._relaxed.get((generation, round(alpha, 6)))
+        coloring = self.coloring
         view = view_state(
-            model, alpha, coloring=self.coloring, vertices=relaxed, thick=thick,
-            solids=layers["solids"],
+            model, alpha, coloring=coloring if coloring in COLORINGS else COLORINGS[0],
+            vertices=relaxed, thick=thick, solids=layers["solids"],
         )  # fmt: skip
+        self.target_panel.colour(view, coloring)
         if relaxed is not None:
             self.state = RELAXED
         elif model.geometry.planes is not None and self._leaves_planes(model, alpha):
@@ -550,6 +571,7 @@ class Studio:
         with self.server.atomic():
             self.scene.draw(view, model, generation, layers)
         _set(self.legend, legend_html(view.legend))
+        self.target_panel.show_figures()
         self.last_view = view
         self._status()
         self.render_seconds += time.perf_counter() - t0

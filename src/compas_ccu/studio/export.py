@@ -23,7 +23,7 @@ from compas_ccu.model import CCUModel
 from compas_ccu.outputs import staged_folder
 from compas_ccu.viz.report import write_report
 
-__all__ = ["EXPORTS", "export", "export_job", "ExportProcess"]
+__all__ = ["EXPORTS", "export", "export_job", "ExportProcess", "BackgroundProcess"]
 
 #: What the studio exports, each into its own subfolder of ``OUT/<design name>/``.
 EXPORTS = ("structure", "fabrication", "report")
@@ -108,13 +108,51 @@ def background() -> None:
             pass
 
 
-class ExportProcess:
-    """One export process for a studio, started at the first export (``spawn``: a fresh
-    interpreter, whatever threads the studio runs) and reused; :meth:`stop` ends it."""
+class BackgroundProcess:
+    """One process for a studio's slow jobs, started at the first job (``spawn``: a fresh
+    interpreter, whatever threads the studio runs, at :data:`NICE`) and reused; a process that
+    died is started again; :meth:`stop` ends it. The jobs hold the GIL for seconds (the nesting,
+    the report's pictures, a design fit), which in the studio's process would stall the page."""
 
     def __init__(self):
         self._pool = None
         self._lock = threading.Lock()
+
+    def run(self, job, *args, **kwargs):
+        """``job(*args, **kwargs)`` in the process (``job`` a module-level function).
+
+        Returns
+        -------
+        concurrent.futures.Future
+            Of the job's result (or its exception).
+        """
+        from concurrent.futures import ProcessPoolExecutor
+        from concurrent.futures.process import BrokenProcessPool
+
+        with self._lock:
+            for _ in range(2):  # a process that died (killed, out of memory) is started again
+                if self._pool is None:
+                    context = multiprocessing.get_context("spawn")
+                    self._pool = ProcessPoolExecutor(
+                        max_workers=1, mp_context=context, initializer=background
+                    )
+                try:
+                    return self._pool.submit(job, *args, **kwargs)
+                except BrokenProcessPool:
+                    self._pool.shutdown(wait=False)
+                    self._pool = None
+            raise RuntimeError("the background process cannot be started")
+
+    def stop(self) -> None:
+        """Let the process end after the job under way, if any (queued ones are cancelled)."""
+        with self._lock:
+            pool, self._pool = self._pool, None
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)
+
+
+class ExportProcess(BackgroundProcess):
+    """The export process of a studio (:class:`BackgroundProcess`)."""
 
     def submit(self, model, out, *, alpha: float, what, design_text: str | None):
         """Export ``model`` (rebuilt in the export process from its design) into ``out``.
@@ -124,31 +162,9 @@ class ExportProcess:
         concurrent.futures.Future
             Of :func:`export_job`'s ``(pid, written)``.
         """
-        from concurrent.futures import ProcessPoolExecutor
-        from concurrent.futures.process import BrokenProcessPool
-
         design = model.design
         job = dict(
             name=design.name, base=design.base, out=str(out), alpha=alpha, what=tuple(what),
             design_text=design_text, limits=dataclasses.asdict(LIMITS),
         )  # fmt: skip
-        with self._lock:
-            for _ in range(2):  # a process that died (killed, out of memory) is started again
-                if self._pool is None:
-                    context = multiprocessing.get_context("spawn")
-                    self._pool = ProcessPoolExecutor(
-                        max_workers=1, mp_context=context, initializer=background
-                    )
-                try:
-                    return self._pool.submit(export_job, design.document, **job)
-                except BrokenProcessPool:
-                    self._pool.shutdown(wait=False)
-                    self._pool = None
-            raise RuntimeError("the export process cannot be started")
-
-    def stop(self) -> None:
-        """Let the process end after the export under way, if any (queued ones are cancelled)."""
-        with self._lock:
-            pool, self._pool = self._pool, None
-        if pool is not None:
-            pool.shutdown(wait=False, cancel_futures=True)
+        return self.run(export_job, design.document, **job)

@@ -8,13 +8,16 @@ cut patterns on the ground and the ground grid. Names live under ``/ccu``.
 
 from __future__ import annotations
 
+import json
+import struct
+
 import numpy as np
 
 from compas_ccu.studio.view import ViewState
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.patterns import pattern_layout
 
-__all__ = ["StudioScene", "TOGGLES"]
+__all__ = ["StudioScene", "TOGGLES", "colored_glb"]
 
 #: The layers of the view: key, label, shown at start.
 TOGGLES = (
@@ -49,6 +52,60 @@ def _stacked(vertices: np.ndarray, triangles: np.ndarray):
     """One mesh of all plates: (p * v, 3) vertices and (p * 2n, 3) triangles."""
     offsets = (np.arange(len(vertices)) * vertices.shape[1])[:, None, None]
     return vertices.reshape(-1, 3), (triangles + offsets).reshape(-1, 3)
+
+
+def colored_glb(vertices, triangles, colors) -> bytes:
+    """A binary glTF (GLB) of one triangle mesh with a colour per vertex (viser 1.1's
+    ``add_mesh_simple`` takes one colour per mesh; its GLB node takes ``COLOR_0``).
+
+    Parameters
+    ----------
+    vertices : (n, 3) float
+    triangles : (t, 3) int
+    colors : (n, 3) uint8
+        sRGB colours (converted to the linear values glTF holds, so the plates show the
+        legend's colours).
+
+    Returns
+    -------
+    bytes
+    """
+    v = _f32(vertices).reshape(-1, 3)
+    t = np.ascontiguousarray(triangles, dtype=np.uint32).reshape(-1)
+    rgba = np.full((len(v), 4), 255, dtype=np.uint8)
+    rgba[:, :3] = _linear(np.asarray(colors).reshape(-1, 3))
+    chunks = [v.tobytes(), rgba.tobytes(), t.tobytes()]
+    offsets = np.cumsum([0] + [len(c) for c in chunks])  # each a multiple of 4 bytes
+    views = [
+        {"buffer": 0, "byteOffset": int(o), "byteLength": len(c), "target": target}
+        for o, c, target in zip(offsets, chunks, (34962, 34962, 34963))
+    ]
+    accessors = [
+        {"bufferView": 0, "componentType": 5126, "count": len(v), "type": "VEC3",
+         "min": v.min(axis=0).tolist(), "max": v.max(axis=0).tolist()},
+        {"bufferView": 1, "componentType": 5121, "normalized": True, "count": len(v),
+         "type": "VEC4"},
+        {"bufferView": 2, "componentType": 5125, "count": len(t), "type": "SCALAR"},
+    ]  # fmt: skip
+    gltf = {
+        "asset": {"version": "2.0", "generator": "compas_ccu studio"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1},
+                                    "indices": 2, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1],
+                       "metallicFactor": 0.0, "roughnessFactor": 1.0}, "doubleSided": True}],
+        "buffers": [{"byteLength": int(offsets[-1])}],
+        "bufferViews": views,
+        "accessors": accessors,
+    }  # fmt: skip
+    text = json.dumps(gltf, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 4)
+    body = b"".join(chunks)
+    head = struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(text) + 8 + len(body))
+    return b"".join([head, struct.pack("<I4s", len(text), b"JSON"), text,
+                     struct.pack("<I4s", len(body), b"BIN\x00"), body])  # fmt: skip
 
 
 class StudioScene:
@@ -95,6 +152,7 @@ class StudioScene:
         tone = np.broadcast_to(np.array(_rgb(C.RULING_COLOR), np.uint8), rulings.shape)
         self._lines("/ccu/rulings", rulings, tone, layers["rulings"], RULING_WIDTH)
         self._solids(view, layers["solids"])
+        self._colored(view, layers["solids"])
         self._flat_stack(model, view, layers["flat"])
         self._patterns(model, view, layers["patterns"])
         self._grid(view, layers["grid"])
@@ -133,12 +191,25 @@ class StudioScene:
         for name, handle in h.items():
             if name.startswith("/ccu/solids/"):
                 handle.visible = visible
-        if visible and "/ccu/plates/0" in h:  # the mid-surfaces would show through
-            for i in range(len(view.vertices)):
-                h[f"/ccu/plates/{i}"].visible = False
-        elif "/ccu/plates/0" in h:
-            for i in range(len(view.vertices)):
-                h[f"/ccu/plates/{i}"].visible = True
+        # the mid-surfaces would show through the solids; coloured vertices draw them instead
+        plates = not visible and view.vertex_colors is None
+        for i in range(len(view.vertices)):
+            if f"/ccu/plates/{i}" in h:
+                h[f"/ccu/plates/{i}"].visible = plates
+
+    def _colored(self, view, solids) -> None:
+        """The plates in their vertex colours (one GLB node), when the view has them."""
+        h, name = self._handles, "/ccu/colored"
+        visible = view.vertex_colors is not None and not solids
+        if visible:
+            verts, tris = _stacked(view.vertices, view.triangles)
+            data = colored_glb(verts, tris, view.vertex_colors.reshape(-1, 3))
+            if name in h:
+                h[name].glb_data = data
+            else:
+                h[name] = self.scene.add_glb(name, data, cast_shadow=False, receive_shadow=False)
+        if name in h:
+            h[name].visible = visible
 
     def _flat_stack(self, model, view, visible) -> None:
         h = self._handles

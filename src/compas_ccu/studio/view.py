@@ -24,6 +24,7 @@ from compas_ccu.viz import colors as C
 from compas_ccu.viz.patterns import pattern_layout, plate_outline
 
 __all__ = ["COLORINGS", "ViewState", "view_state", "legend_html", "cut_patterns_svg", "SHEET"]
+__all__ += ["cmap_colors"]
 
 #: The colourings of the 3D view.
 COLORINGS = ("crease kind", "bending utilisation", "reflection angle", "crease planarity")
@@ -40,7 +41,9 @@ def _rgb(color: str) -> tuple:
     return tuple(int(round(255 * c)) for c in C.hex_to_rgb(color))
 
 
-def _cmap(name: str, values: np.ndarray) -> np.ndarray:
+def cmap_colors(name: str, values: np.ndarray) -> np.ndarray:
+    """sRGB colours (``values.shape + (3,)`` uint8) of ``values`` in [0, 1] on matplotlib
+    colour map ``name``."""
     import matplotlib
 
     return (matplotlib.colormaps[name](values)[..., :3] * 255).round().astype(np.uint8)
@@ -68,6 +71,9 @@ class ViewState:
         ``title``, ``rows`` [(rgb, text)] or ``scale`` (colormap name, lo, hi, unit), ``note``.
     overlapping : bool
         The state lies beyond the angle at which a crease overlaps itself.
+    vertex_colors : (p, v, 3) uint8 or None
+        sRGB colour of every plate vertex (the plates are then drawn in these, interpolated,
+        instead of ``plate_colors``: the distance to a target, :mod:`compas_ccu.studio.target`).
     """
 
     alpha: float
@@ -83,6 +89,7 @@ class ViewState:
     overlapping: bool = False
     plate_ids: list = field(default_factory=list)
     solids: list = field(default_factory=list)
+    vertex_colors: np.ndarray | None = None
 
 
 def _triangles(faces: np.ndarray) -> np.ndarray:
@@ -102,8 +109,8 @@ def _crease_rows(model):
 def _scale_colors(values: np.ndarray, lo: float, hi: float, cmap: str):
     """Colours of ``values`` on [lo, hi]; a degenerate range gives the scale's middle colour."""
     if hi - lo <= CONSTANT * max(abs(hi), abs(lo), DIVISION_FLOOR):
-        return _cmap(cmap, np.full(values.shape, 0.5))
-    return _cmap(cmap, np.clip((values - lo) / (hi - lo), 0.0, 1.0))
+        return cmap_colors(cmap, np.full(values.shape, 0.5))
+    return cmap_colors(cmap, np.clip((values - lo) / (hi - lo), 0.0, 1.0))
 
 
 def view_state(
@@ -170,7 +177,7 @@ def view_state(
         else:
             u = thick.bending([alpha]).per_plate[0]
             hi = max(1.0, float(u.max()))
-            plate_colors = _cmap("viridis", np.clip(u / hi, 0.0, 1.0))
+            plate_colors = cmap_colors("viridis", np.clip(u / hi, 0.0, 1.0))
             plate_colors[u > 1.0] = _rgb("#d62728")
             ids = model.plate_ids
             legend = {
@@ -253,7 +260,7 @@ def legend_html(legend: dict) -> str:
     scale = legend.get("scale")
     if scale is not None:
         name, lo, hi, unit = scale
-        stops = _cmap(name, np.linspace(0.0, 1.0, 9))
+        stops = cmap_colors(name, np.linspace(0.0, 1.0, 9))
         grad = ", ".join(_hex(s) for s in stops)
         parts.append(
             f"<div style='height:10px;background:linear-gradient(to right, {grad});"
