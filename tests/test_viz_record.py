@@ -219,13 +219,13 @@ def test_validation_rows_give_the_design_values_with_their_clauses():
 
 
 def test_a_manifest_without_tables_is_said_so_on_the_page(tmp_path):
-    from compas_ccu.viz.report import _fabrication_section
+    from compas_ccu.viz.report_page import fabrication_section
 
     (tmp_path / "fabrication.json").write_text('{"design": "cone", "plates": 2}')
-    page = _fabrication_section(read_fabrication(tmp_path, design="cone"), tmp_path)
+    page = fabrication_section(read_fabrication(tmp_path, design="cone"), tmp_path)
     assert "design cone · 2 plates" in page
     assert "lists no sheets and no bill of materials" in page
-    assert _fabrication_section(None, tmp_path) == ""
+    assert fabrication_section(None, tmp_path) == ""
 
 
 def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, overbent_model):
@@ -234,7 +234,7 @@ def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, overbe
     vault_model = overbent_model
     from compas_ccu.fabrication.fabricate import fabricate
     from compas_ccu.fabrication.workshop import WorkshopOptions
-    from compas_ccu.viz.report import _fabrication_section
+    from compas_ccu.viz.report_page import fabrication_section
 
     options = WorkshopOptions(nesting="shelf", splice_thickness=0.003)
     manifest = fabricate(vault_model, tmp_path / "fab", workshop=options)
@@ -264,6 +264,6 @@ def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, overbe
     assert work["splits"][worst[1]] == [int(worst[2])]
     assert f["failed_checks"] == manifest["failed_checks"] and len(f["failed_checks"]) == 2
     assert "splice plates: bending utilisation 2.151 > 1" in f["failed_checks"][1]
-    page = _fabrication_section(f, tmp_path)
+    page = fabrication_section(f, tmp_path)
     assert '<p class="bad">check failed: splice plates: bending utilisation 2.151' in page
     assert "<th>splice bending</th>" in page and "Sheets (fabrication.json: sheets)" in page

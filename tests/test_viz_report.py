@@ -443,3 +443,75 @@ def test_an_unexpected_error_in_a_task_is_raised_not_skipped(vault_model, tmp_pa
     with pytest.raises(ValueError, match="a bug in a figure"):
         report_module.write_report(vault_model, tmp_path / "r", steps=3, frames=2,
                                    progress=False, pdf=False)  # fmt: skip
+
+
+@pytest.fixture
+def quick_report(monkeypatch):
+    """``write_report`` of the report module with no figures and no animation (the tasks that
+    matter to a test run in a second)."""
+    from compas_ccu.viz import report as report_module
+
+    monkeypatch.setattr(report_module, "FIGURES", ())
+    monkeypatch.setattr(report_module, "write_animations", lambda *a, **k: [])
+    return report_module
+
+
+@pytest.mark.parametrize("error", [RuntimeError("a bug"), ValueError("a bug"), KeyError("bug")])
+def test_a_figure_function_that_fails_is_raised_not_skipped(
+    vault_model, tmp_path, monkeypatch, error
+):
+    """A figure function with a bug (not a refusal: no CCUError) reaches the caller."""
+    from compas_ccu.viz import report as report_module
+
+    def broken(*args, **kwargs):
+        raise error
+
+    monkeypatch.setattr(report_module, "plot_views", broken)
+    with pytest.raises(type(error), match="bug"):
+        report_module.write_report(vault_model, tmp_path / "r", steps=2, frames=2, pdf=False)
+    assert not (tmp_path / "r" / "index.html").exists()
+
+
+def test_a_viewer_that_fails_is_raised_not_skipped(cone_model, tmp_path, monkeypatch, quick_report):
+    """A plain ValueError (a bug, not an OptionError refusal) from the viewer is raised, with or
+    without the fabrication's sheets to fall back from."""
+
+    def broken(*args, **kwargs):
+        raise ValueError("a bug in the viewer")
+
+    monkeypatch.setattr(quick_report, "write_viewer", broken)
+    with pytest.raises(ValueError, match="a bug in the viewer"):
+        quick_report.write_report(cone_model, tmp_path / "r", steps=1, frames=2, pdf=False)
+
+
+@pytest.mark.parametrize("error", [OSError("no space left"), RuntimeError("a bug in the PDF")])
+def test_a_pdf_that_fails_is_raised_not_skipped(
+    cone_model, tmp_path, monkeypatch, quick_report, error
+):
+    """Only a refusal of the PDF writer is listed under "Not produced"; anything else (a bug,
+    the disk) is raised, not turned into a warning with exit 0."""
+
+    def broken(*args, **kwargs):
+        raise error
+
+    monkeypatch.setattr(quick_report, "write_pdf", broken)
+    with pytest.raises(type(error), match=str(error)):
+        quick_report.write_report(cone_model, tmp_path / "r", steps=1, frames=2)
+
+
+def test_a_refusal_is_listed_as_not_produced(cone_model, tmp_path, monkeypatch, quick_report):
+    """A named refusal (a missing optional extra: MissingExtraError, a CCUError) of a figure, the
+    viewer or the PDF is a "Not produced" note; the report is written."""
+    from compas_ccu.errors import MissingExtraError
+
+    def missing(*args, **kwargs):
+        raise MissingExtraError("the viz extra is missing (pip install 'compas_ccu[viz]')")
+
+    monkeypatch.setattr(quick_report, "FIGURES", (("views-kind", "3D views"),))
+    for name in ("plot_views", "write_viewer", "write_pdf"):
+        monkeypatch.setattr(quick_report, name, missing)
+    report = quick_report.write_report(cone_model, tmp_path / "r", steps=1, frames=2)
+    assert set(report.skipped) >= {"figure views-kind", "viewer", "report.pdf"}
+    assert report.pdf is None and report.index.exists()
+    page = report.index.read_text(encoding="utf-8")
+    assert "Not produced" in page and "the viz extra is missing" in page

@@ -148,15 +148,51 @@ def plot_fe_shape(
     >>> [float(x) for x in fig.axes[-1].get_ylim()]  # symmetric about zero, in MPa
     [-2.0, 2.0]
     """
-    from matplotlib.cm import ScalarMappable
-    from matplotlib.collections import PolyCollection
-    from matplotlib.colors import Normalize, to_rgba
-
     if mode not in FE_MODES:
         raise ValueError(f"mode must be one of {FE_MODES}, got {mode!r}")
     positions, elements, values = _check_mesh(positions, elements, values)
     segments = _as_segments(edges) if edges is not None else np.zeros((0, 2, 3))
     cam = camera(view)
+    shown, mappable, rgb = _colour_field(values, mode, vmin, vmax, cmap)
+    collection, xy = _mesh_collection(positions, elements, rgb, segments, cam)
+
+    if ax is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=figsize, layout="constrained")
+        ax = fig.add_subplot(1, 1, 1)
+    else:
+        fig = ax.figure
+    ax.add_collection(collection)
+    allxy = xy.reshape(-1, 2)
+    plo, phi = allxy.min(axis=0), allxy.max(axis=0)
+    pad = 0.04 * float(max(phi - plo)) or 1.0
+    ax.set_xlim(plo[0] - pad, phi[0] + pad)
+    ax.set_ylim(plo[1] - pad, phi[1] + pad)
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+    add_colorbar(fig, mappable, ax, label or _LABELS[mode])
+    note = note if note is not None else _extremes(shown, mode)
+    if note is not None:
+        ax.text(0.0, 0.0, note, transform=ax.transAxes, fontsize=8, color="#444444", va="bottom")
+    if title:
+        ax.set_title(title, fontsize=11)
+    return fig
+
+
+def _colour_field(values: np.ndarray, mode: str, vmin, vmax, cmap) -> tuple:
+    """The values as painted, their colour mapping and the colours of the elements.
+
+    Returns
+    -------
+    shown : (E,) float
+        The values in the displayed unit (MPa for ``stress``).
+    mappable : matplotlib.cm.ScalarMappable
+    rgb : (E, 3) float
+        The element colours, grey where a value is NaN (not yet shaded).
+    """
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
 
     finite = np.isfinite(values)
     if mode == "stress":
@@ -180,6 +216,21 @@ def plot_fe_shape(
     mappable = ScalarMappable(norm=Normalize(*value_range(shown, vmin, vmax)), cmap=cmap)
     rgb = np.tile(_NAN_RGB, (len(shown), 1))
     rgb[finite] = mappable.to_rgba(shown[finite])[:, :3]
+    return shown, mappable, rgb
+
+
+def _mesh_collection(positions, elements, rgb, segments, cam) -> tuple:
+    """The shaded faces and the edge segments as one ``PolyCollection``, back to front.
+
+    Returns
+    -------
+    collection : matplotlib.collections.PolyCollection
+        With ``element_index``: the element of each polygon, ``-1`` for an edge segment.
+    xy : (E, 4, 2) float
+        The projected quads (for the axes limits).
+    """
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import to_rgba
 
     quads = positions[elements]  # (E, 4, 3)
     normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
@@ -224,37 +275,20 @@ def plot_fe_shape(
         capstyle="round",
     )
     collection.element_index = index[order]
+    return collection, xy
 
-    if ax is None:
-        from matplotlib.figure import Figure
 
-        fig = Figure(figsize=figsize, layout="constrained")
-        ax = fig.add_subplot(1, 1, 1)
-    else:
-        fig = ax.figure
-    ax.add_collection(collection)
-    allxy = xy.reshape(-1, 2)
-    plo, phi = allxy.min(axis=0), allxy.max(axis=0)
-    pad = 0.04 * float(max(phi - plo)) or 1.0
-    ax.set_xlim(plo[0] - pad, phi[0] + pad)
-    ax.set_ylim(plo[1] - pad, phi[1] + pad)
-    ax.set_aspect("equal")
-    ax.set_axis_off()
-    add_colorbar(fig, mappable, ax, label or _LABELS[mode])
-    if note is not None:
-        ax.text(0.0, 0.0, note, transform=ax.transAxes, fontsize=8, color="#444444", va="bottom")
-    elif finite.any():
-        if mode == "stress":
-            note = (
-                f"max tension {max(float(shown[finite].max()), 0.0):.3g} MPa, "
-                f"max compression {max(-float(shown[finite].min()), 0.0):.3g} MPa"
-            )
-        else:
-            note = f"max {float(shown[finite].max()):.3g}, mean {float(shown[finite].mean()):.3g}"
-        ax.text(0.0, 0.0, note, transform=ax.transAxes, fontsize=8, color="#444444", va="bottom")
-    if title:
-        ax.set_title(title, fontsize=11)
-    return fig
+def _extremes(shown: np.ndarray, mode: str):
+    """The default note under the picture: the extremes of the painted values (None if none)."""
+    finite = np.isfinite(shown)
+    if not finite.any():
+        return None
+    if mode == "stress":
+        return (
+            f"max tension {max(float(shown[finite].max()), 0.0):.3g} MPa, "
+            f"max compression {max(-float(shown[finite].min()), 0.0):.3g} MPa"
+        )
+    return f"max {float(shown[finite].max()):.3g}, mean {float(shown[finite].mean()):.3g}"
 
 
 def _series(name: str, values, m: int) -> np.ndarray:
@@ -328,15 +362,28 @@ def plot_fe_curves(
 
     fig = Figure(figsize=figsize, layout="constrained")
     left, right = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
-    left.plot(alphas, dmax, color="#b2182b", lw=1.6, marker=marker, ms=3.5, label="max")
-    left.plot(alphas, dmean, color="#2166ac", lw=1.4, ls="--", marker=marker, ms=3, label="mean")
-    left.set_xlabel(x_label)
-    left.set_ylabel("deviation from kinematic model [% of span]")
-    left.set_ylim(bottom=0.0)
-    left.grid(True, alpha=0.3)
-    left.legend(frameon=False, fontsize=9)
-    left.set_title("shape deviation", fontsize=10)
+    _deviation_panel(left, alphas, dmax, dmean, marker, x_label)
+    _load_panel(right, alphas, force, energy, marker, x_label, force_label, energy_label)
+    if title:
+        fig.suptitle(title, fontsize=12)
+    return fig
 
+
+def _deviation_panel(ax, alphas, dmax, dmean, marker, x_label: str) -> None:
+    """The left panel of :func:`plot_fe_curves`: largest and mean deviation against α."""
+    ax.plot(alphas, dmax, color="#b2182b", lw=1.6, marker=marker, ms=3.5, label="max")
+    ax.plot(alphas, dmean, color="#2166ac", lw=1.4, ls="--", marker=marker, ms=3, label="mean")
+    ax.set_xlabel(x_label)
+    ax.set_ylabel("deviation from kinematic model [% of span]")
+    ax.set_ylim(bottom=0.0)
+    ax.grid(True, alpha=0.3)
+    ax.legend(frameon=False, fontsize=9)
+    ax.set_title("shape deviation", fontsize=10)
+
+
+def _load_panel(right, alphas, force, energy, marker, x_label, force_label, energy_label):
+    """The right panel of :func:`plot_fe_curves`: the force, and the energy (on a twin axis
+    when both are given), or the text "no load data"."""
     right.set_title("load–deployment", fontsize=10)
     right.set_xlabel(x_label)
     if force is None and energy is None:
@@ -352,36 +399,33 @@ def plot_fe_curves(
         )
         right.set_xticks([])
         right.set_yticks([])
+        return
+    handles = []
+    if force is not None:
+        handles += right.plot(
+            alphas, force, color="#333333", lw=1.6, marker=marker, ms=3.5, label="force"
+        )
+        right.set_ylabel(force_label)
+        right.axhline(0.0, color="#999999", lw=0.8)
+        right.grid(True, alpha=0.3)
+        twin = right.twinx() if energy is not None else None
     else:
-        handles = []
-        if force is not None:
-            handles += right.plot(
-                alphas, force, color="#333333", lw=1.6, marker=marker, ms=3.5, label="force"
-            )
-            right.set_ylabel(force_label)
-            right.axhline(0.0, color="#999999", lw=0.8)
-            right.grid(True, alpha=0.3)
-            twin = right.twinx() if energy is not None else None
-        else:
-            twin = right
-            right.grid(True, alpha=0.3)
-        if energy is not None:
-            handles += twin.plot(
-                alphas,
-                energy,
-                color="#e08214",
-                lw=1.4,
-                ls="-.",
-                marker=marker,
-                ms=3,
-                label="energy",
-            )
-            twin.set_ylabel(energy_label, color="#e08214" if twin is not right else "black")
-        if len(handles) > 1:
-            right.legend(handles=handles, frameon=False, fontsize=9, loc="upper left")
-    if title:
-        fig.suptitle(title, fontsize=12)
-    return fig
+        twin = right
+        right.grid(True, alpha=0.3)
+    if energy is not None:
+        handles += twin.plot(
+            alphas,
+            energy,
+            color="#e08214",
+            lw=1.4,
+            ls="-.",
+            marker=marker,
+            ms=3,
+            label="energy",
+        )
+        twin.set_ylabel(energy_label, color="#e08214" if twin is not right else "black")
+    if len(handles) > 1:
+        right.legend(handles=handles, frameon=False, fontsize=9, loc="upper left")
 
 
 def plot_load_cases(

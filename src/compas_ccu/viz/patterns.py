@@ -110,43 +110,10 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
         ax.add_collection(
             LineCollection(seg, colors=C.RULING_COLOR, linewidths=0.5, linestyles=(0, (3, 2)))
         )
-    index = {pid: i for i, pid in enumerate(structure.plate_ids)}
-    for c in structure.creases:
-        color = C.KIND_COLORS.get(c["kind"], C.EDGE_COLOR)
-        for side, verts in zip(c["plates"], c["vertices"]):
-            pts = xy[index[side], np.asarray(verts, dtype=int)]
-            ax.plot(pts[:, 0], pts[:, 1], color=color, lw=2.2, solid_capstyle="round")
-            if labels:
-                mid = pts[len(pts) // 2]
-                ax.annotate(
-                    f"c{c['id']}",
-                    mid,
-                    fontsize=6.5,
-                    color=color,
-                    ha="center",
-                    va="center",
-                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
-                )
+    _draw_creases(ax, structure, xy, labels)
     if labels:
-        m = max(1, n // 4)  # off the middle, where the crease labels are
-        ends = plate_rulings(n)[m]
-        for i, pid in enumerate(structure.plate_ids):
-            at = 0.5 * (xy[i, ends[0]] + xy[i, ends[1]])
-            ax.text(
-                *at,
-                f"P{pid}\n{areas[i]:.3f} m²\n{lengths[i]:.2f} m long",
-                ha="center",
-                va="center",
-                fontsize=max(6.0, min(9.0, 9.0 * scale)),
-                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.7},
-                color="#222222",
-            )
-    # scale bar: 1, 0.5, 0.2 or 0.1 m, about a fifth of the sheet
-    bar = next((b for b in (5.0, 2.0, 1.0, 0.5, 0.2, 0.1, 0.05) if b <= 0.25 * extent[0]), 0.05)
-    lo = np.concatenate(outlines).min(axis=0)
-    y0 = lo[1] - 0.06 * max(extent)
-    ax.plot([lo[0], lo[0] + bar], [y0, y0], color="#222222", lw=3, solid_capstyle="butt")
-    ax.text(lo[0] + bar / 2, y0, f"{bar:g} m", ha="center", va="bottom", fontsize=8)
+        _label_plates(ax, structure, xy, n, areas, lengths, scale)
+    _scale_bar(ax, outlines, extent)
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.set_axis_off()
@@ -170,3 +137,52 @@ def plot_cut_patterns(structure, *, rulings: bool = True, labels: bool = True, t
         fontsize=11,
     )
     return fig
+
+
+def _draw_creases(ax, structure, xy: np.ndarray, labels: bool) -> None:
+    """Both sides of every crease on the laid-out patterns ``xy`` (p, v, 2), coloured by kind,
+    with the crease id at its middle (``labels``)."""
+    index = {pid: i for i, pid in enumerate(structure.plate_ids)}
+    for c in structure.creases:
+        color = C.KIND_COLORS.get(c["kind"], C.EDGE_COLOR)
+        for side, verts in zip(c["plates"], c["vertices"]):
+            pts = xy[index[side], np.asarray(verts, dtype=int)]
+            ax.plot(pts[:, 0], pts[:, 1], color=color, lw=2.2, solid_capstyle="round")
+            if labels:
+                mid = pts[len(pts) // 2]
+                ax.annotate(
+                    f"c{c['id']}",
+                    mid,
+                    fontsize=6.5,
+                    color=color,
+                    ha="center",
+                    va="center",
+                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
+                )
+
+
+def _label_plates(ax, structure, xy, n: int, areas, lengths, scale: float) -> None:
+    """Plate id, area and length on every plate, off its middle (where the crease labels
+    are)."""
+    m = max(1, n // 4)
+    ends = plate_rulings(n)[m]
+    for i, pid in enumerate(structure.plate_ids):
+        at = 0.5 * (xy[i, ends[0]] + xy[i, ends[1]])
+        ax.text(
+            *at,
+            f"P{pid}\n{areas[i]:.3f} m²\n{lengths[i]:.2f} m long",
+            ha="center",
+            va="center",
+            fontsize=max(6.0, min(9.0, 9.0 * scale)),
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.7},
+            color="#222222",
+        )
+
+
+def _scale_bar(ax, outlines: list, extent: np.ndarray) -> None:
+    """A scale bar under the patterns: 5, 2, 1, 0.5 … 0.05 m, about a fifth of the sheet."""
+    bar = next((b for b in (5.0, 2.0, 1.0, 0.5, 0.2, 0.1, 0.05) if b <= 0.25 * extent[0]), 0.05)
+    lo = np.concatenate(outlines).min(axis=0)
+    y0 = lo[1] - 0.06 * max(extent)
+    ax.plot([lo[0], lo[0] + bar], [y0, y0], color="#222222", lw=3, solid_capstyle="butt")
+    ax.text(lo[0] + bar / 2, y0, f"{bar:g} m", ha="center", va="bottom", fontsize=8)

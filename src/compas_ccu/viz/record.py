@@ -190,20 +190,36 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
             out["problems"].append(f"{exc}; the viewer shows its own layout of the cut patterns")
         else:
             _same_design(out["layout"], folder, design, sha256)
+    manifest = _read_manifest(folder, out["problems"])
+    if manifest is not None:
+        out["manifest"] = manifest
+        _same_design(manifest, folder, design, sha256)
+        _read_tables(manifest, out)
+    return out
+
+
+def _read_manifest(folder: Path, problems: list):
+    """The folder's ``fabrication.json`` parsed, or None (what went wrong added to
+    ``problems``)."""
     path = folder / "fabrication.json"
     if not path.is_file():
-        out["problems"].append("no fabrication.json in the folder: the files are listed only")
-        return out
+        problems.append("no fabrication.json in the folder: the files are listed only")
+        return None
     try:
         manifest = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError) as exc:
-        out["problems"].append(f"fabrication.json could not be read: {exc}")
-        return out
+        problems.append(f"fabrication.json could not be read: {exc}")
+        return None
     if not isinstance(manifest, dict):
-        out["problems"].append(f"fabrication.json holds a {type(manifest).__name__}, not an object")
-        return out
-    out["manifest"] = manifest
-    _same_design(manifest, folder, design, sha256)
+        problems.append(f"fabrication.json holds a {type(manifest).__name__}, not an object")
+        return None
+    return manifest
+
+
+def _read_tables(manifest: dict, out: dict) -> None:
+    """The workshop rows, failed checks, ``bom`` and ``sheets`` tables and utilisation of a
+    ``fabrication.json`` into ``out`` (:func:`read_fabrication`); what cannot be shown is
+    added to its ``problems``."""
     nesting = manifest.get("nesting") if isinstance(manifest.get("nesting"), dict) else {}
     workshop = manifest.get("workshop") if isinstance(manifest.get("workshop"), dict) else {}
     if isinstance(workshop.get("sheets"), list):  # ccu fabricate
@@ -229,7 +245,6 @@ def read_fabrication(folder, *, design=None, sha256=None) -> dict:
     u = manifest.get("utilisation", nesting.get("utilisation"))
     if isinstance(u, (int, float)) and not isinstance(u, bool) and math.isfinite(u):
         out["utilisation"] = float(u)
-    return out
 
 
 def _workshop_tables(workshop: dict) -> dict:

@@ -291,22 +291,52 @@ def draw_scene(
     matplotlib.cm.ScalarMappable or None
         For a colour bar when plates or creases are coloured by a value.
     """
-    from matplotlib.collections import PolyCollection
-    from matplotlib.colors import to_rgba
-
     cam = camera(view)
     bounds = scene.bounds()
     if centre is None:
         centre = bounds.mean(axis=0)
     if size is None:
         size = float(np.linalg.norm(bounds[1] - bounds[0])) or 1.0
-    axes = cam.axes()
     p, n = scene.faces.shape[:2]
     quads = scene.quads.reshape(-1, 4, 3)
-    plate_of = np.repeat(np.arange(p), n)
     normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
     normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), DIVISION_FLOOR)
+    face_polys, face_rgb, normals, mappable, crease_values = _colouring(
+        scene, color_by, cmap, vmin, vmax, quads, normals
+    )
+    face_rgb = shade(face_rgb, normals, cam.axes())
 
+    xy, depth = cam.project(quads, centre, size)
+    limits = _set_limits(ax, xy, limits)
+    paint = _Paint()
+    _add_faces(paint, cam, centre, size, face_polys, face_rgb, xy, depth, n, edge_width)
+    # crease lines drawn as 2-point polygons in the same depth order, nudged towards the eye by
+    # half a quad so they win against the two plates they join; thinner where they crowd
+    width = _crease_width(scene.creases, cam, centre, size, limits, ax, crease_width)
+    bias = 0.3 * float(np.median(np.linalg.norm(quads[:, 2] - quads[:, 0], axis=1)))
+    _add_creases(paint, scene, cam, centre, size, bias, width, crease_values, mappable)
+    if rulings:
+        _add_rulings(paint, scene, cam, centre, size, bias)
+    ax.add_collection(paint.collection(size))
+    return mappable
+
+
+def _colouring(scene, color_by, cmap, vmin, vmax, quads, normals) -> tuple:
+    """The painted faces and their colours by ``color_by`` (see :func:`draw_scene`).
+
+    Returns
+    -------
+    face_polys : (f, 4, 3) float
+        The quads, or their sub-quads where a per-vertex field is painted.
+    face_rgb : (f, 3) float
+        Their colours (not yet shaded).
+    normals : (f, 3) float
+        Their normals.
+    mappable : matplotlib.cm.ScalarMappable or None
+    crease_values : list of (k_i,) float or None
+        The value of every crease segment (``color_by="alpha"``).
+    """
+    p, n = scene.faces.shape[:2]
     mappable = None
     face_rgb = np.repeat(np.array([C.hex_to_rgb(C.plate_tone(i)) for i in range(p)]), n, axis=0)
     crease_values = None
@@ -344,12 +374,12 @@ def draw_scene(
             face_rgb = mappable.to_rgba(values)[:, :3]
     if crease_values is not None and crease_values:
         mappable = _mappable(np.concatenate(crease_values), vmin, vmax, cmap)
-    face_rgb = shade(face_rgb, normals, axes)
-    sub = len(face_polys) // len(quads)  # sub-quads per quad
+    return face_polys, face_rgb, normals, mappable, crease_values
 
-    xy, depth = cam.project(quads, centre, size)
-    fxy, _ = cam.project(face_polys, centre, size)
-    quad_depth = depth.mean(axis=1)
+
+def _set_limits(ax, xy: np.ndarray, limits) -> tuple:
+    """Set the axes limits (default: the projected quads ``xy``, padded), equal aspect, no
+    axes; return the limits ``(xmin, xmax, ymin, ymax)``."""
     if limits is None:
         allxy = xy.reshape(-1, 2)
         lo, hi = allxy.min(axis=0), allxy.max(axis=0)
@@ -359,74 +389,113 @@ def draw_scene(
     ax.set_ylim(limits[2], limits[3])
     ax.set_aspect("equal")
     ax.set_axis_off()
+    return limits
 
-    # every drawable: polygon, depth, plate (ties of coincident plates go to the higher plate,
-    # for whole plates: no stripes of one stacked plate through another), rank within a quad
-    polys = [*fxy]
-    order_depth = [np.repeat(quad_depth, sub)]
-    order_plate = [np.repeat(plate_of, sub)]
-    order_rank = [np.zeros(len(fxy))]
-    facecolors = [*np.c_[face_rgb, np.ones(len(face_rgb))]]
+
+class _Paint:
+    """Every drawable of a scene: polygon, depth, plate (ties of coincident plates go to the
+    higher plate, for whole plates: no stripes of one stacked plate through another), rank
+    within a quad, face and edge colour, line width; painted back to front as one collection.
+    """
+
+    def __init__(self):
+        self.polys, self.facecolors, self.edgecolors, self.widths = [], [], [], []
+        self.depth, self.plate, self.rank = [], [], []
+
+    def add(self, polys, depth, plate, rank, facecolors, edgecolors, widths) -> None:
+        """Polygons (k, m, 2) with their depths, plates, ranks (k,) and colours and widths."""
+        self.polys.extend(polys)
+        self.depth.append(depth)
+        self.plate.append(plate)
+        self.rank.append(rank)
+        self.facecolors.extend(facecolors)
+        self.edgecolors.extend(edgecolors)
+        self.widths.extend(widths)
+
+    def collection(self, size: float):
+        """The ``PolyCollection``, sorted by depth to a tolerance of the scene ``size``
+        (coincident plates tie exactly), then plate, then rank."""
+        from matplotlib.collections import PolyCollection
+
+        tie = np.round(np.concatenate(self.depth) / (_DEPTH_TIE * size))
+        order = np.lexsort((np.concatenate(self.rank), np.concatenate(self.plate), tie))
+        collection = PolyCollection(
+            [self.polys[i] for i in order],
+            facecolors=np.asarray(self.facecolors)[order],
+            edgecolors=np.asarray(self.edgecolors)[order],
+            linewidths=np.asarray(self.widths)[order],
+            closed=True,
+            joinstyle="round",
+            capstyle="round",
+        )
+        # a field painted on many sub-quads is embedded as one image in vector files (SVG,
+        # PDF), at the figure's dpi: 5.9 MB of polygons for the vault's curvature; text stays
+        # text
+        collection.set_rasterized(len(self.polys) > RASTER_ABOVE)
+        return collection
+
+
+def _add_faces(paint, cam, centre, size, face_polys, face_rgb, xy, depth, n, edge_width):
+    """The faces (quads or sub-quads) and, over sub-quads, the quad outlines."""
+    from matplotlib.colors import to_rgba
+
+    fxy, _ = cam.project(face_polys, centre, size)
+    quad_depth = depth.mean(axis=1)
+    plate_of = np.repeat(np.arange(len(xy) // n), n)
+    sub = len(face_polys) // len(xy)  # sub-quads per quad
+    faces = np.c_[face_rgb, np.ones(len(face_rgb))]
+    depths, plates, ranks = np.repeat(quad_depth, sub), np.repeat(plate_of, sub), np.zeros(len(fxy))
     if sub > 1:  # sub-quads: edges in their own colour (no seams), the quad outline on top
-        edgecolors = [*np.c_[face_rgb, np.ones(len(face_rgb))]]
-        widths = [0.3] * len(fxy)
-        polys.extend(xy)
-        order_depth.append(quad_depth)
-        order_plate.append(plate_of)
-        order_rank.append(np.ones(len(xy)))
-        facecolors.extend([(0, 0, 0, 0)] * len(xy))
-        edgecolors.extend([to_rgba(C.EDGE_COLOR, 0.55)] * len(xy))
-        widths.extend([edge_width] * len(xy))
+        paint.add(fxy, depths, plates, ranks, faces, faces, [0.3] * len(fxy))
+        outline = [to_rgba(C.EDGE_COLOR, 0.55)] * len(xy)
+        clear = [(0, 0, 0, 0)] * len(xy)
+        paint.add(
+            xy, quad_depth, plate_of, np.ones(len(xy)), clear, outline, [edge_width] * len(xy)
+        )
     else:
-        edgecolors = [to_rgba(C.EDGE_COLOR, 0.55)] * len(xy)
-        widths = [edge_width] * len(xy)
+        edges = [to_rgba(C.EDGE_COLOR, 0.55)] * len(xy)
+        paint.add(fxy, depths, plates, ranks, faces, edges, [edge_width] * len(xy))
 
-    # crease lines drawn as 2-point polygons in the same depth order, nudged towards the eye by
-    # half a quad so they win against the two plates they join; thinner where they crowd
-    width = _crease_width(scene.creases, cam, centre, size, limits, ax, crease_width)
-    bias = 0.3 * float(np.median(np.linalg.norm(quads[:, 2] - quads[:, 0], axis=1)))
+
+def _add_creases(paint, scene, cam, centre, size, bias, width, crease_values, mappable):
+    """Every crease as segments, by kind colour or by value (``crease_values``)."""
+    from matplotlib.colors import to_rgba
+
+    p = scene.faces.shape[0]
     for ci, c in enumerate(scene.creases):
         seg = np.stack([c["points"][:-1], c["points"][1:]], axis=1)
         sxy, sd = cam.project(seg, centre, size)
-        polys.extend(sxy)
-        order_depth.append(sd.mean(axis=1) + bias)
-        order_plate.append(np.full(len(seg), p))
-        order_rank.append(np.full(len(seg), 2.0))
         if crease_values is not None:
             cols = mappable.to_rgba(crease_values[ci])
         else:
             cols = np.tile(to_rgba(C.KIND_COLORS.get(c["kind"], C.EDGE_COLOR)), (len(seg), 1))
-        facecolors.extend([(0, 0, 0, 0)] * len(seg))
-        edgecolors.extend(cols)
-        widths.extend([width] * len(seg))
-    if rulings:
-        seg = scene.rulings.reshape(-1, 2, 3)
-        sxy, sd = cam.project(seg, centre, size)
-        polys.extend(sxy)
-        order_depth.append(sd.mean(axis=1) + 0.25 * bias)
-        order_plate.append(np.repeat(np.arange(p), scene.rulings.shape[1]))
-        order_rank.append(np.full(len(seg), 1.5))
-        facecolors.extend([(0, 0, 0, 0)] * len(seg))
-        edgecolors.extend([to_rgba(C.RULING_COLOR)] * len(seg))
-        widths.extend([0.4] * len(seg))
+        paint.add(
+            sxy,
+            sd.mean(axis=1) + bias,
+            np.full(len(seg), p),
+            np.full(len(seg), 2.0),
+            [(0, 0, 0, 0)] * len(seg),
+            cols,
+            [width] * len(seg),
+        )
 
-    # depth to a tolerance of the scene size (coincident plates tie exactly), then plate, rank
-    tie = np.round(np.concatenate(order_depth) / (_DEPTH_TIE * size))
-    order = np.lexsort((np.concatenate(order_rank), np.concatenate(order_plate), tie))
-    collection = PolyCollection(
-        [polys[i] for i in order],
-        facecolors=np.asarray(facecolors)[order],
-        edgecolors=np.asarray(edgecolors)[order],
-        linewidths=np.asarray(widths)[order],
-        closed=True,
-        joinstyle="round",
-        capstyle="round",
+
+def _add_rulings(paint, scene, cam, centre, size, bias):
+    """Every ruling as a thin line."""
+    from matplotlib.colors import to_rgba
+
+    p = scene.faces.shape[0]
+    seg = scene.rulings.reshape(-1, 2, 3)
+    sxy, sd = cam.project(seg, centre, size)
+    paint.add(
+        sxy,
+        sd.mean(axis=1) + 0.25 * bias,
+        np.repeat(np.arange(p), scene.rulings.shape[1]),
+        np.full(len(seg), 1.5),
+        [(0, 0, 0, 0)] * len(seg),
+        [to_rgba(C.RULING_COLOR)] * len(seg),
+        [0.4] * len(seg),
     )
-    # a field painted on many sub-quads is embedded as one image in vector files (SVG, PDF),
-    # at the figure's dpi: 5.9 MB of polygons for the vault's curvature; text stays text
-    collection.set_rasterized(len(polys) > RASTER_ABOVE)
-    ax.add_collection(collection)
-    return mappable
 
 
 #: More polygons (quads, sub-quads and lines) than this in one view are rasterised in vector
