@@ -14,6 +14,7 @@ import pytest
 from compas_ccu.design import load_design
 from compas_ccu.errors import SweepError
 from compas_ccu.explore import optimize as opt
+from compas_ccu.explore import runner
 from compas_ccu.explore.evaluate import evaluate_variant
 from compas_ccu.explore.optimize import assess, run_study
 from compas_ccu.explore.results import Journal, read_table
@@ -574,7 +575,7 @@ def test_ctrl_c_stops_between_trials_and_keeps_what_is_done(tmp_path, monkeypatc
             signal.raise_signal(signal.SIGINT)  # Ctrl-C while the third design is evaluated
         return evaluate_variant(document, **options)
 
-    monkeypatch.setattr(opt, "evaluate_variant", evaluate)
+    monkeypatch.setattr(runner, "evaluate_variant", evaluate)  # the shared runner evaluates
     r = run_study(study, tmp_path / "out", trials=10, in_process=True, progress=False)
     assert (
         r.interrupted
@@ -661,10 +662,10 @@ def test_the_trials_do_not_depend_on_the_order_the_workers_finish_in(tmp_path, m
 
     def run(folder, reverse):
         @contextmanager
-        def runner(*args, **kwargs):
+        def evaluator(*args, **kwargs):
             yield Workers(reverse), "fake", 3
 
-        monkeypatch.setattr(opt, "_runner", runner)
+        monkeypatch.setattr(runner, "open_evaluator", evaluator)
         return run_study(study, tmp_path / folder, progress=False, summary=False)
 
     a, b = run("in-order", False), run("reversed", True)

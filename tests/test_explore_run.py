@@ -269,9 +269,9 @@ def test_an_existing_cluster_by_address(small, cluster, on_cluster, tmp_path):
 
 
 def test_scheduler_errors(small, tmp_path, monkeypatch):
-    import compas_ccu.explore.run as run
+    import compas_ccu.explore.cluster as cluster
 
-    monkeypatch.setattr(run, "CONNECT_TIMEOUT", "1s")
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT", "1s")
     with pytest.raises(
         SweepError, match=r"cannot connect to the Dask scheduler at 'tcp://127.0.0.1:9'"
     ):

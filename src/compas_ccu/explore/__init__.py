@@ -1,14 +1,20 @@
 """Design-space exploration: sweeps of design variants on Dask (``ccu explore``).
 
-A sweep file names a base design and the parameters to vary (:mod:`.sweep`); every variant is
-built, deployed and measured (:mod:`.evaluate`, :mod:`.metrics`) on a Dask cluster
-(:mod:`.run`); the results go to a Parquet table (:mod:`.results`) and a summary with the
-Pareto front and the best variants (:mod:`.pareto`, :mod:`.summary`). See docs/explore.md.
+A sweep file names a base design and the parameters to vary (:mod:`.sweep`, with the parts it
+shares with study files in :mod:`.parsing`); every variant is built, deployed and measured
+(:mod:`.evaluate`, :mod:`.metrics`) on a Dask cluster (:mod:`.run`); the results go to a Parquet
+table (:mod:`.results`) and a summary with the Pareto front and the best variants
+(:mod:`.pareto`, :mod:`.summary`, :mod:`.plots`). See docs/explore.md.
 
 An optimisation study (``ccu optimize``, docs/optimize.md) searches the parameters of a base
-design with Optuna under constraints (:mod:`.study`, :mod:`.optimize`) on the same runner.
+design with Optuna under constraints: the study file (:mod:`.study`), the feasibility of a
+design (:mod:`.feasibility`), Optuna's ask and tell (:mod:`.sampler`), the run
+(:mod:`.optimize`) and its outputs (:mod:`.study_summary`).
 
-Dask, pyarrow and Optuna are imported only when a sweep or a study runs (the ``explore`` extra).
+Sweeps and studies run on one runner (:mod:`.runner`: the output folder's manifest and journal,
+in-process or Dask evaluation, streams and batches, Ctrl-C) and one cluster connection
+(:mod:`.cluster`: a local cluster or ``--scheduler``). Dask, pyarrow and Optuna are imported
+only when a sweep or a study runs (the ``explore`` extra).
 """
 
 from __future__ import annotations

@@ -48,7 +48,7 @@ from compas_ccu.design.document import read_toml
 from compas_ccu.design.schema import SCHEMA
 from compas_ccu.errors import SweepError
 from compas_ccu.explore.metrics import metric_group
-from compas_ccu.explore.sweep import (
+from compas_ccu.explore.parsing import (
     SEARCH_KEYS,
     Variant,
     apply_settings,
