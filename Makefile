@@ -13,7 +13,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo docs explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli bench-fit clean
+.PHONY: setup blas browser demo docs explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli bench-fit bench-plates clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -193,6 +193,10 @@ bench-relax: setup
 # the interpenetration certificate's cost per model (docs/benchmarks.md)
 bench-interference: setup
 	$(BIN)/python benchmarks/bench_interference.py
+
+# deployment and collision check against the plate count, 10 ... 200 plates (docs/benchmarks.md)
+bench-plates: setup
+	$(BIN)/python benchmarks/bench_plates.py
 
 # the CPU time of ccu --help / --version (a fresh process each, median of 15; docs/benchmarks.md)
 bench-cli: setup

@@ -77,16 +77,18 @@ def reflect(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
 
 
 def reflect_points(points: np.ndarray, origin: np.ndarray, normal: np.ndarray) -> np.ndarray:
-    """Points (k, m, 3) mirrored in the planes ``origin, normal`` (k, 3), one plane per state."""
-    distance = dot(points - origin[:, None], normal[:, None])
-    return points - 2.0 * distance[..., None] * normal[:, None]
+    """Points (..., m, 3) mirrored in the planes ``origin, normal`` (..., 3), one plane per row
+    set (e.g. (k, m, 3) points and (k, 3) planes: one plane per state)."""
+    distance = dot(points - origin[..., None, :], normal[..., None, :])
+    return points - 2.0 * distance[..., None] * normal[..., None, :]
 
 
 def fit_planes(points: np.ndarray, orient: np.ndarray):
-    """Least-squares planes of ``(k, m, 3)`` point sets.
+    """Least-squares planes of ``(..., m, 3)`` point sets.
 
-    Returns origins ``(k, 3)``, unit normals ``(k, 3)`` with ``normal @ orient >= 0`` and the
-    largest point-plane distance ``(k,)``.
+    Returns origins ``(..., 3)``, unit normals ``(..., 3)`` with ``normal @ orient >= 0`` and
+    the largest point-plane distance ``(...,)``. ``orient`` is one direction ``(3,)`` for all
+    the point sets or one per set (``(..., 3)``, broadcast against the sets).
 
     >>> import numpy as np
     >>> pts = np.array([[[0.0, 0, 1], [1, 0, 1], [0, 1, 1], [1, 1, 1]]])
@@ -94,6 +96,10 @@ def fit_planes(points: np.ndarray, orient: np.ndarray):
     >>> normal.round(12).tolist(), float(deviation[0])
     ([[0.0, 0.0, 1.0]], 0.0)
     """
+    lead, m = points.shape[:-2], points.shape[-2]
+    points = points.reshape(-1, m, 3)  # one stack of point sets: the same operations per set
+    if orient.ndim > 1:
+        orient = np.broadcast_to(orient, (*lead, 3)).reshape(-1, 3)
     origin = points.mean(axis=1)
     centred = points - origin[:, None, :]
     # the last right singular vector of the centred points, not the eigenvector of their
@@ -101,11 +107,12 @@ def fit_planes(points: np.ndarray, orient: np.ndarray):
     # (sagitta 1e-3 of its length) would turn its plane by 1e-10 rad instead of 1e-13
     finite = np.isfinite(centred).all(axis=(1, 2))
     safe = np.where(finite[:, None, None], centred, 0.0)
-    _, _, vt = np.linalg.svd(safe, full_matrices=points.shape[1] < 3)
+    _, _, vt = np.linalg.svd(safe, full_matrices=m < 3)
     normal = np.where(finite[:, None], vt[:, -1, :], np.nan)
-    normal *= np.where(normal @ orient < 0.0, -1.0, 1.0)[:, None]
+    towards = normal @ orient if orient.ndim == 1 else dot(normal, orient)
+    normal *= np.where(towards < 0.0, -1.0, 1.0)[:, None]
     deviation = np.abs(np.einsum("kni,ki->kn", centred, normal)).max(axis=1)
-    return origin, normal, deviation
+    return origin.reshape(*lead, 3), normal.reshape(*lead, 3), deviation.reshape(lead)
 
 
 def _direction(vector, key: str) -> np.ndarray:

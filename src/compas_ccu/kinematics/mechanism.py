@@ -104,8 +104,10 @@ class CreasePlanes:
     least-squares plane of the crease, oriented like the design normal. The child plate's crease
     row is the parent's row itself (the hinge is shared exactly).
 
-    A strategy is any object with these methods and the attribute ``mirror_rows``;
-    :class:`compas_ccu.thickness.axis_shift.HingePlanes` is the one of thick plates.
+    A strategy is any object with the methods :meth:`begin` and :meth:`planes` and the
+    attribute ``mirror_rows``; :class:`compas_ccu.thickness.axis_shift.HingePlanes` is the one
+    of thick plates. :meth:`Mechanism.place` asks :meth:`planes` for all the creases of one
+    generation of plates at once.
     """
 
     #: False: a child plate shares its parent's crease row; True: it gets the row's mirror image.
@@ -114,22 +116,45 @@ class CreasePlanes:
     def begin(self, states: int, creases: int, vertices: int) -> None:
         """Called once before a placement of ``states`` states (for strategies that record)."""
 
-    def plane(self, mechanism: Mechanism, crease: int, near: np.ndarray, far: np.ndarray):
-        """Origins, unit normals (k, 3) and planarity deviation (k,) of ``crease``'s plane.
+    def planes(self, mechanism: Mechanism, creases: np.ndarray, near: np.ndarray, far: np.ndarray):
+        """The planes of several creases whose plates ``a`` are placed.
 
         Parameters
         ----------
+        mechanism : Mechanism
+        creases : (g,) int
+            Crease indices.
         near, far : (k, p, n + 1, 3) float
-            The placed plates so far (plate ``a`` of ``crease`` is placed).
+            The placed plates so far (plate ``a`` of every crease in ``creases`` is placed).
+
+        Returns
+        -------
+        origins, normals : (k, g, 3) float
+            Points on the planes and their unit normals (oriented like the design normals).
+        planarity : (k, g) float
+            Largest distance of a crease vertex from its plane.
         """
-        link = mechanism.creases[crease]
-        row = boundary_rows(near[:, link.plate_a], far[:, link.plate_a], link.boundary_a)[0]
-        if link.fixed:
-            k = len(row)
-            normal = np.zeros((k, 3))
-            normal[:, 2] = 1.0
-            return np.zeros((k, 3)), normal, np.abs(row[:, :, 2]).max(axis=1)
-        return fit_planes(row, np.asarray(link.design_normal))
+        creases = np.asarray(creases, dtype=np.intp)
+        row = mechanism.crease_rows(creases, near, far)  # (k, g, n + 1, 3)
+        fixed = mechanism.crease_fixed[creases]
+        if not fixed.any():  # best-fit planes only (every crease but the leading one)
+            return fit_planes(row, mechanism.crease_normals[creases])
+        k, g = row.shape[:2]
+        origins = np.zeros((k, g, 3))
+        normals = np.zeros((k, g, 3))
+        planarity = np.zeros((k, g))
+        normals[:, fixed] = (0.0, 0.0, 1.0)  # the leading plane, local z = 0
+        planarity[:, fixed] = np.abs(row[:, fixed][..., 2]).max(axis=-1)
+        free = ~fixed
+        if free.any():
+            fit = fit_planes(row[:, free], mechanism.crease_normals[creases[free]])
+            origins[:, free], normals[:, free], planarity[:, free] = fit
+        return origins, normals, planarity
+
+    def plane(self, mechanism: Mechanism, crease: int, near: np.ndarray, far: np.ndarray):
+        """:meth:`planes` of one crease: origins, unit normals (k, 3) and planarity (k,)."""
+        origins, normals, planarity = self.planes(mechanism, np.array([crease]), near, far)
+        return origins[:, 0], normals[:, 0], planarity[:, 0]
 
 
 class Mechanism:
@@ -142,6 +167,20 @@ class Mechanism:
     plates : list of PlateLink
         Plate 0 is the leading plate; every other plate comes after its parent.
     creases : list of CreaseLink
+
+    Attributes
+    ----------
+    generations : list of (g,) int
+        The plates in placement order, one array per generation: plate 0, then the plates whose
+        parent (and the plate ``a`` of whose crease) is in an earlier generation.
+    crease_plate_a : (c,) int
+        Plate ``a`` of every crease.
+    crease_far : (c,) bool
+        True where the crease is plate ``a``'s far boundary.
+    crease_fixed : (c,) bool
+        The fixed leading crease plane.
+    crease_normals : (c, 3) float
+        Design normals that orient the fitted planes.
     """
 
     def __init__(self, leading: LeadingStrip, plates: list, creases: list):
@@ -154,19 +193,84 @@ class Mechanism:
         self.plates = list(plates)
         self.creases = list(creases)
         self._ruling_lengths = [p.intrinsics.ruling_lengths for p in self.plates]
+        self.crease_plate_a = np.array([c.plate_a for c in self.creases], dtype=np.intp)
+        self.crease_far = np.array([c.boundary_a == "far" for c in self.creases], dtype=bool)
+        self.crease_fixed = np.array([bool(c.fixed) for c in self.creases], dtype=bool)
+        self.crease_normals = np.array(
+            [c.design_normal for c in self.creases], dtype=float
+        ).reshape(-1, 3)
+        for c in self.creases:
+            boundary_rows(None, None, c.boundary_a)  # a known boundary name
+        self.generations, self._batches = self._placement_batches()
+
+    def _placement_batches(self):
+        """The generations of plates and, per generation, the index arrays of its placement."""
+        generation = np.zeros(len(self.plates), dtype=int)
+        for i, plate in enumerate(self.plates[1:], start=1):
+            before = [plate.parent]
+            if plate.crease is not None:
+                before.append(self.creases[plate.crease].plate_a)
+            generation[i] = 1 + max(generation[b] for b in before)
+        generations, batches = [np.array([0], dtype=np.intp)], []
+        for g in range(1, int(generation.max(initial=0)) + 1):
+            members = np.flatnonzero(generation == g)
+            links = [self.plates[i] for i in members]
+            for plate in links:
+                boundary_rows(None, None, plate.boundary)  # a known boundary name
+            generations.append(members)
+            batches.append(
+                _Batch(
+                    plates=members,
+                    parents=np.array([p.parent for p in links], dtype=np.intp),
+                    creases=np.array([p.crease for p in links], dtype=np.intp),
+                    from_far=np.array([p.boundary == "far" for p in links], dtype=bool),
+                    ccf=np.array([p.relation == "ccf" for p in links], dtype=bool),
+                    lengths=np.stack([self._ruling_lengths[i] for i in members]),
+                )
+            )
+        return generations, batches
 
     @property
     def segments(self) -> int:
         return self.leading.n
 
+    def crease_rows(self, creases: np.ndarray, near: np.ndarray, far: np.ndarray) -> np.ndarray:
+        """Plate ``a``'s crease row at ``creases`` (g,): (k, g, n + 1, 3).
+
+        Parameters
+        ----------
+        creases : (g,) int
+        near, far : (k, p, n + 1, 3) float
+        """
+        plates = self.crease_plate_a[creases]
+        return np.where(
+            self.crease_far[creases][None, :, None, None], far[:, plates], near[:, plates]
+        )
+
+    def crease_boundaries(self, creases: np.ndarray, near: np.ndarray, far: np.ndarray):
+        """Plate ``a``'s crease row and its other row at ``creases`` (g,): (k, g, n + 1, 3) each.
+
+        Parameters
+        ----------
+        creases : (g,) int
+        near, far : (k, p, n + 1, 3) float
+        """
+        plates = self.crease_plate_a[creases]
+        on_far = self.crease_far[creases][None, :, None, None]
+        near_a, far_a = near[:, plates], far[:, plates]
+        return np.where(on_far, far_a, near_a), np.where(on_far, near_a, far_a)
+
     def place(self, s0, *, planes: CreasePlanes | None = None) -> MechanismStates:
         """Place every plate for values of the degree of freedom ``s0`` (see LeadingStrip).
+
+        The plates of one generation (:attr:`generations`) are placed together: their crease
+        planes in one call of the strategy, their reflections as one array operation.
 
         Parameters
         ----------
         s0 : float or (k,) float
         planes : CreasePlanes, optional
-            The strategy that gives the plane of every crease from the placed parent plate
+            The strategy that gives the planes of creases from the placed parent plates
             (default: the fixed leading plane and the best-fit planes of the other creases).
         """
         planes = _DEFAULT_PLANES if planes is None else planes
@@ -186,24 +290,29 @@ class Mechanism:
         planarity = np.zeros((k, c))
         placed = np.zeros(c, dtype=bool)
         planes.begin(k, c, m)
-        for i, plate in enumerate(self.plates[1:], start=1):
-            j, ci = plate.parent, plate.crease
-            hinge = boundary_rows(near[:, j], far[:, j], plate.boundary)[0]
-            away = rays[:, j] if plate.boundary == "near" else -rays[:, j]
-            # the parent is placed, so the crease (its boundary) is known
-            origin, normal, planarity[:, ci] = planes.plane(self, ci, near, far)
-            origins[:, ci], normals[:, ci] = origin, normal
-            mirrored = away - 2.0 * dot(away, normal[:, None])[..., None] * normal[:, None]
-            if plate.relation == "ccf":
-                mirrored = -mirrored
+        for batch in self._batches:
+            origin, normal, planarity[:, batch.creases] = planes.planes(
+                self, batch.creases, near, far
+            )
+            origins[:, batch.creases], normals[:, batch.creases] = origin, normal
+            on_far = batch.from_far[None, :, None, None]
+            parent_near, parent_far = near[:, batch.parents], far[:, batch.parents]
+            hinge = np.where(on_far, parent_far, parent_near)  # (k, g, n + 1, 3)
+            ray = rays[:, batch.parents]
+            away = np.where(on_far, -ray, ray)
+            normal = normal[:, :, None]
+            mirrored = away - 2.0 * dot(away, normal)[..., None] * normal
+            mirrored = np.where(batch.ccf[None, :, None, None], -mirrored, mirrored)
             if planes.mirror_rows:
-                hinge = reflect_points(hinge, origin, normal)
-            near[:, i] = hinge
-            far[:, i] = hinge + self._ruling_lengths[i][None, :, None] * mirrored
-            rays[:, i] = mirrored
-            placed[ci] = True
-        for ci in np.flatnonzero(~placed):  # creases that attach no plate (closing a loop)
-            origins[:, ci], normals[:, ci], planarity[:, ci] = planes.plane(self, ci, near, far)
+                hinge = reflect_points(hinge, origin, normal[:, :, 0])
+            near[:, batch.plates] = hinge
+            far[:, batch.plates] = hinge + batch.lengths[None, :, :, None] * mirrored
+            rays[:, batch.plates] = mirrored
+            placed[batch.creases] = True
+        closing = np.flatnonzero(~placed)  # creases that attach no plate (closing a loop)
+        if len(closing):
+            origin, normal, planarity[:, closing] = planes.planes(self, closing, near, far)
+            origins[:, closing], normals[:, closing] = origin, normal
         return MechanismStates(near, far, origins, normals, planarity, lead.tilts)
 
     def crease_planes(self, near: np.ndarray, far: np.ndarray):
@@ -211,15 +320,7 @@ class Mechanism:
 
         Returns origins, normals (k, c, 3) and the planarity deviation (k, c).
         """
-        k, c = near.shape[0], len(self.creases)
-        origins = np.zeros((k, c, 3))
-        normals = np.zeros((k, c, 3))
-        planarity = np.zeros((k, c))
-        for ci in range(c):
-            origins[:, ci], normals[:, ci], planarity[:, ci] = _DEFAULT_PLANES.plane(
-                self, ci, near, far
-            )
-        return origins, normals, planarity
+        return _DEFAULT_PLANES.planes(self, np.arange(len(self.creases)), near, far)
 
     def refit(self, states: MechanismStates, near: np.ndarray, far: np.ndarray) -> MechanismStates:
         """States with plates replaced by ``near, far`` (k, p, n + 1, 3) and planes refitted.
@@ -243,6 +344,17 @@ class Mechanism:
     def alpha_limit(self) -> float:
         """Largest reachable reference reflection angle, radians."""
         return self.leading.alpha_limit
+
+
+class _Batch(NamedTuple):
+    """One generation of plates placed together (index arrays of :meth:`Mechanism.place`)."""
+
+    plates: np.ndarray  # (g,) the plates
+    parents: np.ndarray  # (g,) their parents
+    creases: np.ndarray  # (g,) the creases they hang on
+    from_far: np.ndarray  # (g,) bool: on the parent's far boundary
+    ccf: np.ndarray  # (g,) bool: folded continuation
+    lengths: np.ndarray  # (g, n + 1) ruling lengths
 
 
 _DEFAULT_PLANES = CreasePlanes()

@@ -39,7 +39,6 @@ import numpy as np
 from compas_ccu.errors import GeometryError
 from compas_ccu.geometry import dot, unit
 from compas_ccu.kinematics.mechanism import CreasePlanes, Mechanism, MechanismStates
-from compas_ccu.kinematics.plates import hinge_and_rulings
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -201,23 +200,30 @@ class HingePlanes(CreasePlanes):
         self.offset_planarity = np.zeros((states, creases))
         self.corrections = np.zeros((states, creases, vertices))
 
-    def plane(self, mechanism: Mechanism, crease: int, near: np.ndarray, far: np.ndarray):
-        link = mechanism.creases[crease]
-        a = link.plate_a
-        row, away = hinge_and_rulings(near[:, a], far[:, a], link.boundary_a)
-        facing = row + self.sides[crease, 0] * self.half * vertex_offsets(near[:, a], far[:, a])
-        origin, normal, self.mid_planarity[:, crease] = super().plane(mechanism, crease, near, far)
+    def planes(self, mechanism: Mechanism, creases: np.ndarray, near: np.ndarray, far: np.ndarray):
+        """Hinge planes P of ``creases`` (g,): origins, normals (k, g, 3) and the largest
+        distance (k, g) of the uncorrected offset creases from them (see
+        :meth:`CreasePlanes.planes <compas_ccu.kinematics.mechanism.CreasePlanes.planes>`)."""
+        creases = np.asarray(creases, dtype=np.intp)
+        row, other = mechanism.crease_boundaries(creases, near, far)  # (k, g, n + 1, 3)
+        away = unit(other - row)
+        a = mechanism.crease_plate_a[creases]
+        side = self.sides[creases, 0] * self.half  # (g,)
+        facing = row + side[None, :, None, None] * vertex_offsets(near[:, a], far[:, a])
+        origin, normal, self.mid_planarity[:, creases] = super().planes(
+            mechanism, creases, near, far
+        )
         # the offset plane by the mean offset (paper: "offset plane by cos_mean")
-        shift = dot(facing - origin[:, None], normal[:, None]).mean(axis=1)
-        origin = origin + shift[:, None] * normal
-        dist = dot(facing - origin[:, None], normal[:, None])
-        self.offset_planarity[:, crease] = np.abs(dist).max(axis=1)
-        slope = dot(away, normal[:, None])
+        shift = dot(facing - origin[:, :, None], normal[:, :, None]).mean(axis=-1)
+        origin = origin + shift[..., None] * normal
+        dist = dot(facing - origin[:, :, None], normal[:, :, None])
+        self.offset_planarity[:, creases] = np.abs(dist).max(axis=-1)
+        slope = dot(away, normal[:, :, None])
         with np.errstate(divide="ignore", invalid="ignore"):
             along = -dist / slope
         # rulings in the plane (the flat stack): the offset crease lies in P, nothing to correct
-        self.corrections[:, crease] = np.where(np.abs(slope) > EXACT_RELATIVE, along, 0.0)
-        return origin, normal, self.offset_planarity[:, crease]
+        self.corrections[:, creases] = np.where(np.abs(slope) > EXACT_RELATIVE, along, 0.0)
+        return origin, normal, self.offset_planarity[:, creases]
 
 
 def place_thick(mechanism: Mechanism, s0, thickness: float, sides: np.ndarray) -> ThickStates:

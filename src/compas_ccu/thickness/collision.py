@@ -18,6 +18,15 @@ penetration the smallest clearance, and its vertex (the lowest vertex number on 
 pairs whose bounding boxes are further apart than ``reach`` are skipped, and a smallest gap
 larger than ``reach`` is no contact (clearance inf): the clearance is measured within the reach.
 
+**Broad phase.** The pairs whose boxes are further apart than ``reach`` are found without
+testing all ``p (p - 1)`` pairs: per state the plates' axis-aligned boxes, widened by half the
+reach on every side (:func:`plate_boxes`), are sorted along one axis and swept
+(:func:`box_pairs`), and only the overlapping pairs go on (:func:`candidate_pairs`). The test
+that keeps a pair is the one the brute force applies to every pair, so no pair is lost; the
+work per state is O(p log p) plus the overlapping pairs, which in a deployed state are the
+neighbours of each plate (in the flat-folded stack: the plates within the reach above and
+below). The states are checked in chunks of about :data:`CHUNK_CELLS` cells.
+
 **Candidate search** (``method="cells"``, the default). Testing every vertex against every cell
 costs O(n²) per pair while a vertex lies over one or two cells; so the cells of a plate are
 grouped in blocks of ``CELLS`` consecutive cells and the face vertices of a plate in blocks of
@@ -69,7 +78,21 @@ import numpy as np
 from compas_ccu.geometry import cross3, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
-__all__ = ["Contact", "plate_contacts", "point_gaps"]
+__all__ = [
+    "Contact",
+    "PairTable",
+    "pair_table",
+    "plate_boxes",
+    "box_pairs",
+    "candidate_pairs",
+    "Blocks",
+    "plate_blocks",
+    "block_pairs",
+    "Found",
+    "exact_tests",
+    "plate_contacts",
+    "point_gaps",
+]
 
 
 def _dot(a, b):
@@ -126,23 +149,6 @@ def _lateral(points, cells, tol):
         ok = _heights(points, base, normal) >= -tol
         inside = ok if inside is None else inside & ok
     return inside
-
-
-#: Cells per cell block and rulings per vertex block of the candidate search.
-CELLS = 4
-RULINGS = 8
-#: Block pairs per batch of the exact tests (bounds the temporaries: ~1 MB per 100 pairs).
-BATCH = 2048
-
-
-def _apart(faces, pairs, reach):
-    """(k, len(pairs)) bool: the pairs whose bounding boxes are further apart than ``reach``."""
-    flat = faces.reshape(faces.shape[0], faces.shape[1], -1, 3)
-    lo = flat.min(axis=2) - 0.5 * reach
-    hi = flat.max(axis=2) + 0.5 * reach
-    a = [pa for pa, _ in pairs]
-    b = [pb for _, pb in pairs]
-    return np.any((lo[:, a] > hi[:, b]) | (lo[:, b] > hi[:, a]), axis=2)
 
 
 def _cell_hulls(cells, tol, height):
@@ -287,6 +293,422 @@ def _tree(box, middle, frame, tol):
     return [(_pack(box).reshape(15, -1), valid) for box, valid in levels]
 
 
+#: Cells per cell block and rulings per vertex block of the candidate search.
+CELLS = 4
+RULINGS = 8
+#: Block pairs per batch of the exact tests (bounds the temporaries: ~1 MB per 100 pairs).
+BATCH = 512
+#: Cells (states x plates x cells) whose blocks are boxed at once: the states are checked in
+#: chunks of about this many cells, so the temporaries stay small whatever the plate count.
+CHUNK_CELLS = 16384
+
+
+class PairTable(NamedTuple):
+    """The ordered plate pairs of a check and the hinges between them.
+
+    Attributes
+    ----------
+    pairs : (P, 2) int
+        ``(a, b)``: the vertices of ``b`` against the cells of ``a``.
+    hinge : (P,) int
+        Row of ``masks`` with the vertices of ``b`` on the hinge it shares with ``a``; -1 for
+        pairs without a hinge.
+    masks : (H + 1, V) bool
+        The hinge rows of the hinged pairs, then an all-False row (the row of ``hinge == -1``).
+    """
+
+    pairs: np.ndarray
+    hinge: np.ndarray
+    masks: np.ndarray
+
+    def skip(self, q: int):
+        """(V,) bool: the vertices of pair ``q``'s ``b`` left out, or None."""
+        h = self.hinge[q]
+        return None if h < 0 else self.masks[h]
+
+
+def pair_table(pairs, hinged, plates: int, vertices: int) -> PairTable:
+    """The pairs and hinges of :func:`plate_contacts` as arrays.
+
+    Parameters
+    ----------
+    pairs : (P, 2) int or list of (int, int)
+    hinged : list of (V,) bool or None, or dict, or None
+        Per pair (a list of length P) or per hinged pair (a dict ``{(a, b): mask}``): the
+        vertices of ``b`` on the hinge it shares with ``a`` (both faces).
+    plates : int
+        Plate count ``p`` (pairs are ``0 .. p - 1``).
+    vertices : int
+        Face vertices per plate ``V``.
+    """
+    pairs = np.asarray(pairs, dtype=np.intp).reshape(-1, 2)
+    hinge = np.full(len(pairs), -1, dtype=np.intp)
+    masks = []
+    if isinstance(hinged, dict):
+        keys = pairs[:, 0] * plates + pairs[:, 1]
+        where = {int(key): q for q, key in enumerate(keys)} if len(hinged) else {}
+        items = [(where.get(int(a) * plates + int(b)), mask) for (a, b), mask in hinged.items()]
+    else:
+        items = list(enumerate(() if hinged is None else hinged))
+    for q, mask in items:
+        if q is not None and mask is not None:
+            hinge[q] = len(masks)
+            masks.append(np.asarray(mask, dtype=bool).reshape(vertices))
+    masks.append(np.zeros(vertices, dtype=bool))
+    return PairTable(pairs, hinge, np.stack(masks))
+
+
+def plate_boxes(faces, reach):
+    """Axis-aligned boxes of every plate in every state, widened by half the reach on all
+    sides: lower and upper corners (k, p, 3) each. Two plates whose boxes do not overlap are
+    further apart than ``reach`` (the broad phase of :func:`plate_contacts`)."""
+    flat = faces.reshape(faces.shape[0], faces.shape[1], -1, 3)
+    return flat.min(axis=2) - 0.5 * reach, flat.max(axis=2) + 0.5 * reach
+
+
+def box_pairs(lo, hi):
+    """Every pair of overlapping boxes in every state, by sort and sweep.
+
+    Two boxes overlap unless one's lower corner lies above the other's upper corner along an
+    axis (``lo_a > hi_b`` or ``lo_b > hi_a``; a NaN coordinate separates nothing along its axis).
+    Per state the boxes are sorted by their lower corner along the axis on which the fewest
+    pairs overlap, each box is paired with the boxes that start before it ends along that axis
+    (a box with a NaN coordinate with every box), and those pairs are kept whose boxes overlap
+    along all three axes: O(p log p + pairs).
+
+    Parameters
+    ----------
+    lo, hi : (k, p, 3) float
+
+    Returns
+    -------
+    state, a, b : (N,) int
+        The overlapping pairs, ``a < b``.
+    """
+    k, p = lo.shape[:2]
+    found = []
+    for s in range(k):
+        low, high = lo[s], hi[s]
+        wild = np.isnan(low).any(axis=1) | np.isnan(high).any(axis=1)
+        tame = np.flatnonzero(~wild)
+        best = None
+        for axis in range(3):
+            order = tame[np.argsort(low[tame, axis], kind="stable")]
+            start = low[order, axis]
+            end = np.searchsorted(start, high[order, axis], side="right")
+            count = np.maximum(end - np.arange(len(order)) - 1, 0)
+            if best is None or count.sum() < best[2].sum():
+                best = order, np.arange(len(order)), count
+        order, rank, count = best
+        first = np.repeat(rank, count)
+        step = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+        a, b = order[first], order[first + 1 + step]
+        if wild.any():  # a NaN corner: that axis separates nothing, the others may
+            others = np.flatnonzero(wild)
+            a = np.concatenate([a, np.repeat(others, p)])
+            b = np.concatenate([b, np.tile(np.arange(p), len(others))])
+            keep = (a != b) & ~(wild[a] & wild[b] & (a > b))  # each wild pair once
+            a, b = a[keep], b[keep]
+        keep = ~np.any((low[a] > high[b]) | (low[b] > high[a]), axis=1)
+        a, b = a[keep], b[keep]
+        found.append((np.full(len(a), s), np.minimum(a, b), np.maximum(a, b)))
+    if not found:
+        return tuple(np.zeros(0, dtype=np.intp) for _ in range(3))
+    state, a, b = (np.concatenate(parts).astype(np.intp) for parts in zip(*found))
+    return state, a, b
+
+
+def candidate_pairs(lo, hi, table: PairTable, plates: int):
+    """The (state, pair) of ``table``'s pairs whose plate boxes overlap (:func:`box_pairs`;
+    a pair of a plate with itself always).
+
+    Returns
+    -------
+    state, pair : (N,) int
+        Sorted by state, then pair.
+    """
+    k = lo.shape[0]
+    state, a, b = box_pairs(lo, hi)
+    state = np.concatenate([state, state])
+    key = np.concatenate([a * plates + b, b * plates + a])  # both orders
+    wanted = table.pairs[:, 0] * plates + table.pairs[:, 1]
+    order = np.argsort(wanted, kind="stable")
+    left = np.searchsorted(wanted, key, side="left", sorter=order)
+    count = np.searchsorted(wanted, key, side="right", sorter=order) - left
+    step = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+    pair = order[np.repeat(left, count) + step]  # every pair of the table with that key
+    state = np.repeat(state, count)
+    same = np.flatnonzero(table.pairs[:, 0] == table.pairs[:, 1])
+    if len(same):
+        state = np.concatenate([state, np.repeat(np.arange(k), len(same))])
+        pair = np.concatenate([pair, np.tile(same, k)])
+    first = np.lexsort((pair, state))
+    return state[first].astype(np.intp), pair[first].astype(np.intp)
+
+
+class Blocks(NamedTuple):
+    """The blocks of cells and of face vertices of every plate in a chunk of states, their
+    boxes and trees (:func:`plate_blocks`). Flat arrays run over (state, plate, block)."""
+
+    plates: int  # p
+    cell_block: np.ndarray  # (J, CELLS) cells of every cell block
+    local: np.ndarray  # (I, 4 RULINGS) face vertices of every vertex block
+    planes: list  # the four lateral planes (base, normal), each (k, p, n, 3)
+    normals: np.ndarray  # (k p J, 5 CELLS, 3) plane normals of every cell block
+    offsets: np.ndarray  # (k p J, 5, CELLS, 1) and their offsets
+    points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block
+    cell_tree: list  # levels of packed boxes over the cell blocks, leaves first
+    ruling_tree: list  # the same over the vertex blocks
+    rows: np.ndarray  # (15, 3 k p I) packed leaf boxes: both rows, near rows, far rows
+    row_box: np.ndarray  # (H + 1,) which leaf box a hinged pair meets (-1: none)
+    skip: np.ndarray  # (H + 1, I, 4 RULINGS) bool: hinge vertices left out, per hinge
+
+
+def plate_blocks(mid_near, mid_far, offsets, faces, table: PairTable, tol, height) -> Blocks:
+    """Blocks, boxes and trees of the candidate search (module docstring).
+
+    Parameters
+    ----------
+    mid_near, mid_far, offsets : (k, p, n + 1, 3) float
+    faces : (k, p, 2, 2n + 2, 3) float
+    table : PairTable
+    tol : float
+        Lateral tolerance, m.
+    height : float
+        Largest distance from a cell's mid plane that counts (``t/2 + reach``), m.
+    """
+    k, p, m = mid_near.shape[:3]
+    n = m - 1
+    # cells and their five planes (mid plane, then the lateral ones), every state and plate
+    cells = _cells(mid_near, mid_far, offsets)
+    centre, normal, planes = cells[0], cells[1], cells[2:]
+    normals = np.stack([normal] + [nrm for _, nrm in planes], axis=-2)  # (k, p, n, 5, 3)
+    plane_offsets = np.stack(
+        [_dot(centre, normal)] + [_dot(base, nrm) for base, nrm in planes], axis=-1
+    )  # (k, p, n, 5)
+
+    # cell blocks: a box (in the frame of the middle cell) around the hull of what their
+    # lateral tests accept up to the reach
+    cell_block = _blocks(n, CELLS)  # (J, CELLS)
+    nj = len(cell_block)
+    hull = _cell_hulls(cells, tol, height)[:, :, cell_block].reshape(k, p, nj, -1, 3)
+    cell_box = _box(hull, _frames(mid_near, normal, cell_block[:, CELLS // 2]), tol)
+    # the five planes of the cells of every block: normals (plane, cell) and offsets
+    block_normals = normals[:, :, cell_block].swapaxes(3, 4).reshape(-1, 5 * CELLS, 3)
+    block_offsets = plane_offsets[:, :, cell_block].swapaxes(3, 4)[..., None]
+
+    # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
+    # near / far row, then the ruling): the vertices and the rulings between them (vertex
+    # numbers grow along a block); a box in the frame of the middle cell
+    column = _blocks(m, RULINGS)  # (I, RULINGS)
+    ni = len(column)
+    nv = 2 * faces.shape[3]
+    local = np.arange(2)[:, None, None] * (2 * m) + np.arange(2)[None, :, None] * m
+    local = (local[None] + column[:, None, None, :]).reshape(ni, 4 * RULINGS)
+    points = faces.reshape(k, p, nv, 3)
+    block_points = points[:, :, local]  # (k, p, I, 4 RULINGS, 3)
+    frames = _frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
+    vertex_box = _box(block_points, frames, tol)
+    # a pair whose one row is all on their hinge meets the other row only (no crossing test):
+    # boxes of the near rows and of the far rows too, and which box each hinge meets
+    rows = local.reshape(ni, 2, 2, RULINGS)
+    boxes = [vertex_box] + [
+        _box(points[:, :, rows[:, :, r].reshape(ni, -1)], frames, tol) for r in (0, 1)
+    ]
+    boxes = [np.stack(parts).reshape(-1, *parts[0].shape[3:]) for parts in zip(*boxes)]
+    masks = table.masks
+    on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
+    row_box = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
+
+    def frame(cells):
+        return _frames(mid_near, normal, np.minimum(cells, n - 1))
+
+    def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
+        return lambda level, node: ((2 * node + 1) << level) * size // 2
+
+    return Blocks(
+        plates=p,
+        cell_block=cell_block,
+        local=local,
+        planes=planes,
+        normals=block_normals,
+        offsets=block_offsets.reshape(-1, 5, CELLS, 1),
+        points=block_points.reshape(-1, 4 * RULINGS, 3),
+        cell_tree=_tree(cell_box, middle(CELLS), frame, tol),
+        ruling_tree=_tree(vertex_box, middle(RULINGS), frame, tol),
+        rows=_pack(tuple(boxes)).reshape(15, -1),
+        row_box=row_box,
+        skip=masks[:, local],
+    )
+
+
+def block_pairs(blocks: Blocks, table: PairTable, state, pair):
+    """The block pairs that can meet: a walk down the two trees of boxes of every candidate
+    pair and state, from their roots to the leaf blocks, keeping the node pairs whose boxes
+    overlap.
+
+    Parameters
+    ----------
+    blocks : Blocks
+    table : PairTable
+    state, pair : (N,) int
+        Candidate (state, pair) of the chunk (:func:`candidate_pairs`).
+
+    Returns
+    -------
+    pair : (M,) int
+    cell_id, ruling_id : (M,) int
+        Flat (state, plate, block) indices of the cell block of ``a`` and the vertex block of
+        ``b``.
+    """
+    p = blocks.plates
+    cell_tree, ruling_tree = blocks.cell_tree, blocks.ruling_tree
+    nj, ni = len(cell_tree[0][1]), len(ruling_tree[0][1])  # leaves, with the padding
+    row_box = blocks.row_box[table.hinge]  # -1 -> the last row: no hinge, both rows
+    keep = row_box[pair] >= 0
+    qq = pair[keep]
+    node_a = state[keep] * p + table.pairs[qq, 0]  # (state, plate, node) at the current levels
+    node_b = state[keep] * p + table.pairs[qq, 1]
+    la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
+    rows = blocks.rows
+    kpi = rows.shape[1] // 3
+    while True:
+        (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
+        keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
+        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        if la == 0 and lb == 0:  # the leaves: for hinged pairs, the box of the free row
+            plate_b, ii = np.divmod(node_b, ni)
+            b_of = rows.take(row_box[qq] * kpi + plate_b * len(blocks.local) + ii, axis=1)
+        else:
+            b_of = box_b.take(node_b, axis=1)
+        keep = ~_separated(box_a.take(node_a, axis=1), b_of)
+        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        if la == 0 and lb == 0:
+            break
+        split_a, split_b = la >= lb, lb >= la  # the deeper tree first, both if level
+        fan = (2 if split_a else 1) * (2 if split_b else 1)
+        qq, node_a, node_b = (np.repeat(x, fan) for x in (qq, node_a, node_b))
+        child = np.tile(np.arange(fan), len(qq) // fan)
+        if split_a:
+            node_a = 2 * node_a + child % 2
+        if split_b:
+            node_b = 2 * node_b + (child // 2 if split_a else child)
+        la, lb = la - split_a, lb - split_b
+    plate_a, jj = np.divmod(node_a, nj)
+    plate_b, ii = np.divmod(node_b, ni)
+    cell_id = plate_a * len(blocks.cell_block) + jj  # (state, plate, block) without padding
+    ruling_id = plate_b * len(blocks.local) + ii
+    return qq, cell_id, ruling_id
+
+
+class Found(NamedTuple):
+    """What the exact tests of one batch of block pairs found."""
+
+    key: np.ndarray  # (N,) state * pairs + pair of every gap within the reach
+    vertex: np.ndarray  # (N,) the vertex of b of the smallest gap of its block pair
+    gap: np.ndarray  # (N,) that gap, m
+    crossing: np.ndarray  # (C,) state * pairs + pair of every crossing found
+
+
+def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half, reach, tol):
+    """The brute force's exact tests on one batch of block pairs (module docstring).
+
+    Parameters
+    ----------
+    blocks : Blocks
+    table : PairTable
+    pair, cell_id, ruling_id : (N,) int
+        From :func:`block_pairs`.
+    half, reach, tol : float
+        Half the thickness, the contact reach and the lateral tolerance, m.
+
+    Returns
+    -------
+    Found
+        Keys over the chunk's states (``state * len(table.pairs) + pair``).
+    """
+    p, npairs = blocks.plates, len(table.pairs)
+    ni, nj = len(blocks.local), len(blocks.cell_block)
+    count = len(pair)
+    kb, ab = np.divmod(cell_id // nj, p)  # state and plate a
+    ib = ruling_id % ni
+    vertices = blocks.local[ib]  # (N, 4 RULINGS)
+    x = blocks.points.take(ruling_id, axis=0)  # (N, 4 RULINGS, 3)
+    # heights (N, plane, cell, vertex) by the same matrix products as the brute force
+    heights = blocks.normals.take(cell_id, axis=0) @ x.swapaxes(1, 2)
+    heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
+    heights -= blocks.offsets.take(cell_id, axis=0)
+    lateral = heights[:, 1] >= -tol
+    for plane in (2, 3, 4):
+        lateral &= heights[:, plane] >= -tol
+    hinge = table.hinge[pair]  # -1: the all-False last row of the masks
+    lateral &= ~blocks.skip.reshape(-1, 4 * RULINGS).take(
+        np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib, axis=0
+    )[:, None]
+    # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
+    size = np.abs(heights[:, 0])
+    size[~lateral] = np.inf
+    gap = size.min(axis=1) - half
+    best = gap.argmin(axis=1)  # the first of the smallest gaps: the lowest vertex number
+    rows = np.arange(count)
+    value = gap[rows, best]
+    near = value <= reach
+    keys = kb * npairs + pair
+    found = Found(keys[near], vertices[rows, best][near], value[near], keys[:0])
+    # crossings: a ruling of b (near row -> far row) through a's mid plane inside the cell
+    test = hinge < 0
+    if not test.any():
+        return found
+    d = heights[test, 0].reshape(-1, CELLS, 2, 2, RULINGS)  # (N, cell, face, row, ruling)
+    d0, d1 = d[:, :, :, 0], d[:, :, :, 1]
+    change = np.nonzero((d0 * d1) < 0.0)  # (N, cell, face, ruling)
+    if not len(change[0]):
+        return found
+    nb, c, f, r = change
+    d0, d1 = d0[change], d1[change]
+    xs = x[test].reshape(-1, 2, 2, RULINGS, 3)
+    x0, x1 = xs[nb, f, 0, r], xs[nb, f, 1, r]
+    s = d0 / (d0 - d1)
+    point = x0 + s[:, None] * (x1 - x0)
+    cell = blocks.cell_block[cell_id[test] % nj][nb, c]
+    ks, as_ = kb[test][nb], ab[test][nb]
+    inside = np.ones(len(s), dtype=bool)
+    for base, plane in blocks.planes:
+        inside &= _dot(point - base[ks, as_, cell], plane[ks, as_, cell]) >= tol
+    return found._replace(crossing=keys[test][nb][inside])
+
+
+def _smallest(found: list, depth, clearance, crossing, where):
+    """Write the smallest gap of every (state, pair) of ``found`` (the first vertex on a tie)
+    and its crossings into the (k, P) arrays."""
+    for f in found:
+        crossing.flat[f.crossing] = True
+    key = np.concatenate([f.key for f in found])
+    vertex = np.concatenate([f.vertex for f in found])
+    gap = np.concatenate([f.gap for f in found])
+    first = np.lexsort((vertex, gap, key))
+    first = first[np.r_[True, key[first][1:] != key[first][:-1]]] if len(first) else first
+    value = gap[first]
+    depth.flat[key[first]] = -value
+    clearance.flat[key[first]] = np.where(value >= 0.0, value, 0.0)
+    where.flat[key[first]] = vertex[first]
+
+
+def _no_contacts(k: int, npairs: int):
+    """(k, P) depth -inf, clearance inf, no crossing, vertex 0: nothing found yet."""
+    depth = np.full((k, npairs), -np.inf)
+    clearance = np.full((k, npairs), np.inf)
+    crossing = np.zeros((k, npairs), dtype=bool)
+    where = np.zeros((k, npairs), dtype=int)
+    return depth, clearance, crossing, where
+
+
+def _chunks(k: int, cells: int):
+    """Slices of the states, about :data:`CHUNK_CELLS` cells each."""
+    size = max(1, CHUNK_CELLS // max(cells, 1))
+    return [slice(start, min(start + size, k)) for start in range(0, k, size)]
+
+
 def plate_contacts(
     mid_near,
     mid_far,
@@ -309,13 +731,14 @@ def plate_contacts(
     faces : (k, p, 2, 2n + 2, 3) float
         Lower and upper face vertices of every plate.
     thickness : float
-    pairs : list of (int, int)
+    pairs : (P, 2) int or list of (int, int)
         Ordered plate pairs ``(a, b)`` to test: vertices of ``b`` against the cells of ``a``.
-    hinged : list of (P,) bool or None, optional
-        Per pair: vertices of ``b`` on the hinge it shares with ``a`` (both faces), or None.
-        They are left out (their mismatch is the hinge gap, reported apart), and so is the
-        crossing test: two plates joined by a hinge only pass through each other by a negative
-        fold angle, which the kinematics excludes.
+    hinged : list of (V,) bool or None, or dict, optional
+        Per pair (a list of length P, None for a pair without a hinge) or per hinged pair (a
+        dict ``{(a, b): mask}``): the vertices of ``b`` on the hinge it shares with ``a`` (both
+        faces, ``V = 4n + 4``). They are left out (their mismatch is the hinge gap, reported
+        apart), and so is the crossing test: two plates joined by a hinge only pass through
+        each other by a negative fold angle, which the kinematics excludes.
     reach : float
         Contact reach, m: pairs whose bounding boxes are further apart than this in a state are
         skipped, and a smallest gap larger than this is no contact; both report clearance inf
@@ -323,194 +746,47 @@ def plate_contacts(
     tol : float
         Lateral tolerance of the footprint test, m.
     method : {"cells", "all"}
-        "cells": the exact tests only where a block of cells and a block of rulings can meet
-        (module docstring), O(n) per pair; "all": every vertex against every cell, O(n^2) per
-        pair (the reference). Both give the same results, bit for bit.
+        "cells": a broad phase over the plates' boxes (:func:`box_pairs`, O(p log p) per
+        state), then the exact tests only where a block of cells and a block of rulings can
+        meet (module docstring), O(n) per pair; "all": every vertex against every cell of every
+        pair whose boxes overlap, O(n^2) per pair (the reference). Both give the same results,
+        bit for bit.
 
     Returns
     -------
-    depth, clearance : (k, len(pairs)) float
-    crossing : (k, len(pairs)) bool
-    where : (k, len(pairs)) int
+    depth, clearance : (k, P) float
+    crossing : (k, P) bool
+    where : (k, P) int
         Vertex of ``b`` with the largest depth (or, without penetration, the smallest clearance).
     """
     if method not in ("cells", "all"):
         raise ValueError(f"method must be 'cells' or 'all', got {method!r}")
     k, p, m = mid_near.shape[:3]
+    table = pair_table(pairs, hinged, p, 2 * faces.shape[3])
     if method == "all" or m < 3:  # one cell: its heights are matrix-vector products
         found = _contacts_all(
-            mid_near, mid_far, offsets, faces, thickness, pairs, hinged, reach, tol
+            mid_near, mid_far, offsets, faces, thickness, table.pairs, table, reach, tol
         )
         return _cut_off(*found, reach)
-    n = m - 1
-    npairs = len(pairs)
-    depth = np.full((k, npairs), -np.inf)
-    clearance = np.full((k, npairs), np.inf)
-    crossing = np.zeros((k, npairs), dtype=bool)
-    where = np.zeros((k, npairs), dtype=int)
-    if not (k and npairs and n):
+    depth, clearance, crossing, where = _no_contacts(k, len(table.pairs))
+    if not (k and len(table.pairs)):
         return depth, clearance, crossing, where
     half = 0.5 * thickness
-    apart = _apart(faces, pairs, reach)
-    pair_of = np.full((p, p), -1, dtype=np.intp)  # (a, b) -> pair
-    for q, (pa, pb) in enumerate(pairs):
-        pair_of[pa, pb] = q
-    nv = 2 * faces.shape[3]  # face vertices of a plate: lower face, then upper face
-    skip = np.zeros((npairs, nv), dtype=bool)
-    rulings_tested = np.ones(npairs, dtype=bool)
-    for q, h in enumerate(() if hinged is None else hinged):
-        if h is not None:
-            skip[q] = h
-            rulings_tested[q] = False
-
-    # cells and their five planes (mid plane, then the lateral ones), every state and plate
-    cells = _cells(mid_near, mid_far, offsets)
-    centre, normal, planes = cells[0], cells[1], cells[2:]
-    normals = np.stack([normal] + [nrm for _, nrm in planes], axis=-2)  # (k, p, n, 5, 3)
-    plane_offsets = np.stack(
-        [_dot(centre, normal)] + [_dot(base, nrm) for base, nrm in planes], axis=-1
-    )  # (k, p, n, 5)
-
-    # cell blocks: a box (in the frame of the middle cell) and a ball around the hull of what
-    # their lateral tests accept up to the reach
-    cell_block = _blocks(n, CELLS)  # (J, CELLS)
-    nj = len(cell_block)
-    hull = _cell_hulls(cells, tol, half + reach)[:, :, cell_block].reshape(k, p, nj, -1, 3)
-    cell_box = _box(hull, _frames(mid_near, normal, cell_block[:, CELLS // 2]), tol)
-    # the five planes of the cells of every block: normals (plane, cell) and offsets
-    block_normals = normals[:, :, cell_block].swapaxes(3, 4).reshape(k, p, nj, 5 * CELLS, 3)
-    block_offsets = plane_offsets[:, :, cell_block].swapaxes(3, 4)[..., None]
-
-    # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
-    # near / far row, then the ruling): the vertices and the rulings between them (vertex
-    # numbers grow along a block); a box in the frame of the middle cell and a ball
-    column = _blocks(m, RULINGS)  # (I, RULINGS)
-    ni = len(column)
-    local = np.arange(2)[:, None, None] * (2 * m) + np.arange(2)[None, :, None] * m
-    local = (local[None] + column[:, None, None, :]).reshape(ni, 4 * RULINGS)
-    points = faces.reshape(k, p, nv, 3)
-    block_points = points[:, :, local]  # (k, p, I, 4 RULINGS, 3)
-    frames = _frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
-    vertex_box = _box(block_points, frames, tol)
-    skip_block = skip[:, local]  # (pairs, I, 4 RULINGS)
-    # a pair whose one row is all on their hinge meets the other row only (no crossing test):
-    # boxes of the near rows and of the far rows too, and which box each pair meets
-    rows = local.reshape(ni, 2, 2, RULINGS)
-    boxes = [vertex_box] + [
-        _box(points[:, :, rows[:, :, r].reshape(ni, -1)], frames, tol) for r in (0, 1)
-    ]
-    boxes = [np.stack(parts).reshape(-1, *parts[0].shape[3:]) for parts in zip(*boxes)]
-    on_hinge = [skip[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
-    box_of_pair = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
-
-    # candidate block pairs: a walk down the two trees of boxes of every pair and state, from
-    # their roots to the leaf blocks, keeping the node pairs whose boxes overlap
-    def frame(cells):
-        return _frames(mid_near, normal, np.minimum(cells, n - 1))
-
-    def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
-        return lambda level, node: ((2 * node + 1) << level) * size // 2
-
-    cell_tree = _tree(cell_box, middle(CELLS), frame, tol)
-    ruling_tree = _tree(vertex_box, middle(RULINGS), frame, tol)
-    boxes = _pack(tuple(boxes)).reshape(15, -1)  # the leaf boxes of both rows, each row
-    kq, qq = np.nonzero(~apart & (box_of_pair >= 0)[None])
-    pairs_ab = np.array(pairs, dtype=np.intp).reshape(-1, 2)
-    node_a = kq * p + pairs_ab[qq, 0]  # (state, plate, node) at the current levels
-    node_b = kq * p + pairs_ab[qq, 1]
-    la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
-    while True:
-        (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
-        keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
-        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
-        if la == 0 and lb == 0:  # the leaves: for hinged pairs, the box of the free row
-            plate_b, ii = np.divmod(node_b, len(valid_b))
-            b_of = boxes.take(box_of_pair[qq] * (k * p * ni) + plate_b * ni + ii, axis=1)
-        else:
-            b_of = box_b.take(node_b, axis=1)
-        keep = ~_separated(box_a.take(node_a, axis=1), b_of)
-        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
-        if la == 0 and lb == 0:
-            break
-        split_a, split_b = la >= lb, lb >= la  # the deeper tree first, both if level
-        fan = (2 if split_a else 1) * (2 if split_b else 1)
-        qq, node_a, node_b = (np.repeat(x, fan) for x in (qq, node_a, node_b))
-        child = np.tile(np.arange(fan), len(qq) // fan)
-        if split_a:
-            node_a = 2 * node_a + child % 2
-        if split_b:
-            node_b = 2 * node_b + (child // 2 if split_a else child)
-        la, lb = la - split_a, lb - split_b
-    plate_a, jj = np.divmod(node_a, len(cell_tree[0][1]))
-    plate_b, ii = np.divmod(node_b, len(ruling_tree[0][1]))
-    kq, pa = np.divmod(plate_a, p)
-    cell_id = plate_a * nj + jj  # (state, plate, block) without the padding
-    ruling_id = plate_b * ni + ii
-    block_normals = block_normals.reshape(-1, 5 * CELLS, 3)
-    block_offsets = block_offsets.reshape(-1, 5, CELLS, 1)
-    block_points = block_points.reshape(-1, 4 * RULINGS, 3)
-    skip_block = skip_block.reshape(-1, 4 * RULINGS)
-
-    # the exact tests of the brute force on the candidate blocks
-    keys, firsts, gaps = [], [], []
-    for start in range(0, len(kq), BATCH):
-        part = slice(start, start + BATCH)
-        kb, qb, ab, jb, ib = kq[part], qq[part], pa[part], jj[part], ii[part]
-        count = len(kb)
-        vertices = local[ib]  # (N, 4 RULINGS)
-        x = block_points.take(ruling_id[part], axis=0)  # (N, 4 RULINGS, 3)
-        block = cell_block[jb]  # (N, CELLS)
-        # heights (N, plane, cell, vertex) by the same matrix products as the brute force
-        heights = block_normals.take(cell_id[part], axis=0) @ x.swapaxes(1, 2)
-        heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
-        heights -= block_offsets.take(cell_id[part], axis=0)
-        lateral = heights[:, 1] >= -tol
-        for plane in (2, 3, 4):
-            lateral &= heights[:, plane] >= -tol
-        lateral &= ~skip_block.take(qb * ni + ib, axis=0)[:, None]
-        # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
-        size = np.abs(heights[:, 0])
-        size[~lateral] = np.inf
-        gap = size.min(axis=1) - half
-        best = gap.argmin(axis=1)  # the first of the smallest gaps: the lowest vertex number
-        rows = np.arange(count)
-        value = gap[rows, best]
-        near = value <= reach
-        keys.append((kb * npairs + qb)[near])
-        firsts.append(vertices[rows, best][near])
-        gaps.append(value[near])
-        # crossings: a ruling of b (near row -> far row) through a's mid plane inside the cell
-        test = rulings_tested[qb]
-        if not test.any():
+    lo, hi = plate_boxes(faces, reach)
+    for states in _chunks(k, p * (m - 1)):
+        state, pair = candidate_pairs(lo[states], hi[states], table, p)
+        if not len(pair):
             continue
-        d = heights[test, 0].reshape(-1, CELLS, 2, 2, RULINGS)  # (N, cell, face, row, ruling)
-        d0, d1 = d[:, :, :, 0], d[:, :, :, 1]
-        change = np.nonzero((d0 * d1) < 0.0)  # (N, cell, face, ruling)
-        if not len(change[0]):
-            continue
-        nb, c, f, r = change
-        d0, d1 = d0[change], d1[change]
-        xs = x[test].reshape(-1, 2, 2, RULINGS, 3)
-        x0, x1 = xs[nb, f, 0, r], xs[nb, f, 1, r]
-        s = d0 / (d0 - d1)
-        point = x0 + s[:, None] * (x1 - x0)
-        cell = block[test][nb, c]
-        ks, as_ = kb[test][nb], ab[test][nb]
-        inside = np.ones(len(s), dtype=bool)
-        for base, plane in planes:
-            inside &= _dot(point - base[ks, as_, cell], plane[ks, as_, cell]) >= tol
-        crossing.flat[(ks * npairs + qb[test][nb])[inside]] = True
-
-    # the smallest gap of every pair and state, the first vertex on a tie
-    if not keys:
-        return depth, clearance, crossing, where
-    key, vertex, gap = np.concatenate(keys), np.concatenate(firsts), np.concatenate(gaps)
-    first = np.lexsort((vertex, gap, key))
-    first = first[np.r_[True, key[first][1:] != key[first][:-1]]] if len(first) else first
-    value = gap[first]
-    depth.flat[key[first]] = -value
-    clearance.flat[key[first]] = np.where(value >= 0.0, value, 0.0)
-    where.flat[key[first]] = vertex[first]
+        chunk = (mid_near[states], mid_far[states], offsets[states], faces[states])
+        blocks = plate_blocks(*chunk, table, tol, half + reach)
+        qq, cell_id, ruling_id = block_pairs(blocks, table, state, pair)
+        found = [
+            exact_tests(blocks, table, qq[part], cell_id[part], ruling_id[part], half, reach, tol)
+            for part in (slice(i, i + BATCH) for i in range(0, len(qq), BATCH))
+        ]
+        if found:
+            out = (x[states] for x in (depth, clearance, crossing, where))
+            _smallest(found, *out)
     return depth, clearance, crossing, where
 
 
@@ -525,8 +801,14 @@ def _cut_off(depth, clearance, crossing, where, reach):
 
 def _contacts_all(mid_near, mid_far, offsets, faces, thickness, pairs, hinged, reach, tol):
     """The brute force: every face vertex of ``b`` against every cell of ``a`` (O(n^2) per
-    pair), without the clearance cut-off at ``reach``. The reference of the tests."""
-    k = mid_near.shape[0]
+    pair) of every pair whose boxes overlap (each pair tested on its own, no broad phase),
+    without the clearance cut-off at ``reach``. The reference of the tests. ``hinged`` as
+    :func:`plate_contacts` takes it, or a :class:`PairTable`."""
+    k, p = mid_near.shape[:2]
+    table = hinged if isinstance(hinged, PairTable) else None
+    if table is None:
+        table = pair_table(pairs, hinged, p, 2 * faces.shape[3])
+    pairs = table.pairs
     npairs = len(pairs)
     depth = np.full((k, npairs), -np.inf)
     clearance = np.full((k, npairs), np.inf)
@@ -545,7 +827,7 @@ def _contacts_all(mid_near, mid_far, offsets, faces, thickness, pairs, hinged, r
         centre, normal = cells[0], cells[1]
         pts = faces[ks, pb].reshape(len(ks), -1, 3)  # (K, P, 3)
         lateral = _lateral(pts, cells, tol)  # (K, P, n)
-        skip = None if hinged is None else hinged[q]
+        skip = table.skip(q)
         if skip is not None:
             lateral &= ~skip[None, :, None]
         d = _heights(pts, centre, normal)  # (K, P, n)

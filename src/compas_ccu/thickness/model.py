@@ -492,6 +492,38 @@ class ThickModel(Data):
         return gap_summary(splices, neighbours, alphas, gaps, tolerance)
 
     # -- checks -------------------------------------------------------------------------------
+    def contact_pairs(self) -> tuple:
+        """The plate pairs of :meth:`collisions` (mechanism order), computed once.
+
+        Returns
+        -------
+        pairs : (p (p - 1), 2) int
+            Every ordered pair ``(a, b)``, ``a != b``, by ``a`` then ``b``.
+        hinged : dict
+            ``{(a, b): (4n + 4,) bool}``: the vertices of ``b`` (both faces) on the hinge it
+            shares with ``a``, for the pairs joined by a crease.
+        neighbours : (p (p - 1),) bool
+            The pairs joined by a crease (left out of the clearance).
+        """
+        if getattr(self, "_contact_pairs", None) is None:
+            index = self.model.plates
+            p = index.count
+            first, second = np.divmod(np.arange(p * p), p)
+            pairs = np.c_[first, second][first != second]
+            rows = {}
+            for ci, (a, b) in enumerate(index.crease_plates):
+                on_a = np.zeros(index.vertex_count, dtype=bool)
+                on_b = np.zeros(index.vertex_count, dtype=bool)
+                on_a[index.crease_rows(ci)[0]] = True
+                on_b[index.crease_rows(ci)[1]] = True
+                # vertices of b on the hinge with a, and of a on the hinge with b (both faces)
+                rows[(a, b)] = np.concatenate([on_b, on_b])
+                rows[(b, a)] = np.concatenate([on_a, on_a])
+            joined = [a * p + b for a, b in self._pairs_neighbours]
+            neighbours = np.isin(np.minimum(*pairs.T) * p + np.maximum(*pairs.T), joined)
+            self._contact_pairs = pairs, rows, neighbours
+        return self._contact_pairs
+
     def collisions(
         self, alphas=None, *, tolerance: float = 1e-6, method: str = "cells"
     ) -> CollisionReport:
@@ -516,19 +548,8 @@ class ThickModel(Data):
         shift_near, shift_far = self._shift_rows()
         mid_near = st.near + shift_near[None, :, :, None] * ruling
         mid_far = st.far - shift_far[None, :, :, None] * ruling
+        pairs, rows, neighbours = self.contact_pairs()
         index = self.model.plates
-        p = index.count
-        pairs = [(a, b) for a in range(p) for b in range(p) if a != b]
-        rows = {}
-        for ci, (a, b) in enumerate(index.crease_plates):
-            on_a = np.zeros(index.vertex_count, dtype=bool)
-            on_b = np.zeros(index.vertex_count, dtype=bool)
-            on_a[index.crease_rows(ci)[0]] = True
-            on_b[index.crease_rows(ci)[1]] = True
-            # vertices of b on the hinge with a, and of a on the hinge with b (both faces)
-            rows[(a, b)] = np.concatenate([on_b, on_b])
-            rows[(b, a)] = np.concatenate([on_a, on_a])
-        hinged = [rows.get(q) for q in pairs]
         depth, clear, crossing, where = plate_contacts(
             mid_near,
             mid_far,
@@ -536,16 +557,15 @@ class ThickModel(Data):
             faces,
             self.thickness,
             pairs=pairs,
-            hinged=hinged,
+            hinged=rows,
             method=method,
         )
-        neighbours = np.array([tuple(sorted(q)) in self._pairs_neighbours for q in pairs])
         penetration = np.maximum(depth.max(axis=1), 0.0)
         others = clear[:, ~neighbours] if (~neighbours).any() else np.full((len(alphas), 1), np.inf)
         clearance = others.min(axis=1)
 
         def where_(k, q, what, value):
-            a, b = pairs[q]
+            a, b = (int(x) for x in pairs[q])
             v = int(where[k, q])
             point = self._world(faces[k, b].reshape(-1, 3)[v][None])[0]
             return {

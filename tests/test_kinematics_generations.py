@@ -1,0 +1,117 @@
+"""Placement by generations (``Mechanism.place``) against a plate-by-plate reference loop.
+
+``Mechanism.place`` places all the plates of one generation at once (one call of the crease-plane
+strategy, one array operation for their reflections). The reference below is the placement as
+it was written before: one plate at a time, in mechanism order, each mirrored across the plane
+of its crease. Both must give the same numbers, bit for bit, on every example and catalog design
+(parallel, inclined, radial layouts, the 2-plate cone, the CCF quadrants) for both strategies.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from compas_ccu.catalog import CATALOG_DIR
+from compas_ccu.geometry import dot, reflect_points
+from compas_ccu.kinematics.mechanism import CreasePlanes
+from compas_ccu.kinematics.plates import boundary_rows
+from compas_ccu.model import load_model
+from compas_ccu.thickness.axis_shift import HingePlanes, crease_sides
+from conftest import EXAMPLES
+
+DESIGNS = sorted(EXAMPLES.glob("*.toml")) + sorted(CATALOG_DIR.glob("*.toml"))
+
+
+def sequential_place(mechanism, s0, planes):
+    """The plate-by-plate placement loop (the reference): plate ``i`` hangs off its parent,
+    mirrored across the plane of crease ``plate.crease`` (``planes.plane`` of that crease)."""
+    lead = mechanism.leading.place(s0)
+    k, m = lead.near.shape[:2]
+    p, c = len(mechanism.plates), len(mechanism.creases)
+    near, far, rays = np.empty((k, p, m, 3)), np.empty((k, p, m, 3)), np.empty((k, p, m, 3))
+    near[:, 0], far[:, 0], rays[:, 0] = lead.near, lead.far, lead.rulings
+    origins, normals, planarity = np.zeros((k, c, 3)), np.zeros((k, c, 3)), np.zeros((k, c))
+    placed = np.zeros(c, dtype=bool)
+    planes.begin(k, c, m)
+    for i, plate in enumerate(mechanism.plates[1:], start=1):
+        j, ci = plate.parent, plate.crease
+        hinge = boundary_rows(near[:, j], far[:, j], plate.boundary)[0]
+        away = rays[:, j] if plate.boundary == "near" else -rays[:, j]
+        origin, normal, planarity[:, ci] = planes.plane(mechanism, ci, near, far)
+        origins[:, ci], normals[:, ci] = origin, normal
+        mirrored = away - 2.0 * dot(away, normal[:, None])[..., None] * normal[:, None]
+        if plate.relation == "ccf":
+            mirrored = -mirrored
+        if planes.mirror_rows:
+            hinge = reflect_points(hinge, origin, normal)
+        near[:, i] = hinge
+        far[:, i] = hinge + plate.intrinsics.ruling_lengths[None, :, None] * mirrored
+        rays[:, i] = mirrored
+        placed[ci] = True
+    for ci in np.flatnonzero(~placed):
+        origins[:, ci], normals[:, ci], planarity[:, ci] = planes.plane(mechanism, ci, near, far)
+    return near, far, origins, normals, planarity, lead.tilts
+
+
+@pytest.fixture(scope="module", params=DESIGNS, ids=lambda path: path.stem)
+def model(request):
+    return load_model(request.param)
+
+
+def _s0(model, states):
+    alphas = np.linspace(0.0, 0.95 * min(model.alpha_limit, 89.0), states)
+    return model.mechanism.leading.s0_for_alpha(np.radians(alphas))
+
+
+def test_generations_place_every_plate_after_its_parent(model):
+    mech = model.mechanism
+    generation = {int(i): g for g, plates in enumerate(mech.generations) for i in plates}
+    assert sorted(generation) == list(range(len(mech.plates)))
+    assert list(mech.generations[0]) == [0]
+    for i, plate in enumerate(mech.plates[1:], start=1):
+        assert generation[plate.parent] < generation[i]
+        assert generation[mech.creases[plate.crease].plate_a] < generation[i]
+
+
+@pytest.mark.parametrize("states", [1, 7])
+def test_thin_placement_equals_the_plate_by_plate_loop(model, states):
+    mech = model.mechanism
+    s0 = _s0(model, states)
+    got = mech.place(s0)
+    want = sequential_place(mech, s0, CreasePlanes())
+    for name, a, b in zip(got._fields, got, want):
+        np.testing.assert_array_equal(a, b, err_msg=name)
+    # and every crease plane refitted at once is the one placed by
+    refit = mech.refit(got, got.near, got.far)
+    np.testing.assert_array_equal(refit.plane_normals, got.plane_normals)
+    np.testing.assert_array_equal(refit.planarity, got.planarity)
+
+
+def test_thick_placement_equals_the_plate_by_plate_loop(model):
+    mech = model.mechanism
+    if any(c.relation != "ccu" for c in mech.creases):
+        pytest.skip("the axis-shift model takes CCU creases only")
+    probe = mech.deploy(math.radians(min(20.0, 0.5 * model.alpha_limit)))
+    sides = crease_sides(mech, probe)
+    s0 = _s0(model, 5)
+    batched, reference = HingePlanes(0.006, sides), HingePlanes(0.006, sides)
+    got = mech.place(s0, planes=batched)
+    want = sequential_place(mech, s0, reference)
+    for name, a, b in zip(got._fields, got, want):
+        np.testing.assert_array_equal(a, b, err_msg=name)
+    for name in ("mid_planarity", "offset_planarity", "corrections"):
+        np.testing.assert_array_equal(getattr(batched, name), getattr(reference, name))
+
+
+def test_known_generations_of_the_vault(vault_model):
+    """Ten plates in parallel planes: a chain both ways from the leading plate, so two
+    plates per generation (the placement is sequential along a chain: each crease plane is
+    fitted to the plate placed before)."""
+    sizes = [len(g) for g in vault_model.mechanism.generations]
+    assert sum(sizes) == 10 and sizes[0] == 1 and max(sizes) == 2
+    st = vault_model.mechanism.deploy(math.radians(30.0))
+    # parallel planes keep every crease planar and every plate an isometry of its pattern
+    assert st.planarity.max() < 1e-12 * vault_model.size
