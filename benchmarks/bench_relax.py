@@ -49,11 +49,11 @@ from scipy.sparse.linalg import splu  # noqa: E402
 
 from compas_ccu.catalog import catalog_design  # noqa: E402
 from compas_ccu.kinematics.relaxation import (  # noqa: E402
-    _Problem,
     links_from_mechanism,
     relax,
     relax_states,
 )
+from compas_ccu.kinematics.relaxation_problem import RelaxationProblem  # noqa: E402
 from compas_ccu.model import CCUModel  # noqa: E402
 
 DESIGNS = (("fig12a-asymmetric", "inclined"), ("fig12c-funnel", "radial"))
@@ -98,7 +98,7 @@ def bench_design(name: str, layout: str, alphas, *, min_repeats_old: int) -> dic
     ref = model.reference_lengths
     states = model.mechanism.deploy(np.radians(alphas))
     p, m = states.near.shape[1], states.near.shape[2]
-    problem = _Problem(p, m - 1, ref, links, (0,), 1.0)
+    problem = RelaxationProblem(p, m - 1, ref, links, (0,), 1.0)
     rows = []
     for k, alpha in enumerate(alphas):
         near, far = states.near[k], states.far[k]
@@ -135,7 +135,7 @@ def iteration_split(name: str = "fig12a-asymmetric", alpha: float = 17.5) -> dic
     links = links_from_mechanism(model.mechanism)
     st = model.mechanism.deploy(np.radians([alpha]))
     p, m = st.near.shape[1], st.near.shape[2]
-    problem = _Problem(p, m - 1, model.reference_lengths, links, (0,), 1.0)
+    problem = RelaxationProblem(p, m - 1, model.reference_lengths, links, (0,), 1.0)
     pos = problem.start(st.near[0], st.far[0])
     r = problem.quad_residuals(pos)
     ab, g = problem.normal_equations(pos, r)

@@ -12,14 +12,14 @@ import pytest
 from compas_ccu.catalog import catalog_design
 from compas_ccu.design import Design
 from compas_ccu.errors import CCUError, GeometryError
+from compas_ccu.kinematics.levenberg_marquardt import levenberg_marquardt
 from compas_ccu.kinematics.relaxation import (
     Relaxation,
-    _levenberg_marquardt,
-    _Problem,
     links_from_mechanism,
     relax,
     relax_states,
 )
+from compas_ccu.kinematics.relaxation_problem import RelaxationProblem
 from compas_ccu.model import CCUModel, load_model
 from compas_ccu.tolerances import SOLVER
 from conftest import EXAMPLES
@@ -253,7 +253,7 @@ def test_analytic_jacobian_matches_finite_differences(weight):
     st = model.mechanism.deploy(np.radians([15.0]))
     links = links_from_mechanism(model.mechanism)
     p, m = st.near.shape[1], st.near.shape[2]
-    problem = _Problem(p, m - 1, model.reference_lengths, links, (0,), weight)
+    problem = RelaxationProblem(p, m - 1, model.reference_lengths, links, (0,), weight)
     rng = np.random.default_rng(3)
     pos = problem.start(st.near[0], st.far[0]) + rng.normal(0.0, 5e-3, (problem.node_rep.size, 3))
     jac = problem.jacobian(pos)
@@ -398,7 +398,7 @@ def test_the_banded_normal_equations_are_those_of_the_sparse_jacobian():
     st = model.mechanism.deploy(np.radians([15.0]))
     links = links_from_mechanism(model.mechanism)
     p, m = st.near.shape[1], st.near.shape[2]
-    problem = _Problem(p, m - 1, model.reference_lengths, links, (0,), 1.5)
+    problem = RelaxationProblem(p, m - 1, model.reference_lengths, links, (0,), 1.5)
     rng = np.random.default_rng(5)
     pos = problem.start(st.near[0], st.far[0]) + rng.normal(0.0, 1e-3, (problem.node_rep.size, 3))
     r = problem.quad_residuals(pos)
@@ -443,7 +443,7 @@ def _dense_lm(residuals, jacobian, x0, **options):
         return -np.linalg.solve(lower.T, np.linalg.solve(lower, g))
 
     tolerances = {"ftol": SOLVER, "xtol": SOLVER, "gtol": SOLVER, "max_nfev": 200, **options}
-    return _levenberg_marquardt(residuals, linearise, solve, np.asarray(x0, float), **tolerances)
+    return levenberg_marquardt(residuals, linearise, solve, np.asarray(x0, float), **tolerances)
 
 
 def test_levenberg_marquardt_solves_rosenbrock():
@@ -481,7 +481,7 @@ def test_levenberg_marquardt_that_cannot_converge_reports_it():
     def singular(jac, g, damping, scale):
         raise np.linalg.LinAlgError("not positive definite")
 
-    x, out = _levenberg_marquardt(
+    x, out = levenberg_marquardt(
         residuals,
         lambda x, r: (None, r, np.ones(2)),
         singular,

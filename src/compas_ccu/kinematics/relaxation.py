@@ -30,8 +30,9 @@ redundant; it matters where no exact solution exists, because a warp changes len
 second order.
 
 Solver
-    Levenberg-Marquardt (:func:`_levenberg_marquardt`) with the analytic Jacobian, assembled with
-    NumPy per quad as ``(nq, 7, 12)`` blocks. Every step solves the damped normal equations
+    Levenberg-Marquardt (:mod:`~compas_ccu.kinematics.levenberg_marquardt`) with the analytic
+    Jacobian (:mod:`~compas_ccu.kinematics.relaxation_problem`), assembled with NumPy per quad
+    as ``(nq, 7, 12)`` blocks. Every step solves the damped normal equations
     ``(J^T J + lam D) step = -J^T r`` directly: the free vertices are ordered by reverse
     Cuthill-McKee, for a stack of strips crease vertex by crease vertex across the plates, so
     ``J^T J`` is banded (each quad couples neighbouring vertices along its strip and the plates
@@ -73,39 +74,15 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.linalg import solveh_banded
-from scipy.optimize import least_squares
-from scipy.sparse.csgraph import reverse_cuthill_mckee
-from scipy.sparse.linalg import lsmr
 
 from compas_ccu.errors import CCUError, GeometryError
-from compas_ccu.kinematics.plates import boundary_rows
-from compas_ccu.strips.intrinsics import QUAD_LENGTH_PAIRS, quad_corners, quad_lengths
-from compas_ccu.tolerances import SOLVER, ZERO_LENGTH
+from compas_ccu.kinematics.relaxation_problem import RelaxationProblem
+from compas_ccu.strips.intrinsics import quad_corners, quad_lengths
+from compas_ccu.tolerances import SOLVER
 
 __all__ = ["Relaxation", "relax", "relax_states", "links_from_mechanism"]
 
-_PAIRS = QUAD_LENGTH_PAIRS
-# number of unknowns up to which the trust-region subproblem is solved densely (exact SVD)
-_EXACT_LIMIT = 300
-# lsmr tolerances of the sparse subproblem: scipy's default 1e-6 leaves the trust-region
-# iteration crawling (max_nfev reached at strains ~1e-3); 1e-12 converges in ~5 iterations
-_LSMR_OPTIONS = {"atol": SOLVER, "btol": SOLVER}
-# Levenberg-Marquardt: initial damping (relative to the Marquardt scale diag(J^T J)), its floor
-# and the ceiling beyond which a step that cannot be computed is given up
-_LM_DAMPING = 1e-6
-_LM_DAMPING_MIN = 1e-15
-_LM_DAMPING_MAX = 1e16
 _EPS = float(np.finfo(float).eps)
-_MESSAGES = {
-    -1: "The damped normal equations could not be solved for any damping.",
-    0: "The maximum number of function evaluations is exceeded.",
-    1: "`gtol` termination condition is satisfied.",
-    2: "`ftol` termination condition is satisfied.",
-    3: "`xtol` termination condition is satisfied.",
-    4: "Both `ftol` and `xtol` termination conditions are satisfied.",
-}
 
 
 @dataclass(frozen=True, eq=False)
@@ -236,586 +213,6 @@ def _vertex_plane_distance(quads: np.ndarray) -> np.ndarray:
     return dist.max(axis=-1)
 
 
-def _termination(reduction, predicted, cost, step_norm, x_norm, ftol, xtol):
-    """Convergence tests on a trial step: status 2 (cost), 3 (step), 4 (both) or None.
-
-    The cost test is MINPACK's: the actual and the predicted reduction of the cost are both
-    below ``ftol * cost`` (neither the step nor the linear model can gain more, also when
-    round-off rejects the step); the step test is scipy's, ``|step| < xtol (xtol + |x|)``,
-    for rejected steps too (the step has become negligible).
-    """
-    cost_met = abs(reduction) < ftol * cost and predicted < ftol * cost
-    step_met = step_norm < xtol * (xtol + x_norm)
-    if cost_met and step_met:
-        return 4
-    if cost_met:
-        return 2
-    if step_met:
-        return 3
-    return None
-
-
-def _levenberg_marquardt(residuals, linearise, solve, x0, *, ftol, xtol, gtol, max_nfev):
-    """Minimise ``0.5 |r(x)|^2`` by Levenberg-Marquardt (Marquardt scaling, Nielsen damping).
-
-    Every step solves ``(J^T J + lam D) step = -J^T r`` with ``D`` the running maximum of
-    ``diag(J^T J)`` (MINPACK's scaling, invariant to the units of the unknowns) and accepts it
-    when the cost decreases. The damping follows the gain ratio ``rho`` = actual / predicted
-    reduction (Nielsen 1999): on success ``lam *= max(1/3, 1 - (2 rho - 1)^3)``, otherwise
-    ``lam *= nu``, ``nu *= 2``. It stops with scipy's status codes: ``1`` when
-    ``max |J^T r| < gtol``, ``2`` / ``3`` / ``4`` by :func:`_termination`, ``0`` after
-    ``max_nfev`` residual evaluations, ``-1`` when ``solve`` fails even for damping
-    ``_LM_DAMPING_MAX``.
-
-    Parameters
-    ----------
-    residuals : callable, (n,) -> (M,) float
-        Residuals; a trial step with non-finite residuals is rejected (more damping).
-    linearise : callable, ((n,) x, (M,) r) -> (system, (n,) g, (n,) diag)
-        Gauss-Newton data at ``x`` with residuals ``r``: whatever ``solve`` takes, the gradient
-        ``J^T r`` and ``diag(J^T J)``.
-    solve : callable, (system, (n,) g, float lam, (n,) D) -> (n,) step
-        Solves ``(J^T J + lam diag(D)) step = -g``; raises ``numpy.linalg.LinAlgError`` if it
-        cannot (e.g. a Cholesky factor that is not positive definite).
-    x0 : (n,) float
-    ftol, xtol, gtol : float or None
-        Tolerances of the cost and step tests (:func:`_termination`) and of the gradient
-        test; ``None`` disables a test.
-    max_nfev : int
-
-    Returns
-    -------
-    x : (n,) float
-    outcome : dict
-        ``cost``, ``optimality`` (``max |J^T r|``), ``nfev``, ``njev``, ``status``, ``message``.
-    """
-    ftol, xtol, gtol = (0.0 if t is None else float(t) for t in (ftol, xtol, gtol))
-    x = np.array(x0, dtype=float)
-    r = residuals(x)
-    cost = 0.5 * float(r @ r)
-    system, g, diag = linearise(x, r)
-    nfev = njev = 1
-    scale = np.where(diag > 0.0, diag, 1.0)
-    lam, nu = _LM_DAMPING, 2.0
-    status = None
-    while status is None:
-        if np.abs(g).max() < gtol:
-            status = 1
-            break
-        if nfev >= max_nfev:
-            status = 0
-            break
-        accepted = False
-        while status is None and not accepted and nfev < max_nfev:
-            try:
-                step = solve(system, g, lam, scale)
-            except np.linalg.LinAlgError:
-                if lam >= _LM_DAMPING_MAX:
-                    status = -1
-                lam, nu = min(lam * nu, _LM_DAMPING_MAX), 2.0 * nu
-                continue
-            x_new = x + step
-            r_new = residuals(x_new)
-            nfev += 1
-            if not np.all(np.isfinite(r_new)):
-                lam, nu = min(lam * nu, _LM_DAMPING_MAX), 2.0 * nu
-                continue
-            cost_new = 0.5 * float(r_new @ r_new)
-            reduction = cost - cost_new
-            predicted = 0.5 * float(lam * (scale * step) @ step - g @ step)
-            ratio = reduction / predicted if predicted > 0.0 else 0.0
-            if reduction > 0.0:
-                accepted = True
-                shrink = max(1.0 / 3.0, 1.0 - (2.0 * min(ratio, 1.0) - 1.0) ** 3)
-                lam = max(lam * shrink, _LM_DAMPING_MIN)
-                nu = 2.0
-            else:
-                lam, nu = min(lam * nu, _LM_DAMPING_MAX), 2.0 * nu
-            status = _termination(
-                reduction,
-                predicted,
-                cost,
-                float(np.linalg.norm(step)),
-                float(np.linalg.norm(x)),
-                ftol,
-                xtol,
-            )
-        if accepted:
-            x, r, cost = x_new, r_new, cost_new
-            system, g, diag = linearise(x, r)
-            njev += 1
-            scale = np.maximum(scale, diag)
-    outcome = {
-        "cost": cost,
-        "optimality": float(np.abs(g).max()),
-        "nfev": nfev,
-        "njev": njev,
-        "status": status,
-        "message": _MESSAGES[status],
-    }
-    return x, outcome
-
-
-class _Problem:
-    """Index arrays, sparsity pattern and residual/Jacobian of one relaxation problem."""
-
-    def __init__(self, p: int, n: int, reference_lengths, links, fixed, planarity_weight):
-        ref = np.asarray(reference_lengths, dtype=float)
-        if ref.shape != (p, n, 6):
-            raise GeometryError(
-                f"reference_lengths must have shape (p, n, 6) = {(p, n, 6)} to match near/far, "
-                f"got {ref.shape}"
-            )
-        if not np.all(np.isfinite(ref)) or np.any(ref <= 0.0):
-            bad = np.argwhere(~(np.isfinite(ref) & (ref > 0.0)))[0]
-            raise GeometryError(
-                f"reference lengths must be finite and positive, got {ref[tuple(bad)]!r} at "
-                f"plate {bad[0]}, quad {bad[1]}, length {bad[2]} (0-3 sides ab, bc, cd, da; "
-                f"4-5 diagonals ac, bd)"
-            )
-        weight = float(planarity_weight)
-        if not np.isfinite(weight) or weight < 0.0:
-            raise CCUError(f"planarity_weight must be finite and >= 0, got {planarity_weight!r}")
-        fixed = tuple(sorted({int(i) for i in np.atleast_1d(np.asarray(fixed, dtype=int))}))
-        if not fixed:
-            raise CCUError(
-                "fixed must name at least one plate: with none held the rigid motions of the "
-                "whole structure are free and the problem has no unique solution"
-            )
-        for i in fixed:
-            if not 0 <= i < p:
-                raise GeometryError(f"fixed plate {i} does not exist (plates 0 ... {p - 1})")
-        m = n + 1
-        self.p, self.n, self.m = p, n, m
-        self.fixed = fixed
-        # global vertex id: plate * 2m + (near 0..n | far m..2m-1); rep = id of the vertex it is
-        # merged into (a plate's near boundary into its parent's boundary, through chains)
-        rep = np.arange(p * 2 * m).reshape(p, 2 * m)
-        parents = np.full(p, -1)
-        self.boundary_of = {}
-        seen = set()
-        for link in sorted(self._check_links(links, p), key=lambda t: t[0]):
-            plate, parent, boundary = link
-            if plate in seen:
-                raise GeometryError(f"plate {plate} has more than one link")
-            seen.add(plate)
-            parents[plate] = parent
-            self.boundary_of[plate] = boundary
-            rows = boundary_rows(np.arange(m), np.arange(m, 2 * m), boundary)[0]
-            rep[plate, :m] = rep[parent, rows]
-        missing = sorted(set(range(1, p)) - seen)
-        if missing:
-            raise GeometryError(
-                f"plates {missing} have no link: every non-leading plate needs "
-                f"(plate, parent, boundary)"
-            )
-        self.parents = parents
-        self.rep = rep
-        nodes, node_of = np.unique(rep.ravel(), return_inverse=True)
-        self.node_rep = nodes  # (N,) global vertex id whose guess position a node starts at
-        self.node_of = node_of.reshape(p, 2 * m)  # (p, 2m) node of every plate vertex
-        held = np.zeros(nodes.size, dtype=bool)
-        held[self.node_of[list(fixed)].ravel()] = True
-        self.held = held
-        free_index = np.full(nodes.size, -1)
-        free_index[~held] = np.arange(int((~held).sum()))
-        self.free_index = free_index
-        self.nfree = int((~held).sum())
-        # quads of the non-fixed plates: (nq, 4) nodes a, b, c, d
-        moving = np.array([i for i in range(p) if i not in fixed], dtype=int)
-        self.moving = moving
-        j = np.arange(n)
-        local = np.stack([j, j + 1, m + j + 1, m + j], axis=-1)  # (n, 4)
-        self.quads = self.node_of[moving][:, local].reshape(-1, 4)
-        self.ref_all = ref
-        self.ref = ref[moving].reshape(-1, 6)  # (nq, 6)
-        self.scale = np.sqrt(self.ref[:, 4] * self.ref[:, 5])  # (nq,) diagonal scale l0
-        self.weight = weight
-        self._pattern()
-        if self.nfree:
-            self._normal_pattern()
-
-    @staticmethod
-    def _check_links(links, p: int) -> list:
-        out = []
-        for link in links:
-            try:
-                plate, parent, boundary = link
-            except (TypeError, ValueError):
-                raise GeometryError(
-                    f"a link must be (plate, parent, boundary), got {link!r}"
-                ) from None
-            plate, parent = int(plate), int(parent)
-            if not 0 < plate < p:
-                raise GeometryError(
-                    f"link {link!r}: plate {plate} does not exist or is the leading plate "
-                    f"(linked plates are 1 ... {p - 1})"
-                )
-            if not 0 <= parent < p:
-                raise GeometryError(
-                    f"link {link!r}: parent {parent} does not exist (plates 0 ... {p - 1})"
-                )
-            if parent >= plate:
-                raise GeometryError(
-                    f"link {link!r}: plate {plate} comes before (or is) its parent {parent}; "
-                    f"every plate must come after its parent"
-                )
-            if boundary not in ("near", "far"):
-                raise GeometryError(
-                    f"link {link!r}: boundary must be 'near' or 'far', got {boundary!r}"
-                )
-            out.append((plate, parent, boundary))
-        return out
-
-    def _pattern(self) -> None:
-        """Rows and columns of the Jacobian and the map from dense blocks to CSR data."""
-        nq = self.quads.shape[0]
-        self.nres = 7 * nq
-        xyz = np.arange(3)
-        # length rows: (nq, 6, 2, 3) -- row q * 6 + e, the two nodes of pair e, x y z
-        len_nodes = self.quads[:, _PAIRS]  # (nq, 6, 2)
-        len_rows = np.broadcast_to(np.arange(6 * nq).reshape(nq, 6, 1, 1), (nq, 6, 2, 3))
-        len_cols = 3 * self.free_index[len_nodes][..., None] + xyz
-        len_free = np.broadcast_to((self.free_index[len_nodes] >= 0)[..., None], (nq, 6, 2, 3))
-        # planarity rows: (nq, 4, 3)
-        pl_rows = np.broadcast_to((6 * nq + np.arange(nq)).reshape(nq, 1, 1), (nq, 4, 3))
-        pl_cols = 3 * self.free_index[self.quads][..., None] + xyz
-        pl_free = np.broadcast_to((self.free_index[self.quads] >= 0)[..., None], (nq, 4, 3))
-        rows = np.concatenate([len_rows.ravel(), pl_rows.ravel()])
-        cols = np.concatenate([len_cols.ravel(), pl_cols.ravel()])
-        keep = np.concatenate([len_free.ravel(), pl_free.ravel()])
-        rows, cols = rows[keep], cols[keep]
-        order = np.lexsort((cols, rows))
-        self.select = np.flatnonzero(keep)[order]  # dense block entries -> CSR data
-        self.indices = cols[order]
-        self.indptr = np.r_[0, np.cumsum(np.bincount(rows, minlength=self.nres))]
-
-    # -- state <-> unknowns ----------------------------------------------------------------
-    def start(self, near: np.ndarray, far: np.ndarray) -> np.ndarray:
-        """(N, 3) node positions of a guess (merged vertices take the parent's position)."""
-        verts = np.concatenate([near, far], axis=1).reshape(-1, 3)
-        return verts[self.node_rep]
-
-    def positions(self, x: np.ndarray, base: np.ndarray) -> np.ndarray:
-        pos = base.copy()
-        pos[~self.held] = x.reshape(-1, 3)
-        return pos
-
-    def plates(self, pos: np.ndarray):
-        verts = pos[self.node_of]  # (p, 2m, 3)
-        return verts[:, : self.m], verts[:, self.m :]
-
-    # -- residuals and Jacobian ------------------------------------------------------------
-    def _planarity_terms(self, corners: np.ndarray):
-        a, b, c, d = (corners[:, i] for i in range(4))
-        w, u, v = b - a, c - a, d - b
-        cross = np.cross(u, v)
-        s = np.linalg.norm(cross, axis=-1)
-        det = np.einsum("qi,qi->q", w, cross)
-        return w, u, v, cross, s, det
-
-    def quad_residuals(self, pos: np.ndarray) -> np.ndarray:
-        """(nq, 7) residuals of every quad of the non-fixed plates at node positions ``pos``.
-
-        ``pos`` is (N, 3); the columns are the six strains (sides ab, bc, cd, da, diagonals ac,
-        bd) and the weighted planarity ``w h / l0`` (module docs).
-        """
-        corners = pos[self.quads]  # (nq, 4, 3)
-        lengths = np.linalg.norm(corners[:, _PAIRS[:, 1]] - corners[:, _PAIRS[:, 0]], axis=-1)
-        out = np.empty((corners.shape[0], 7))
-        out[:, :6] = (lengths - self.ref) / self.ref
-        *_, s, det = self._planarity_terms(corners)
-        out[:, 6] = self.weight * det / (s * self.scale)
-        return out
-
-    def residuals(self, pos: np.ndarray) -> np.ndarray:
-        """(7 nq,) residual vector, the rows of :meth:`jacobian`: all strains, then planarities."""
-        r = self.quad_residuals(pos)
-        return np.concatenate([r[:, :6].ravel(), r[:, 6]])
-
-    def _blocks(self, pos: np.ndarray):
-        """Analytic derivatives at ``pos`` (N, 3), per quad.
-
-        Returns ``(nq, 6, 2, 3)`` of every strain with respect to the two nodes of its pair and
-        ``(nq, 4, 3)`` of the planarity with respect to the corners a, b, c, d.
-        """
-        corners = pos[self.quads]
-        edge = corners[:, _PAIRS[:, 1]] - corners[:, _PAIRS[:, 0]]  # (nq, 6, 3)
-        lengths = np.linalg.norm(edge, axis=-1)
-        g = edge / (lengths * self.ref)[..., None]  # d strain / d (second vertex)
-        len_block = np.stack([-g, g], axis=2)  # (nq, 6, 2, 3)
-        w, u, v, cross, s, det = self._planarity_terms(corners)
-        s_ = s[:, None]
-        det_ = det[:, None]
-        dw = cross / s_
-        du = np.cross(v, w) / s_ - det_ * np.cross(v, cross) / s_**3
-        dv = np.cross(w, u) / s_ - det_ * np.cross(cross, u) / s_**3
-        pl_block = np.stack([-(dw + du), dw - dv, du, dv], axis=1)  # (nq, 4, 3)
-        pl_block *= (self.weight / self.scale)[:, None, None]
-        return len_block, pl_block
-
-    def jacobian(self, pos: np.ndarray) -> sp.csr_matrix:
-        """(7 nq, 3 nfree) sparse Jacobian of :meth:`residuals`; column ``3 free_index + xyz``."""
-        len_block, pl_block = self._blocks(pos)
-        data = np.concatenate([len_block.ravel(), pl_block.ravel()])[self.select]
-        return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.nres, 3 * self.nfree))
-
-    def quad_jacobian(self, pos: np.ndarray) -> np.ndarray:
-        """(nq, 7, 12) dense Jacobian of :meth:`quad_residuals` per quad.
-
-        Row ``k`` of quad ``q`` is residual ``k`` of that quad; column ``3 i + xyz`` is corner
-        ``i`` (a, b, c, d), held corners included (the assembly drops them).
-        """
-        len_block, pl_block = self._blocks(pos)
-        nq = len_block.shape[0]
-        out = np.zeros((nq, 7, 4, 3))
-        rows = np.arange(6)
-        out[:, rows, _PAIRS[:, 0]] = len_block[:, :, 0]
-        out[:, rows, _PAIRS[:, 1]] = len_block[:, :, 1]
-        out[:, 6] = pl_block
-        return out.reshape(nq, 7, 12)
-
-    # -- banded normal equations -----------------------------------------------------------
-    def _normal_pattern(self) -> None:
-        """Order the unknowns for a narrow band and map quad blocks into banded storage.
-
-        The free nodes are ordered by reverse Cuthill-McKee on their quad adjacency; for a
-        stack of strips that is crease vertex by crease vertex across the plates, so ``J^T J``
-        couples only unknowns ``band`` apart (about 3 x the number of plate boundaries, against
-        3 x the vertices of a boundary in the natural plate-by-plate order). ``order`` (nfree,)
-        is the node of every unknown triple ``x[3 k : 3 k + 3]``.
-        """
-        nq, nfree = self.quads.shape[0], self.nfree
-        free = self.free_index[self.quads]  # (nq, 4), -1: held
-        a = np.repeat(free, 4, axis=1).ravel()
-        b = np.tile(free, (1, 4)).ravel()
-        both = (a >= 0) & (b >= 0)
-        graph = sp.csr_matrix((np.ones(int(both.sum())), (a[both], b[both])), shape=(nfree, nfree))
-        perm = reverse_cuthill_mckee(graph, symmetric_mode=True)
-        rank = np.empty(nfree, dtype=int)
-        rank[perm] = np.arange(nfree)
-        self.order = np.flatnonzero(~self.held)[perm]
-        cols = np.where(free[..., None] >= 0, 3 * rank[free][..., None] + np.arange(3), -1)
-        cols = cols.reshape(nq, 12)  # unknown of every quad corner coordinate, -1: held
-        row = np.broadcast_to(cols[:, :, None], (nq, 12, 12))
-        col = np.broadcast_to(cols[:, None, :], (nq, 12, 12))
-        lower = (row >= 0) & (col >= 0) & (row >= col)
-        size = 3 * nfree
-        self.band = int((row - col)[lower].max())
-        self.band_select = np.flatnonzero(lower)  # entries of the (nq, 12, 12) blocks kept
-        self.band_slot = (row - col)[lower] * size + col[lower]  # in (band + 1, size) storage
-        self.grad_select = np.flatnonzero(cols.ravel() >= 0)
-        self.grad_slot = cols.ravel()[self.grad_select]
-        # column of :meth:`jacobian` of every unknown (the order of the iterative path)
-        self.columns = (3 * self.free_index[self.order][:, None] + np.arange(3)).ravel()
-
-    def normal_equations(self, pos: np.ndarray, r: np.ndarray):
-        """Banded Gauss-Newton matrix ``J^T J`` and gradient ``J^T r`` in the unknown order.
-
-        Parameters
-        ----------
-        pos : (N, 3) float
-            Node positions.
-        r : (nq, 7) float
-            :meth:`quad_residuals` at ``pos``.
-
-        Returns
-        -------
-        ab : (band + 1, 3 nfree) float
-            Lower banded storage, ``ab[i - j, j] = (J^T J)[i, j]`` for ``i >= j`` (the form of
-            :func:`scipy.linalg.solveh_banded` with ``lower=True``).
-        g : (3 nfree,) float
-        """
-        jq = self.quad_jacobian(pos)  # (nq, 7, 12)
-        size = 3 * self.nfree
-        aq = np.matmul(jq.transpose(0, 2, 1), jq)  # (nq, 12, 12)
-        gq = np.einsum("qkc,qk->qc", jq, r)  # (nq, 12)
-        ab = np.bincount(
-            self.band_slot,
-            weights=aq.ravel()[self.band_select],
-            minlength=(self.band + 1) * size,
-        )
-        g = np.bincount(self.grad_slot, weights=gq.ravel()[self.grad_select], minlength=size)
-        return ab.reshape(self.band + 1, size), g
-
-    def check_guess(self, pos: np.ndarray) -> None:
-        """Refuse quads whose diagonals are parallel (the planarity residual is undefined)."""
-        if self.quads.shape[0] == 0:
-            return
-        *_, s, _ = self._planarity_terms(pos[self.quads])
-        bad = ~(s > ZERO_LENGTH * self.scale**2)
-        if bad.any():
-            q = int(np.flatnonzero(bad)[0])
-            raise GeometryError(
-                f"plate {int(self.moving[q // self.n])}, quad {q % self.n}: the diagonals of "
-                f"the guess are parallel or of zero length (degenerate quad), cannot relax"
-            )
-
-    # -- solve -----------------------------------------------------------------------------
-    def _solve_lm(self, base, *, ftol, xtol, gtol, max_nfev, tr_solver):
-        """Levenberg-Marquardt from the start ``base`` (N, 3); see :func:`_levenberg_marquardt`.
-
-        ``tr_solver`` ``"exact"``: banded Cholesky of the damped normal equations;
-        ``"lsmr"``: LSMR on the damped least-squares problem (iterative, no ``J^T J``).
-        Returns the node positions and the solver outcome.
-        """
-
-        def positions(x):
-            pos = base.copy()
-            pos[self.order] = x.reshape(-1, 3)
-            return pos
-
-        def residuals(x):
-            return self.quad_residuals(positions(x)).ravel()
-
-        if tr_solver == "lsmr":
-
-            def linearise(x, r):
-                r = r.reshape(-1, 7)
-                r = np.concatenate([r[:, :6].ravel(), r[:, 6]])  # the rows of jacobian()
-                jac = self.jacobian(positions(x))[:, self.columns]
-                diag = np.asarray(jac.multiply(jac).sum(axis=0)).ravel()
-                return (jac, r), jac.T @ r, diag
-
-            def solve(system, g, damping, scale):
-                jac, r = system
-                c = np.sqrt(scale)  # y = c * step: (J / c) y ~ -r, damped by sqrt(damping)
-                y = lsmr(jac @ sp.diags(1.0 / c), -r, damp=np.sqrt(damping), **_LSMR_OPTIONS)[0]
-                return y / c
-
-        else:
-
-            def linearise(x, r):
-                ab, g = self.normal_equations(positions(x), r.reshape(-1, 7))
-                return ab, g, ab[0].copy()
-
-            def solve(ab, g, damping, scale):
-                ab = ab.copy()
-                ab[0] += damping * scale
-                return solveh_banded(ab, -g, lower=True, overwrite_ab=True, check_finite=False)
-
-        x0 = base[self.order].ravel()
-        if max_nfev is None:
-            max_nfev = 100 * x0.size  # scipy's default
-        x, out = _levenberg_marquardt(
-            residuals,
-            linearise,
-            solve,
-            x0,
-            ftol=ftol,
-            xtol=xtol,
-            gtol=gtol,
-            max_nfev=max_nfev,
-        )
-        return positions(x), out
-
-    def _solve_scipy(self, base, *, ftol, xtol, gtol, max_nfev, tr_solver):
-        """:func:`scipy.optimize.least_squares` (trf) from ``base`` (N, 3), the reference path."""
-        solver = tr_solver
-        if solver == "auto":
-            solver = "exact" if 3 * self.nfree <= _EXACT_LIMIT else "lsmr"
-
-        def fun(x):
-            return self.residuals(self.positions(x, base))
-
-        if solver == "exact":
-
-            def jac(x):
-                return self.jacobian(self.positions(x, base)).toarray()
-
-        else:
-
-            def jac(x):
-                return self.jacobian(self.positions(x, base))
-
-        sol = least_squares(
-            fun,
-            base[~self.held].ravel(),
-            jac=jac,
-            method="trf",
-            tr_solver=solver,
-            x_scale="jac",
-            ftol=ftol,
-            xtol=xtol,
-            gtol=gtol,
-            max_nfev=max_nfev,
-            tr_options=_LSMR_OPTIONS if solver == "lsmr" else {},
-        )
-        out = {
-            "cost": float(sol.cost),
-            "optimality": float(sol.optimality),
-            "nfev": int(sol.nfev),
-            "njev": int(sol.njev or 0),
-            "status": int(sol.status),
-            "message": str(sol.message),
-        }
-        return self.positions(sol.x, base), out
-
-    def solve(self, near, far, *, ftol, xtol, gtol, max_nfev, tr_solver, solver) -> Relaxation:
-        near = np.asarray(near, dtype=float)
-        far = np.asarray(far, dtype=float)
-        if not (np.all(np.isfinite(near)) and np.all(np.isfinite(far))):
-            raise GeometryError("near and far must be finite (found nan or inf)")
-        base = self.start(near, far)
-        self.check_guess(base)
-        gap = 0.0
-        for plate, boundary in self.boundary_of.items():
-            parent = self.parents[plate]
-            hinge = boundary_rows(near[parent], far[parent], boundary)[0]
-            gap = max(gap, float(np.linalg.norm(near[plate] - hinge, axis=-1).max()))
-        init_near, init_far = self.plates(base)
-        if self.nfree == 0:
-            pos = base
-            out = {
-                "cost": 0.0,
-                "optimality": 0.0,
-                "nfev": 0,
-                "njev": 0,
-                "status": 1,
-                "message": "nothing to relax: every vertex is held",
-            }
-            if self.quads.shape[0]:
-                out["cost"] = 0.5 * float(np.sum(self.residuals(base) ** 2))
-        else:
-            run = self._solve_lm if solver == "lm" else self._solve_scipy
-            pos, out = run(
-                base, ftol=ftol, xtol=xtol, gtol=gtol, max_nfev=max_nfev, tr_solver=tr_solver
-            )
-        out_near, out_far = self.plates(pos)
-        strain = quad_lengths(out_near, out_far) / self.ref_all - 1.0
-        init_strain = quad_lengths(init_near, init_far) / self.ref_all - 1.0
-        planarity = _vertex_plane_distance(quad_corners(out_near, out_far)).max(axis=1)
-        init_planarity = _vertex_plane_distance(quad_corners(init_near, init_far)).max()
-        moved = np.maximum(
-            np.linalg.norm(out_near - near, axis=-1).max(axis=1),
-            np.linalg.norm(out_far - far, axis=-1).max(axis=1),
-        )
-        per_plate = np.abs(strain).max(axis=(1, 2))
-        return Relaxation(
-            near=out_near,
-            far=out_far,
-            strain=strain,
-            max_strain=float(per_plate.max()),
-            max_strain_per_plate=per_plate,
-            quad_planarity=float(planarity.max()),
-            quad_planarity_per_plate=planarity,
-            displacement=float(moved.max()),
-            displacement_per_plate=moved,
-            initial_max_strain=float(np.abs(init_strain).max()),
-            initial_quad_planarity=float(init_planarity),
-            initial_hinge_gap=gap,
-            cost=out["cost"],
-            optimality=out["optimality"],
-            nfev=out["nfev"],
-            njev=out["njev"],
-            status=out["status"],
-            message=out["message"],
-            converged=out["status"] > 0,
-            fixed=self.fixed,
-            solver=solver,
-        )
-
-
 def _shape(near, far, ndim: int, what: str):
     near = np.asarray(near, dtype=float)
     far = np.asarray(far, dtype=float)
@@ -854,6 +251,51 @@ def _options(solver: str, tr_solver: str, max_nfev, ftol, xtol, gtol) -> dict:
     if solver == "lm" and tr_solver == "auto":
         tr_solver = "exact"
     return {"solver": solver, "tr_solver": tr_solver, "max_nfev": max_nfev, **tolerances}
+
+
+def _result(problem, near, far, base, pos, out, solver: str) -> Relaxation:
+    """Measure a solved state: strains, planarity and displacements before and after."""
+    init_near, init_far = problem.plates(base)
+    out_near, out_far = problem.plates(pos)
+    strain = quad_lengths(out_near, out_far) / problem.ref_all - 1.0
+    init_strain = quad_lengths(init_near, init_far) / problem.ref_all - 1.0
+    planarity = _vertex_plane_distance(quad_corners(out_near, out_far)).max(axis=1)
+    init_planarity = _vertex_plane_distance(quad_corners(init_near, init_far)).max()
+    moved = np.maximum(
+        np.linalg.norm(out_near - near, axis=-1).max(axis=1),
+        np.linalg.norm(out_far - far, axis=-1).max(axis=1),
+    )
+    per_plate = np.abs(strain).max(axis=(1, 2))
+    return Relaxation(
+        near=out_near,
+        far=out_far,
+        strain=strain,
+        max_strain=float(per_plate.max()),
+        max_strain_per_plate=per_plate,
+        quad_planarity=float(planarity.max()),
+        quad_planarity_per_plate=planarity,
+        displacement=float(moved.max()),
+        displacement_per_plate=moved,
+        initial_max_strain=float(np.abs(init_strain).max()),
+        initial_quad_planarity=float(init_planarity),
+        initial_hinge_gap=problem.hinge_gap(near, far),
+        cost=out["cost"],
+        optimality=out["optimality"],
+        nfev=out["nfev"],
+        njev=out["njev"],
+        status=out["status"],
+        message=out["message"],
+        converged=out["status"] > 0,
+        fixed=problem.fixed,
+        solver=solver,
+    )
+
+
+def _relax_one(problem, near, far, options: dict) -> Relaxation:
+    near = np.asarray(near, dtype=float)
+    far = np.asarray(far, dtype=float)
+    base, pos, out = problem.run(near, far, **options)
+    return _result(problem, near, far, base, pos, out, options["solver"])
 
 
 def relax(
@@ -897,7 +339,7 @@ def relax(
         unknowns (``xtol``), largest gradient component ``|J^T r|`` (``gtol``); at most
         ``max_nfev`` residual evaluations (``None``: ``100 x`` the number of unknowns), after
         which the result is reported as not converged. ``"lm"`` applies them as
-        :func:`_termination` says (MINPACK's cost test), ``"scipy"`` as
+        `levenberg_marquardt.termination` says (MINPACK's cost test), ``"scipy"`` as
         :func:`scipy.optimize.least_squares` does. ``None`` disables a test; at least one
         must stay above the machine epsilon.
     tr_solver : {"auto", "exact", "lsmr"}
@@ -927,8 +369,8 @@ def relax(
     options = _options(solver, tr_solver, max_nfev, ftol, xtol, gtol)
     near, far = _shape(near, far, 3, "(p, n + 1, 3)")
     p, n = near.shape[0], near.shape[1] - 1
-    problem = _Problem(p, n, reference_lengths, links, fixed, planarity_weight)
-    return problem.solve(near, far, **options)
+    problem = RelaxationProblem(p, n, reference_lengths, links, fixed, planarity_weight)
+    return _relax_one(problem, near, far, options)
 
 
 def relax_states(
@@ -968,5 +410,5 @@ def relax_states(
     options = _options(solver, tr_solver, max_nfev, ftol, xtol, gtol)
     near, far = _shape(near, far, 4, "(k, p, n + 1, 3)")
     p, n = near.shape[1], near.shape[2] - 1
-    problem = _Problem(p, n, reference_lengths, links, fixed, planarity_weight)
-    return [problem.solve(near[k], far[k], **options) for k in range(near.shape[0])]
+    problem = RelaxationProblem(p, n, reference_lengths, links, fixed, planarity_weight)
+    return [_relax_one(problem, near[k], far[k], options) for k in range(near.shape[0])]
