@@ -112,3 +112,22 @@ def engine(request):
     ok, info = module.available()
     assert ok, info
     return module
+
+
+def captured_plate_contacts(thick, alphas):
+    """The arguments ``ThickModel.collisions(alphas)`` passes to ``plate_contacts``."""
+    import compas_ccu.thickness.model as thickness_model
+
+    seen = {}
+    original = thickness_model.plate_contacts
+
+    def spy(*args, **kwargs):
+        seen["call"] = (args, kwargs)
+        return original(*args, **kwargs)
+
+    thickness_model.plate_contacts = spy
+    try:
+        thick.collisions(alphas)
+    finally:
+        thickness_model.plate_contacts = original
+    return seen["call"]

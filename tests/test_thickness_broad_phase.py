@@ -21,7 +21,7 @@ from compas_ccu.model import load_model
 from compas_ccu.thickness import ThickModel, solid_faces, vertex_offsets
 from compas_ccu.thickness.collision import _contacts_all, box_pairs, plate_contacts
 from compas_ccu.tolerances import EXACT_RELATIVE
-from conftest import EXAMPLES
+from conftest import EXAMPLES, captured_plate_contacts
 
 T = 0.008
 
@@ -88,24 +88,6 @@ def _assert_nothing_dropped(args, kwargs):
     return fast, depth
 
 
-def _captured(thick, alphas):
-    import compas_ccu.thickness.model as thickness_model
-
-    seen = {}
-
-    def spy(*args, **kwargs):
-        seen["call"] = (args, kwargs)
-        return plate_contacts(*args, **kwargs)
-
-    original = thickness_model.plate_contacts
-    thickness_model.plate_contacts = spy
-    try:
-        thick.collisions(alphas)
-    finally:
-        thickness_model.plate_contacts = original
-    return seen["call"]
-
-
 DESIGNS = {
     "vault": (EXAMPLES / "vault.toml", [0.0, 2.0, 10.0, 30.0]),
     "overbent": (EXAMPLES / "overbent.toml", [0.0, 15.0, 35.0]),
@@ -123,7 +105,7 @@ def test_no_pair_dropped_along_the_examples(name, reach):
     model = load_model(path)
     alphas = [a for a in alphas if a < model.alpha_limit]
     thick = ThickModel(model, thickness=T)
-    args, kwargs = _captured(thick, alphas)
+    args, kwargs = captured_plate_contacts(thick, alphas)
     fast, depth = _assert_nothing_dropped(args, {**kwargs, "reach": reach})
     assert np.isfinite(fast[1]).any()  # contacts were measured, not only skipped
     if reach == 0.1 and name in ("vault", "radial"):

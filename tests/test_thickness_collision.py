@@ -13,7 +13,7 @@ from compas_ccu.model import CCUModel, load_model
 from compas_ccu.thickness import ThickModel, solid_faces, vertex_offsets
 from compas_ccu.thickness.collision import _contacts_all, plate_contacts
 from compas_ccu.tolerances import EXACT_RELATIVE
-from conftest import EXAMPLES, make_design
+from conftest import EXAMPLES, captured_plate_contacts, make_design
 
 T = 0.008
 
@@ -99,25 +99,6 @@ def test_funnel_path_to_design_is_clear(funnel):
 # -- the candidate search against the brute force --------------------------------------------
 
 
-def _captured(thick, alphas):
-    """The arguments ``ThickModel.collisions`` passes to ``plate_contacts``."""
-    import compas_ccu.thickness.model as thickness_model
-
-    seen = {}
-
-    def spy(*args, **kwargs):
-        seen["call"] = (args, kwargs)
-        return plate_contacts(*args, **kwargs)
-
-    original = thickness_model.plate_contacts
-    thickness_model.plate_contacts = spy
-    try:
-        thick.collisions(alphas)
-    finally:
-        thickness_model.plate_contacts = original
-    return seen["call"]
-
-
 def _assert_same(fast, brute):
     for got, want in zip(fast, brute):
         assert got.dtype == want.dtype
@@ -169,7 +150,7 @@ def layout_call(request):
     name, alphas = LAYOUTS[request.param]
     model, alphas = _path(name, alphas)
     thick = ThickModel(model, thickness=T)
-    return request.param, thick, alphas, _captured(thick, alphas)
+    return request.param, thick, alphas, captured_plate_contacts(thick, alphas)
 
 
 def test_candidate_search_equals_the_brute_force(layout_call):
@@ -198,7 +179,7 @@ def test_candidate_search_finds_crossings_beyond_the_overlap_limit():
     model = load_model(catalog_path("fig12c-funnel"))
     thick = ThickModel(model, thickness=T)
     alphas = np.linspace(77.3, 0.999 * model.alpha_limit, 6)
-    args, kwargs = _captured(thick, alphas)
+    args, kwargs = captured_plate_contacts(thick, alphas)
     fast = plate_contacts(*args, **kwargs)
     assert fast[2].any()
     _assert_same(fast, plate_contacts(*args, **{**kwargs, "method": "all"}))
@@ -216,7 +197,7 @@ def test_candidate_search_at_any_size_and_reach(segments, reach):
         )
     )
     thick = ThickModel(model, thickness=T)
-    args, kwargs = _captured(thick, np.linspace(0.0, 30.0, 3))
+    args, kwargs = captured_plate_contacts(thick, np.linspace(0.0, 30.0, 3))
     kwargs = {**kwargs, "reach": reach}
     fast = plate_contacts(*args, **kwargs)
     _assert_same(fast, plate_contacts(*args, **{**kwargs, "method": "all"}))
