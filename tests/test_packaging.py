@@ -28,9 +28,11 @@ def sdist(tmp_path_factory) -> Path:
     """The sdist built from the tracked files of this checkout."""
     if shutil.which("git") is None or not (ROOT / ".git").exists():
         pytest.skip("not a git checkout: the tracked files are unknown")
-    tracked = subprocess.run(
-        ["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True
-    ).stdout.decode().split("\0")
+    tracked = (
+        subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True)
+        .stdout.decode()
+        .split("\0")
+    )
     source = tmp_path_factory.mktemp("source")
     for name in filter(None, tracked):
         if (ROOT / name).is_file():
@@ -69,8 +71,17 @@ def test_sdist_ships_the_package_and_its_papers_not_the_tests(sdist):
 def test_sdist_installs_a_package_that_finds_its_data(sdist, tmp_path):
     target = tmp_path / "site"
     done = subprocess.run(
-        [sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--target",
-         str(target), str(sdist)],
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--no-deps",
+            "--target",
+            str(target),
+            str(sdist),
+        ],
         capture_output=True,
         text=True,
     )
@@ -96,4 +107,5 @@ def test_sdist_installs_a_package_that_finds_its_data(sdist, tmp_path):
     catalog_dir = ROOT / "src" / "compas_ccu" / "data" / "catalog"
     assert int(entries) == len(list(catalog_dir.glob("*.toml")))
     assert int(presets) == len(list((ROOT / "src/compas_ccu/data/presets").glob("*.toml")))
-    assert int(components) == len(list((ROOT / "src/compas_ccu/ghpython/components").glob("*/code.py")))
+    components_dir = ROOT / "src" / "compas_ccu" / "ghpython" / "components"
+    assert int(components) == len(list(components_dir.glob("*/code.py")))
