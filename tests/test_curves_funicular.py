@@ -9,8 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from compas_ccu.curves import FunicularProfile, profile_from_dict
-from compas_ccu.curves import funicular_moment
+from compas_ccu.curves import FunicularProfile, funicular_moment, profile_from_dict
 from compas_ccu.errors import ProfileError
 
 # Span 4, x in [-2, 2]: uniform load 1 over the span, 2 more over the left half, 3 at x = -1.
