@@ -74,7 +74,7 @@ def test_no_function_local_imports_of_the_package():
 #: name (docs/architecture.md): ``ccu --help`` lists the commands without importing them.
 IMPORTS_BY_NAME = {
     "cli/table.py": "the command modules of the ccu command table (compas_ccu.cli.*)",
-    "curves/readers.py": "the optional readers of curve files: ezdxf, svgelements, rhino3dm",
+    "curves/candidates.py": "the optional readers of curve files: ezdxf, svgelements, rhino3dm",
     "ghpython/convert.py": "Rhino's modules, where they import (Rhino, compas_rhino)",
 }
 

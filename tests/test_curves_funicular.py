@@ -9,8 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from compas_ccu.curves import FunicularProfile, profile_from_dict
-from compas_ccu.curves import funicular as funicular_module
+from compas_ccu.curves import FunicularProfile, funicular_moment, profile_from_dict
 from compas_ccu.errors import ProfileError
 
 # Span 4, x in [-2, 2]: uniform load 1 over the span, 2 more over the left half, 3 at x = -1.
@@ -554,12 +553,12 @@ def test_invalid_parameters(kwargs, message):
 
 def test_moment_guard(monkeypatch):
     # Loads >= 0 always give M > 0 inside the span; the guard catches a broken moment.
-    original = funicular_module._coefficients_from_left
+    original = funicular_moment.coefficients_from_left
 
     def negated(*args):
         return -original(*args)
 
-    monkeypatch.setattr(funicular_module, "_coefficients_from_left", negated)
+    monkeypatch.setattr(funicular_moment, "coefficients_from_left", negated)
     with pytest.raises(
         ProfileError, match=r"the bending moment of the loads must be > 0 inside the span, got M = "
     ):

@@ -41,13 +41,13 @@ def test_every_missing_extra_says_it_the_same_way(monkeypatch):
     """Each place that needs an extra raises through the helper: one message format."""
     from compas_ccu.cli import explore, optimize
     from compas_ccu.cli.common import need_extra
-    from compas_ccu.curves import readers
+    from compas_ccu.curves import candidates
     from compas_ccu.fabrication import packing
 
     _everything_missing(monkeypatch)
     args = Namespace(in_process=False, dashboard=True, scheduler=None, workers=None)
     calls = {
-        "reading DXF files": lambda: readers._need("ezdxf", "fab", "DXF files"),
+        "reading DXF files": lambda: candidates.need_module("ezdxf", "fab", "DXF files"),
         "nesting the parts onto sheets": packing.solver_version,
         "'ccu fabricate'": lambda: need_extra("fabricate", "fab", ("ezdxf", "trimesh")),
         "'ccu explore'": lambda: explore._check(args),

@@ -18,12 +18,9 @@ from compas.data import Data
 
 from compas_ccu.design import Design, load_design
 from compas_ccu.design.build import build
-from compas_ccu.errors import (
-    GeometryError,
-    SelfIntersectionError,
-)
+from compas_ccu.errors import GeometryError
 from compas_ccu.geometry import PlaneFrame, plane_frame
-from compas_ccu.kinematics.interference import PathCertificate, describe
+from compas_ccu.kinematics.interference import PathCertificate
 from compas_ccu.kinematics.invariants import (
     invariant_errors,
     overlap_limit,
@@ -31,9 +28,15 @@ from compas_ccu.kinematics.invariants import (
 )
 from compas_ccu.kinematics.plates import PlateIndex, stack_rows
 from compas_ccu.kinematics.relations import crease_relations
-from compas_ccu.kinematics.relaxation import links_from_mechanism, relax
 from compas_ccu.model.checks import check_design, check_path, check_size
 from compas_ccu.model.records import path_structures, state_structure
+from compas_ccu.model.relaxed import relaxed_structure
+from compas_ccu.model.self_intersection import (
+    check_interference,
+    check_overlap,
+    collision_free_alpha,
+    path_certificate,
+)
 from compas_ccu.strips.intrinsics import quad_lengths
 from compas_ccu.structure import Structure
 
@@ -285,18 +288,7 @@ class CCUModel(Data):
         SelfIntersectionError
             Names the first such state, the crease and the largest alpha before any overlap.
         """
-        bad = self.overlapping(states)
-        if bad.any():
-            k = int(np.flatnonzero(bad.any(axis=1))[0])
-            ci = int(np.flatnonzero(bad[k])[0])
-            what = "the leading crease" if ci == 0 else f"crease {ci - 1}"
-            raise SelfIntersectionError(
-                f"self-intersection at alpha = {alphas[k]:.6g} deg: {what} overlaps itself "
-                f"in its plane (the plates would pass through each other); the largest "
-                f"alpha before any crease overlaps is {self.overlap_alpha:.6g} deg",
-                alpha=float(alphas[k]),
-                crease=None if ci == 0 else ci - 1,
-            )
+        check_overlap(self, states, alphas)
 
     def overlapping(self, states) -> np.ndarray:
         """(k, 1 + c) bool: the leading crease, then every crease, overlapping itself."""
@@ -314,24 +306,7 @@ class CCUModel(Data):
         """The interpenetration certificate of the path from the flat stack to the limit
         (:class:`compas_ccu.kinematics.interference.PathCertificate`), scanned as far as asked."""
         if self._certificate is None:
-            mechanism = self.mechanism
-
-            def vertices_at(alphas):
-                states = mechanism.deploy(alphas)
-                return stack_rows(states.near, states.far)
-
-            index = self.plates
-            hinges = [
-                (a, b, *index.crease_rows(ci)) for ci, (a, b) in enumerate(index.crease_plates)
-            ]
-            self._certificate = PathCertificate(
-                vertices_at,
-                upto=mechanism.alpha_limit,
-                segments=self.segments,
-                hinges=hinges,
-                size=self.size,
-                plates=index.count,
-            )
+            self._certificate = path_certificate(self)
         return self._certificate
 
     @property
@@ -349,9 +324,7 @@ class CCUModel(Data):
         :data:`compas_ccu.kinematics.interference.ANGLE_TOLERANCE`, 1e-7 rad) and a crease
         overlapping itself (:attr:`overlap_alpha`: the two plates of that crease cross at their
         hinge); the deployment limit if neither happens."""
-        overlap = math.radians(self.overlap_alpha)
-        found = self.certificate.certify(overlap)
-        return math.degrees(min(overlap, found.clear if found is not None else overlap))
+        return collision_free_alpha(self)
 
     def check_interference(self, alphas) -> None:
         """Refuse reference angles ``alphas`` (degrees) beyond the first state, on the path from
@@ -362,22 +335,7 @@ class CCUModel(Data):
         SelfIntersectionError
             Names the two plates, the alpha where they first meet and the largest alpha clear.
         """
-        alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
-        if not len(alphas):
-            return
-        found = self.certificate.certify(math.radians(float(alphas.max())))
-        if found is None:
-            return
-        beyond = np.radians(alphas) > found.clear
-        if beyond.any():
-            ids = [self.plates.output_id(i) for i in range(self.plates.count)]
-            alpha = float(alphas[np.flatnonzero(beyond)[0]])
-            raise SelfIntersectionError(
-                f"self-intersection at alpha = {alpha:.6g} deg: " + describe(found, ids),
-                alpha=alpha,
-                crease=None,
-                plates=tuple(ids[i] for i in found.plates),
-            )
+        check_interference(self, alphas)
 
     def _check_states(self, count: int) -> None:
         check_path(self, count)
@@ -509,22 +467,7 @@ class CCUModel(Data):
         relaxation : compas_ccu.kinematics.relaxation.Relaxation
         """
         alpha = self.alpha_design if alpha is None else float(alpha)
-        states = self.mechanism.deploy(np.radians([alpha]))
-        result = relax(
-            states.near[0],
-            states.far[0],
-            self.reference_lengths,
-            links_from_mechanism(self.mechanism),
-            planarity_weight=planarity_weight,
-            **options,
-        )
-        relaxed = self.mechanism.refit(states, result.near[None], result.far[None])
-        structure = self.structure(relaxed, 0, alpha)
-        summary = result.summary()
-        for key in ("max_strain_per_plate", "quad_planarity_per_plate", "displacement_per_plate"):
-            summary[key] = [summary[key][i] for i in self.order]  # by plate id
-        structure.metrics["relaxation"] = summary
-        return structure, result
+        return relaxed_structure(self, alpha, planarity_weight=planarity_weight, **options)
 
     def crease_planarity(self, alphas) -> np.ndarray:
         """(k, c) largest distance (m) of each crease's vertices from its fitted plane.

@@ -9,236 +9,52 @@ old stiffness in the first iteration (Newton diverges in the first steps of pres
 otherwise). A step that does not converge is cut in halves; the state of the last converged
 sub-step is restored by rebuilding the model and replaying the converged history, so the
 corotational element state is exactly that of a clean run.
+
+This module steps the model, records its results, runs the buckling analysis and drives the
+solve; Kratos is imported by :mod:`.kratos_import`, the model part built by :mod:`.kratos_build`
+and the buckling factor's linear algebra is :mod:`.kratos_buckling`.
 """
 
 from __future__ import annotations
 
-import contextlib
-import json
-import os
 import time
 
 import numpy as np
 
+from compas_ccu.fea.engines.kratos_buckling import (
+    rebuild_system,
+    smallest_factor,
+    tangent_stiffness,
+)
+from compas_ccu.fea.engines.kratos_build import ELEMENT as ELEMENT
+from compas_ccu.fea.engines.kratos_build import OFFSET_PROPERTIES as OFFSET_PROPERTIES
+from compas_ccu.fea.engines.kratos_build import model_part, newton_strategy
+from compas_ccu.fea.engines.kratos_import import THREADS as THREADS
+from compas_ccu.fea.engines.kratos_import import available, kratos_modules
 from compas_ccu.fea.problem import FEError, FEProblem, FEResult, buckling_steps
-from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = ["available", "solve"]
 
-ELEMENT = "LegacyThickShellCorotationalElement3D4N"
-#: The first property id of the element sections with an offset (after hinges and springs).
-OFFSET_PROPERTIES = 1_000_000
-_KM = None
-#: Kratos' OpenMP threads unless ``OMP_NUM_THREADS`` is set: one. The time of a solve is the
-#: single-threaded sparse LU; a second thread only assembles, and on a shared machine its
-#: waiting threads spin: the cone's validation took 21 s of CPU with two threads on two busy
-#: cores, 3.4 s with one (docs/benchmarks.md), with the same numbers.
-THREADS = 1
 #: How :meth:`_Model.buckling` finds the state with the loads raised by δ (see there).
 BUCKLING_STATES = ("predictor", "converged")
 BUCKLING_STATE = "predictor"
-
-
-@contextlib.contextmanager
-def _quiet():
-    """Silence the C++ banners Kratos prints to stdout on import."""
-    try:
-        fd = os.dup(1)
-    except OSError:  # no real stdout (e.g. a notebook): nothing to silence
-        yield
-        return
-    try:
-        with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), 1)
-            yield
-    finally:
-        os.dup2(fd, 1)
-        os.close(fd)
-
-
-def _kratos():
-    global _KM
-    if _KM is None:
-        with _quiet():
-            import KratosMultiphysics as KM
-            import KratosMultiphysics.LinearSolversApplication as LSA
-            import KratosMultiphysics.StructuralMechanicsApplication as SMA
-
-            KM.Logger.GetDefaultOutput().SetSeverity(KM.Logger.Severity.WARNING)
-            if not os.environ.get("OMP_NUM_THREADS"):
-                KM.ParallelUtilities.SetNumThreads(THREADS)
-        _KM = (KM, SMA, LSA)
-    return _KM
-
-
-def available() -> tuple:
-    try:
-        KM, _, _ = _kratos()
-    except Exception as exc:  # ImportError or a broken wheel
-        return False, f"KratosMultiphysics does not import: {exc}"
-    try:
-        from importlib.metadata import version
-
-        return True, version("KratosMultiphysics")
-    except Exception:
-        return True, "0 (version unknown)"
 
 
 class _Model:
     """One Kratos model part built from an :class:`FEProblem`."""
 
     def __init__(self, problem: FEProblem, tolerance: float, max_iterations: int):
-        KM, SMA, LSA = _kratos()
+        KM, SMA, LSA = kratos_modules()
         self.KM, self.SMA = KM, SMA
-        self.problem = p = problem
-        self.model = KM.Model()
-        mp = self.mp = self.model.CreateModelPart("ccu")
-        mp.SetBufferSize(2)
-        for var in (
-            KM.DISPLACEMENT,
-            KM.ROTATION,
-            KM.REACTION,
-            KM.REACTION_MOMENT,
-            SMA.POINT_LOAD,
-            SMA.POINT_MOMENT,
-        ):
-            mp.AddNodalSolutionStepVariable(var)
-        mp.ProcessInfo[KM.DOMAIN_SIZE] = 3
-        for i, (x, y, z) in enumerate(p.nodes):
-            mp.CreateNewNode(i + 1, float(x), float(y), float(z))
-        self._dofs()
-        self._elements()
-        self._hinges()
-        self._conditions()
-        self._supports()
-        solver = LSA.SparseLUSolver()
-        scheme = KM.ResidualBasedIncrementalUpdateStaticScheme()
-        criterion = KM.DisplacementCriteria(tolerance, tolerance * 1e-3)
-        criterion.SetEchoLevel(0)
-        builder = KM.ResidualBasedBlockBuilderAndSolver(solver)
-        settings = KM.Parameters(
-            json.dumps(
-                {
-                    "max_iteration": int(max_iterations),
-                    "compute_reactions": False,  # summed from element forces, see nodal_forces
-                    "reform_dofs_at_each_step": False,
-                    "move_mesh_flag": True,
-                    "use_old_stiffness_in_first_iteration": True,
-                }
-            )
+        self.problem = problem
+        self.model, self.mp, self.carried, self.loaded = model_part(KM, SMA, problem)
+        self.strategy, self.scheme, self.builder, self.criterion = newton_strategy(
+            KM, LSA, self.mp, tolerance, max_iterations
         )
-        self.strategy = KM.ResidualBasedNewtonRaphsonStrategy(
-            mp, scheme, criterion, builder, settings
-        )
-        self.strategy.SetEchoLevel(0)
-        self.strategy.Initialize()
-        self.scheme, self.builder = scheme, builder
         self.load_scale = 1.0
-        self.criterion = criterion
         self.time = 0.0
-
-    def _dofs(self):
-        KM, mp = self.KM, self.mp
-        for c in "XYZ":
-            KM.VariableUtils().AddDof(
-                getattr(KM, "DISPLACEMENT_" + c), getattr(KM, "REACTION_" + c), mp
-            )
-            KM.VariableUtils().AddDof(
-                getattr(KM, "ROTATION_" + c), getattr(KM, "REACTION_MOMENT_" + c), mp
-            )
-
-    def _elements(self):
-        KM, SMA, mp, p = self.KM, self.SMA, self.mp, self.problem
-        m = p.material_used
-        props = mp.GetProperties()[1]
-        props.SetValue(KM.THICKNESS, p.thickness)
-        props.SetValue(KM.DENSITY, m.density)
-        if p.orthotropic:
-            raise FEError(
-                "orthotropic plates are not available with the Kratos 10.4.4 wheels (no "
-                "orthotropic plane-stress law is shipped); use engine 'opensees' for them"
-            )
-        props.SetValue(KM.YOUNG_MODULUS, m.E1)
-        props.SetValue(KM.POISSON_RATIO, m.nu12)
-        props.SetValue(KM.CONSTITUTIVE_LAW, SMA.LinearElasticPlaneStress2DLaw())
-        chosen = [props] * len(p.elements)
-        if p.offsets is not None:  # one property per offset value: the section's SHELL_OFFSET
-            values, which = np.unique(np.round(p.offsets, 12), return_inverse=True)
-            table = []
-            for k, value in enumerate(values.tolist()):
-                q = mp.GetProperties()[OFFSET_PROPERTIES + k]
-                q.SetValue(KM.THICKNESS, p.thickness)
-                q.SetValue(KM.DENSITY, m.density)
-                q.SetValue(KM.YOUNG_MODULUS, m.E1)
-                q.SetValue(KM.POISSON_RATIO, m.nu12)
-                q.SetValue(KM.CONSTITUTIVE_LAW, SMA.LinearElasticPlaneStress2DLaw())
-                q.SetValue(SMA.SHELL_OFFSET, value)
-                table.append(q)
-            chosen = [table[k] for k in which.tolist()]
-        for e, quad in enumerate(p.elements):
-            mp.CreateNewElement(ELEMENT, e + 1, [int(i) + 1 for i in quad], chosen[e])
-
-    def _hinges(self):
-        KM, SMA, mp, p = self.KM, self.SMA, self.mp, self.problem
-        rigid = p.hinge_translational_stiffness is None
-        comps = ("X", "Y", "Z")
-        cid, eid = 1, len(p.elements) + 1
-        prescribed = set(map(int, p.fixed))
-        self.carried = []  # (prescribed master, tied node): its force is part of the reaction
-        for t, (a, b) in enumerate(p.ties):
-            if rigid and int(b) in prescribed:
-                if int(a) in prescribed:
-                    raise FEError(
-                        f"nodes {[int(a), int(b)]} are tied together (translations equal) and "
-                        "all prescribed: prescribe one of them only"
-                    )
-                a, b = b, a  # a prescribed slave would be overridden: make it the master
-            if rigid and int(a) in prescribed:
-                self.carried.append((int(a), int(b)))
-            na, nb = mp.GetNode(int(a) + 1), mp.GetNode(int(b) + 1)
-            if rigid:
-                for c in comps:
-                    var = getattr(KM, "DISPLACEMENT_" + c)
-                    mp.CreateNewMasterSlaveConstraint(
-                        "LinearMasterSlaveConstraint", cid, na, var, nb, var, 1.0, 0.0
-                    )
-                    cid += 1
-            length = float(p.tie_lengths[t])
-            kt = 0.0 if rigid else p.hinge_translational_stiffness * length
-            kr = p.hinge_stiffness * length
-            if kt > 0.0 or kr > 0.0:
-                props = mp.GetProperties()[t + 2]
-                el = mp.CreateNewElement(
-                    "SpringDamperElement3D", eid, [int(a) + 1, int(b) + 1], props
-                )
-                # the spring element reads its stiffness from the element's own data
-                el.SetValue(SMA.NODAL_DISPLACEMENT_STIFFNESS, KM.Array3([kt, kt, kt]))
-                el.SetValue(SMA.NODAL_ROTATIONAL_STIFFNESS, KM.Array3([kr, kr, kr]))
-                eid += 1
-        for s, ((a, b), k) in enumerate(zip(p.springs, p.spring_stiffness)):
-            props = mp.GetProperties()[len(p.ties) + 2 + s]
-            el = mp.CreateNewElement("SpringDamperElement3D", eid, [int(a) + 1, int(b) + 1], props)
-            el.SetValue(SMA.NODAL_DISPLACEMENT_STIFFNESS, KM.Array3([float(x) for x in k]))
-            el.SetValue(SMA.NODAL_ROTATIONAL_STIFFNESS, KM.Array3([0.0, 0.0, 0.0]))
-            eid += 1
-
-    def _conditions(self):
-        mp, p = self.mp, self.problem
-        loaded = np.zeros(len(p.nodes), dtype=bool)
-        for pat in p.patterns:
-            loaded |= np.any(pat.loads != 0.0, axis=1)
-        self.loaded = np.flatnonzero(loaded)
-        props = mp.GetProperties()[0]
-        for c, i in enumerate(self.loaded):
-            mp.CreateNewCondition("PointLoadCondition3D1N", 2 * c + 1, [int(i) + 1], props)
-            mp.CreateNewCondition("PointMomentCondition3D1N", 2 * c + 2, [int(i) + 1], props)
-
-    def _supports(self):
-        KM, mp, p = self.KM, self.mp, self.problem
-        for i in p.fixed_rotations:
-            node = mp.GetNode(int(i) + 1)
-            for c in "XYZ":
-                node.Fix(getattr(KM, "ROTATION_" + c))
+        self.active_dofs = None  # the free, independent DOFs of the tangent (kratos_buckling)
 
     def _apply(self, t: float):
         KM, SMA, mp, p = self.KM, self.SMA, self.mp, self.problem
@@ -345,26 +161,9 @@ class _Model:
         return reactions, ties
 
     def tangent(self):
-        """(m, m) tangent stiffness at the current state on the free, independent DOFs."""
-        import scipy.sparse as sp
-        from KratosMultiphysics.scipy_conversion_tools import to_csr
-
-        KM, mp = self.KM, self.mp
-        A, b = self.strategy.GetSystemMatrix(), self.strategy.GetSystemVector()
-        self.builder.Build(self.scheme, mp, A, b)
-        self.builder.ApplyConstraints(self.scheme, mp, A, b)
-        if not hasattr(self, "_active"):
-            slaves = {int(c.GetSlaveDofsVector()[0].Id()) for c in mp.MasterSlaveConstraints}
-            comps = [getattr(KM, f"{v}_{c}") for v in ("DISPLACEMENT", "ROTATION") for c in "XYZ"]
-            active = []
-            for node in mp.Nodes:
-                for j, var in enumerate(comps):
-                    if node.IsFixed(var) or (j < 3 and node.Id in slaves):
-                        continue
-                    active.append(node.GetDof(var).EquationId)
-            self._active = np.array(sorted(active), dtype=int)
-        k = sp.csr_matrix(to_csr(A))
-        return k[self._active][:, self._active]
+        """(m, m) tangent stiffness at the current state on the free, independent DOFs
+        (:func:`.kratos_buckling.tangent_stiffness`)."""
+        return tangent_stiffness(self)
 
     def buckling(self, delta: float = 0.05, *, state: str | None = None) -> tuple:
         """Linearised buckling factor of the current state under its loads (Kratos only).
@@ -383,7 +182,7 @@ class _Model:
         state = BUCKLING_STATE if state is None else state
         if state not in BUCKLING_STATES:
             raise FEError(f"buckling state must be one of {BUCKLING_STATES}, got {state!r}")
-        self.__dict__.pop("_active", None)  # the free DOFs of this state's supports
+        self.active_dofs = None  # the free DOFs of this state's supports
         k0 = self.tangent()
         self.load_scale = 1.0 + delta
         if state == "predictor":
@@ -401,28 +200,12 @@ class _Model:
                 raise FEError("the state did not converge again after the buckling analysis")
         if not ok:
             return None, "the loads raised by 5 % did not converge: the state is near a limit point"
-        return _smallest_factor(k0, k1, delta)
+        return smallest_factor(k0, k1, delta)
 
     def system(self, t: float) -> None:
-        """Leave the strategy's system matrix as a Newton iteration at the current state does:
-        built afresh, with the constraints and the supports applied.
-
-        :meth:`tangent` builds onto the system matrix without clearing it (the builder's
-        ``Build`` adds), so a tangent is the sum of the matrix the last Newton iteration left
-        and the new one; with the hinges' master–slave constraints the slaves' diagonal of the
-        old matrix turns into a stiffness on their masters. The reference buckling analysis
-        (``"converged"``) takes its second tangent after a Newton solve; this reproduces its
-        system matrix after one predictor iteration, so that both give the same factor.
-        """
-        KM, mp = self.KM, self.mp
-        A, b = self.strategy.GetSystemMatrix(), self.strategy.GetSystemVector()
-        dx = self.strategy.GetSolutionVector()
-        space = KM.UblasSparseSpace()
-        space.SetToZeroMatrix(A)
-        space.SetToZeroVector(b)
-        self.builder.Build(self.scheme, mp, A, b)
-        self.builder.ApplyConstraints(self.scheme, mp, A, b)
-        self.builder.ApplyDirichletConditions(self.scheme, mp, A, dx, b)
+        """Leave the strategy's system matrix as a Newton iteration at the current state does
+        (:func:`.kratos_buckling.rebuild_system`)."""
+        rebuild_system(self)
 
     def predict(self, t: float) -> bool:
         """One Newton iteration towards the loads at pseudo-time ``t`` (with the current
@@ -445,22 +228,6 @@ class _Model:
             self.strategy.SetUseOldStiffnessInFirstIterationFlag(True)
         disp = KM.VariableUtils().GetSolutionStepValuesVector(mp.Nodes, KM.DISPLACEMENT, 0, 3)
         return bool(np.all(np.isfinite(np.array(disp))))
-
-
-def _smallest_factor(k0, k1, delta: float) -> tuple:
-    """The smallest λ > 1 with ``K0 + (λ - 1) (K1 - K0) / δ`` singular (shift-invert ARPACK)."""
-    import scipy.sparse.linalg as sla
-
-    dk = (k1 - k0) / delta
-    lu = sla.splu(k0.tocsc())
-    op = sla.LinearOperator(k0.shape, matvec=lambda x: lu.solve(-(dk @ x)), dtype=float)
-    theta = sla.eigs(op, k=min(6, k0.shape[0] - 2), which="LR", return_eigenvectors=False)
-    theta = theta.real[
-        (np.abs(theta.imag) < EXACT_RELATIVE * np.abs(theta).max()) & (theta.real > 0)
-    ]
-    if not theta.size:
-        return float("inf"), "no buckling under increasing load (no positive eigenvalue)"
-    return float(1.0 + 1.0 / theta.max()), "linearised buckling of the loaded deployed state"
 
 
 def solve(
@@ -510,17 +277,7 @@ def solve(
         rows.append(model.record())
         if step in wanted:
             factors[step] = model.buckling()
-    if rows:
-        disp, rot, forces, reac, ties = (np.array(a) for a in zip(*rows))
-    else:
-        n, e, f = len(problem.nodes), len(problem.elements), len(problem.fixed)
-        disp, rot, forces, reac, ties = (
-            np.zeros((0, n, 3)),
-            np.zeros((0, n, 3)),
-            np.zeros((0, e, 6)),
-            np.zeros((0, f, 3)),
-            np.zeros((0, len(problem.ties), 3)),
-        )
+    disp, rot, forces, reac, ties = _stacked(problem, rows)
     factor, note = factors[max(factors)] if factors else (None, "")
     return FEResult(
         engine="kratos",
@@ -539,4 +296,19 @@ def solve(
         cuts=cuts,
         wall_time=time.perf_counter() - start,
         message=message,
+    )
+
+
+def _stacked(problem: FEProblem, rows: list) -> tuple:
+    """The records of the converged steps stacked: displacements (s, n, 3), rotations
+    (s, n, 3), element forces (s, e, 6), reactions (s, f, 3) and tie forces (s, t, 3)."""
+    if rows:
+        return tuple(np.array(a) for a in zip(*rows))
+    n, e, f = len(problem.nodes), len(problem.elements), len(problem.fixed)
+    return (
+        np.zeros((0, n, 3)),
+        np.zeros((0, n, 3)),
+        np.zeros((0, e, 6)),
+        np.zeros((0, f, 3)),
+        np.zeros((0, len(problem.ties), 3)),
     )

@@ -1,0 +1,96 @@
+"""The self-intersection checks of a model's deployment path: a crease overlapping itself in its
+plane, and two plates (zero thickness) crossing on the way from the flat stack
+(:class:`~compas_ccu.kinematics.interference.PathCertificate`). :class:`CCUModel`'s
+``check_overlap``, ``certificate``, ``collision_free_alpha`` and ``check_interference`` are
+these functions."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from compas_ccu.errors import SelfIntersectionError
+from compas_ccu.kinematics.interference import PathCertificate, describe
+from compas_ccu.kinematics.plates import stack_rows
+
+__all__ = ["check_overlap", "path_certificate", "collision_free_alpha", "check_interference"]
+
+
+def check_overlap(model, states, alphas) -> None:
+    """Refuse placed ``states`` (at reference angles ``alphas``, degrees) of ``model`` in which
+    a crease overlaps itself in its plane.
+
+    Raises
+    ------
+    SelfIntersectionError
+        Names the first such state, the crease and the largest alpha before any overlap.
+    """
+    bad = model.overlapping(states)
+    if bad.any():
+        k = int(np.flatnonzero(bad.any(axis=1))[0])
+        ci = int(np.flatnonzero(bad[k])[0])
+        what = "the leading crease" if ci == 0 else f"crease {ci - 1}"
+        raise SelfIntersectionError(
+            f"self-intersection at alpha = {alphas[k]:.6g} deg: {what} overlaps itself "
+            f"in its plane (the plates would pass through each other); the largest "
+            f"alpha before any crease overlaps is {model.overlap_alpha:.6g} deg",
+            alpha=float(alphas[k]),
+            crease=None if ci == 0 else ci - 1,
+        )
+
+
+def path_certificate(model) -> PathCertificate:
+    """The interpenetration certificate of ``model``'s path from the flat stack to the limit,
+    every plate pair, the hinges of every crease excluded where they meet."""
+    mechanism = model.mechanism
+
+    def vertices_at(alphas):
+        states = mechanism.deploy(alphas)
+        return stack_rows(states.near, states.far)
+
+    index = model.plates
+    hinges = [(a, b, *index.crease_rows(ci)) for ci, (a, b) in enumerate(index.crease_plates)]
+    return PathCertificate(
+        vertices_at,
+        upto=mechanism.alpha_limit,
+        segments=model.segments,
+        hinges=hinges,
+        size=model.size,
+        plates=index.count,
+    )
+
+
+def collision_free_alpha(model) -> float:
+    """Largest reference alpha (degrees) of ``model`` reached from the flat stack without a
+    crease overlapping itself or two plates crossing (the deployment limit if neither)."""
+    overlap = math.radians(model.overlap_alpha)
+    found = model.certificate.certify(overlap)
+    return math.degrees(min(overlap, found.clear if found is not None else overlap))
+
+
+def check_interference(model, alphas) -> None:
+    """Refuse reference angles ``alphas`` (degrees) of ``model`` beyond the first state, on the
+    path from the flat stack, in which two plates cross.
+
+    Raises
+    ------
+    SelfIntersectionError
+        Names the two plates, the alpha where they first meet and the largest alpha clear.
+    """
+    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+    if not len(alphas):
+        return
+    found = model.certificate.certify(math.radians(float(alphas.max())))
+    if found is None:
+        return
+    beyond = np.radians(alphas) > found.clear
+    if beyond.any():
+        ids = [model.plates.output_id(i) for i in range(model.plates.count)]
+        alpha = float(alphas[np.flatnonzero(beyond)[0]])
+        raise SelfIntersectionError(
+            f"self-intersection at alpha = {alpha:.6g} deg: " + describe(found, ids),
+            alpha=alpha,
+            crease=None,
+            plates=tuple(ids[i] for i in found.plates),
+        )
