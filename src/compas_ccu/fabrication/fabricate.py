@@ -25,11 +25,13 @@ from __future__ import annotations
 import importlib.util
 import json
 from pathlib import Path
+from typing import NamedTuple
 
 from compas_ccu.errors import SelfIntersectionError
 from compas_ccu.fabrication import fabrication_data
-from compas_ccu.fabrication.dxf import write_hinge_dxf, write_plate_dxf
+from compas_ccu.fabrication.dxf import write_plate_dxf
 from compas_ccu.fabrication.fold import fold_document, fold_json
+from compas_ccu.fabrication.hinge_dxf import write_hinge_dxf
 from compas_ccu.fabrication.hinges import hinge_strips
 from compas_ccu.fabrication.meshes import write_gltf, write_obj
 from compas_ccu.fabrication.rhino import write_3dm
@@ -151,6 +153,134 @@ def _remove_stale(out: Path, files: set) -> list:
     return removed
 
 
+def _thick_model(model, *, thickness, material, grain, allow: bool) -> tuple:
+    """The thick plates of ``model`` and their summary; refused (nothing written) if they
+    interpenetrate on the way to the design state, unless ``allow``."""
+    thick = ThickModel(model, thickness=thickness, material=material, grain=grain)
+    summary = thick.summary()
+    first = summary["collisions"]["first"]
+    if first is not None and not allow:
+        raise SelfIntersectionError(
+            f"thick plates {first['plates'][0]} and {first['plates'][1]} interpenetrate at "
+            f"alpha = {first['alpha']:.4g} deg on the way to the design state (depth "
+            f"{first['depth'] * 1000:.3g} mm near {[round(v, 4) for v in first['point']]} m); "
+            "nothing was written (allow_collisions / --allow-collisions writes anyway)",
+            alpha=first["alpha"],
+            crease=None,
+        )
+    return thick, summary
+
+
+def _plan(data, thick, strips, workshop: WorkshopOptions, summary: dict):
+    """The workshop plan (:func:`compas_ccu.fabrication.workshop.plan_workshop`): parts, sheets,
+    splices, bill of materials and assembly; refuses a part that fits no sheet, naming it."""
+    bend = thick.bending()
+    return plan_workshop(
+        data,
+        strips,
+        workshop,
+        density=float(thick.material.density),
+        pairing=summary.get("pairing"),
+        utilisation=bend.utilisation.max(axis=0),
+        strength_factor=bend.factors.strength_factor,
+    )
+
+
+class _Files(NamedTuple):
+    """The files of a ``ccu fabricate`` folder, relative to it."""
+
+    stem: str  #: the design's name made a file name
+    plates: list  #: ``plates/plate_<id>.dxf``, in array order
+    sheets: list  #: ``sheets/sheet_<k>.dxf``
+
+    @property
+    def names(self) -> list:
+        """Every file but ``fabrication.json``, in the manifest's order."""
+        return (
+            self.plates
+            + self.sheets
+            + [
+                "sheets.json",
+                "bom.csv",
+                "hinges.dxf",
+                f"{self.stem}.3dm",
+                "solids.obj",
+                "solids.glb",
+                "stack.obj",
+                f"{self.stem}.fold",
+                "assembly.svg",
+                "assembly.pdf",
+            ]
+        )
+
+
+def _file_names(data, plan) -> _Files:
+    """The files :func:`fabricate` writes for ``data`` and its workshop ``plan``."""
+    stem = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in data.name) or "design"
+    plates = [f"plates/plate_{pid}.dxf" for pid in data.plate_ids]
+    sheets = [f"sheets/sheet_{k + 1}.dxf" for k in range(len(plan.sheets))]
+    return _Files(stem, plates, sheets)
+
+
+def _manifest(model, data, thick, strips, plan, workshop, summary, files, design_sha256) -> dict:
+    """``fabrication.json``: what is written, the ids, the thick model's checks (``summary``),
+    the splices and stack height, the workshop, bill of materials and assembly, and the checks
+    that failed (:func:`failed_checks`)."""
+    manifest = {
+        "format": "ccu.fabrication",
+        "version": 1,
+        "design": data.name,
+        **({} if design_sha256 is None else {"design_sha256": str(design_sha256)}),
+        "alpha": data.alpha,
+        "units": {"dxf": "mm", "3dm": "m", "obj": "m", "glb": "m", "fold": "m"},
+        "files": files.names + ["fabrication.json"],
+        "plates": len(data.plate_ids),
+        "hinge_width": data.hinge_width,
+        "hinge_strips": len(strips),
+        "model_ids": {
+            "plates": data.metadata["model_plate_ids"],
+            "creases": data.metadata["model_crease_ids"],
+        },
+        "leading_crease": _leading_crease(model, data.metadata["model_crease_ids"]),
+        **summary,
+    }
+    manifest["splices"] = splice_summary(thick, data, plan.splices, plan.splits, workshop)
+    manifest["stack_height_plates"] = manifest["splices"]["stack_height_plates"]
+    manifest["stack_height"] = manifest["splices"]["stack_height"]  # with the splice plates
+    work = plan.summary()
+    manifest["bom"] = work.pop("bom")
+    manifest["assembly"] = work.pop("assembly")
+    manifest["workshop"] = work
+    manifest["failed_checks"] = failed_checks(manifest)
+    return manifest
+
+
+def _write_files(
+    out: Path, files: _Files, data, plan, strips, workshop, manifest, *, fold, layout, text
+) -> None:
+    """Every file into ``out`` (after every check): the stale files of an earlier run removed
+    (:func:`_remove_stale`), then the writers; ``fold``, ``layout`` (``sheets.json``) and
+    ``text`` (``fabrication.json``) are composed already."""
+    _remove_stale(out, set(manifest["files"]))
+    (out / "plates").mkdir(parents=True, exist_ok=True)
+    (out / "sheets").mkdir(exist_ok=True)
+    for i, name in enumerate(files.plates):
+        write_plate_dxf(data, i, out / name, score_rulings=workshop.score_rulings)
+    for k, name in enumerate(files.sheets):
+        write_sheet_dxf(plan, k, out / name, name=data.name)
+    (out / "sheets.json").write_text(layout, encoding="utf-8")
+    write_bom_csv(plan, out / "bom.csv")
+    write_hinge_dxf(strips, out / "hinges.dxf", name=data.name)
+    write_3dm(data, out / f"{files.stem}.3dm")
+    write_obj(data, out / "solids.obj", state="deployed")
+    write_gltf(data, out / "solids.glb", state="deployed")
+    write_obj(data, out / "stack.obj", state="stack")
+    (out / f"{files.stem}.fold").write_text(fold, encoding="utf-8")
+    for name in ("assembly.svg", "assembly.pdf"):
+        write_assembly_sheet(data, out / name, steps=plan.assembly, stack=manifest["splices"])
+    (out / "fabrication.json").write_text(text, encoding="utf-8")
+
+
 def fabricate(
     model,
     out,
@@ -207,103 +337,34 @@ def fabricate(
         A writer's module (the ``fab`` / ``viz`` extras) is missing.
     """
     _require_modules()
-    thick = ThickModel(model, thickness=thickness, material=material, grain=grain)
-    summary = thick.summary()
-    first = summary["collisions"]["first"]
-    if first is not None and not allow_collisions:
-        raise SelfIntersectionError(
-            f"thick plates {first['plates'][0]} and {first['plates'][1]} interpenetrate at "
-            f"alpha = {first['alpha']:.4g} deg on the way to the design state (depth "
-            f"{first['depth'] * 1000:.3g} mm near {[round(v, 4) for v in first['point']]} m); "
-            "nothing was written (allow_collisions / --allow-collisions writes anyway)",
-            alpha=first["alpha"],
-            crease=None,
-        )
+    thick, summary = _thick_model(
+        model, thickness=thickness, material=material, grain=grain, allow=allow_collisions
+    )
     data = fabrication_data(model, thick=thick, hinge_width=hinge_width)
     summary = workshop_summary(summary, data)
     strips = hinge_strips(data)  # refuses a hinge width too large for a crease's curvature
     if workshop is None:
         workshop = WorkshopOptions.from_section(model.design.fabrication)
-    bend = thick.bending()
-    plan = plan_workshop(
-        data,
-        strips,
-        workshop,
-        density=float(thick.material.density),
-        pairing=summary.get("pairing"),
-        utilisation=bend.utilisation.max(axis=0),
-        strength_factor=bend.factors.strength_factor,
-    )  # refuses a part that fits no sheet, naming it
+    plan = _plan(data, thick, strips, workshop, summary)  # refuses a part that fits no sheet
     fold = fold_json(fold_document(data))
-    stem = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in data.name) or "design"
-    plates = [f"plates/plate_{pid}.dxf" for pid in data.plate_ids]
-    sheets = [f"sheets/sheet_{k + 1}.dxf" for k in range(len(plan.sheets))]
-    names = (
-        plates
-        + sheets
-        + [
-            "sheets.json",
-            "bom.csv",
-            "hinges.dxf",
-            f"{stem}.3dm",
-            "solids.obj",
-            "solids.glb",
-            "stack.obj",
-            f"{stem}.fold",
-            "assembly.svg",
-            "assembly.pdf",
-        ]
-    )
-    manifest = {
-        "format": "ccu.fabrication",
-        "version": 1,
-        "design": data.name,
-        **({} if design_sha256 is None else {"design_sha256": str(design_sha256)}),
-        "alpha": data.alpha,
-        "units": {"dxf": "mm", "3dm": "m", "obj": "m", "glb": "m", "fold": "m"},
-        "files": names + ["fabrication.json"],
-        "plates": len(data.plate_ids),
-        "hinge_width": data.hinge_width,
-        "hinge_strips": len(strips),
-        "model_ids": {
-            "plates": data.metadata["model_plate_ids"],
-            "creases": data.metadata["model_crease_ids"],
-        },
-        "leading_crease": _leading_crease(model, data.metadata["model_crease_ids"]),
-        **summary,
-    }
-    manifest["splices"] = splice_summary(thick, data, plan.splices, plan.splits, workshop)
-    manifest["stack_height_plates"] = manifest["splices"]["stack_height_plates"]
-    manifest["stack_height"] = manifest["splices"]["stack_height"]  # with the splice plates
-    work = plan.summary()
-    manifest["bom"] = work.pop("bom")
-    manifest["assembly"] = work.pop("assembly")
-    manifest["workshop"] = work
-    manifest["failed_checks"] = failed_checks(manifest)
+    files = _file_names(data, plan)
+    manifest = _manifest(model, data, thick, strips, plan, workshop, summary, files, design_sha256)
     text = json.dumps(manifest, indent=1, allow_nan=False)
     layout = plan.layout()
     if design_sha256 is not None:
         layout["design_sha256"] = str(design_sha256)
     layout_text = json.dumps(layout, separators=(",", ":"), allow_nan=False)
-
     # --- every check passed: write
-    out = Path(out)
-    _remove_stale(out, set(manifest["files"]))
-    (out / "plates").mkdir(parents=True, exist_ok=True)
-    (out / "sheets").mkdir(exist_ok=True)
-    for i, name in enumerate(plates):
-        write_plate_dxf(data, i, out / name, score_rulings=workshop.score_rulings)
-    for k, name in enumerate(sheets):
-        write_sheet_dxf(plan, k, out / name, name=data.name)
-    (out / "sheets.json").write_text(layout_text, encoding="utf-8")
-    write_bom_csv(plan, out / "bom.csv")
-    write_hinge_dxf(strips, out / "hinges.dxf", name=data.name)
-    write_3dm(data, out / f"{stem}.3dm")
-    write_obj(data, out / "solids.obj", state="deployed")
-    write_gltf(data, out / "solids.glb", state="deployed")
-    write_obj(data, out / "stack.obj", state="stack")
-    (out / f"{stem}.fold").write_text(fold, encoding="utf-8")
-    for name in ("assembly.svg", "assembly.pdf"):
-        write_assembly_sheet(data, out / name, steps=plan.assembly, stack=manifest["splices"])
-    (out / "fabrication.json").write_text(text, encoding="utf-8")
+    _write_files(
+        Path(out),
+        files,
+        data,
+        plan,
+        strips,
+        workshop,
+        manifest,
+        fold=fold,
+        layout=layout_text,
+        text=text,
+    )
     return manifest

@@ -5,7 +5,8 @@ round-trip ``repr``, so every coordinate reads back bit-for-bit. ``file_spec`` i
 edges have ``null`` as their right face in ``edges_faces`` (``[left, null]``), which FOLD allows
 since version 1.2; nothing else of 1.2 (join / cut edges) is used. Three frames, all in metres,
 with the same faces in the same order (face ``f = i * n + j`` is quad ``j`` of plate ``i``, array
-order):
+order; a frame is built by :func:`~compas_ccu.fabrication.fold_frame.fold_frame`, the orientation
+and the angles measured by :mod:`compas_ccu.fabrication.fold_angles`):
 
 0. key frame, ``["foldedForm"]`` / ``"3D"``: the deployed mid-surfaces at the design state
    (``data.deployed_mid``), the two plates of every crease sharing its hinge vertices (see
@@ -91,8 +92,13 @@ from pathlib import Path
 
 import numpy as np
 
-from compas_ccu.fabrication.meshes import crease_line, layout_offsets
-from compas_ccu.geometry import dot, unit
+from compas_ccu.fabrication.fold_angles import (
+    crease_fold_angles,
+    oriented_faces,
+    sheet_orientation,
+)
+from compas_ccu.fabrication.fold_frame import fold_frame
+from compas_ccu.fabrication.meshes import layout_offsets
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -107,306 +113,7 @@ __all__ = [
 #: The edge assignments this writer uses.
 ASSIGNMENTS = ("B", "M", "V", "F", "U")
 
-_SIGN_TOL = EXACT_RELATIVE
 _HINGES = ("snap", "merge")
-
-
-def _traverses(faces: np.ndarray, u, v) -> np.ndarray:
-    """Whether quad ``faces[k]`` (m, 4) runs ``u[k] -> v[k]`` (m,), vectorised."""
-    nxt = np.roll(faces, -1, axis=1)
-    return np.any((faces == np.asarray(u)[:, None]) & (nxt == np.asarray(v)[:, None]), axis=1)
-
-
-def _quad_normals(coords: np.ndarray, quads: np.ndarray) -> np.ndarray:
-    """(f, 3) unnormalised quad normals ``(c - a) x (d - b)`` for (f, 4) quads."""
-    q = coords[quads]
-    return np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 1])
-
-
-def _fold_angles(nl, nr, e) -> tuple:
-    """FOLD fold angles (deg) between left / right unit normals about the unit edges ``e``.
-
-    Returns
-    -------
-    theta : (m,) float
-        ``atan2(-(nL x nR) . e, nL . nR)``: positive valley, negative mountain.
-    ambiguous : (m,) bool
-        ``|(nL x nR) . e| < EXACT_RELATIVE``: the faces are coplanar (flat, ``theta`` = 0) or
-        folded onto each other (``theta`` = +-180 with no sign in the geometry).
-    cosine : (m,) float
-        ``nL . nR``.
-    """
-    s = -np.einsum("ij,ij->i", np.cross(nl, nr), e)
-    c = np.einsum("ij,ij->i", nl, nr)
-    ambiguous = np.abs(s) < _SIGN_TOL
-    theta = np.where(ambiguous & (c > 0.0), 0.0, np.degrees(np.arctan2(s, c)))
-    return theta, ambiguous, c
-
-
-def _signed_angle(nl, nr, e) -> np.ndarray:
-    """:func:`_fold_angles` with 0 where the sign is ambiguous (crease signs)."""
-    theta, ambiguous, _ = _fold_angles(nl, nr, e)
-    return np.where(ambiguous, 0.0, theta)
-
-
-def _face_warp(coords: np.ndarray, quads: np.ndarray) -> np.ndarray:
-    """(f,) angle (deg) between the triangles ``a b c`` and ``a c d`` of every quad: 0 if planar."""
-    q = coords[quads]
-    n1 = unit(np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]))
-    n2 = unit(np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 0]))
-    return np.degrees(np.arctan2(np.linalg.norm(np.cross(n1, n2), axis=1), dot(n1, n2)))
-
-
-def _segment_quads(n: int, idx: np.ndarray) -> np.ndarray:
-    """Quad of every boundary segment ``idx[k] -- idx[k + 1]`` (near row j: quad j; far: j)."""
-    return np.minimum(idx[:-1], idx[1:]) % (n + 1)
-
-
-def _orientation(data) -> tuple:
-    """Per-plate flips that orient the deployed sheet consistently; see the module docstring.
-
-    Returns
-    -------
-    flips : (p,) bool
-    orientable : bool
-    """
-    p, n = len(data.plate_ids), data.segments
-    faces = np.asarray(data.faces)
-    mid = np.asarray(data.deployed_mid, dtype=float)
-    adjacency = {i: [] for i in range(p)}
-    for c in data.creases:
-        a, b = (data.index(pid) for pid in c["plates"])
-        ia, ib = (np.asarray(v, dtype=np.int64) for v in c["vertices"])
-        qa, qb = _segment_quads(n, ia)[:1], _segment_quads(n, ib)[:1]
-        ta = bool(_traverses(faces[a][qa], ia[:1], ia[1:2])[0])
-        tb = bool(_traverses(faces[b][qb], ib[:1], ib[1:2])[0])
-        # consistent when the two plates run the shared edge in opposite directions
-        adjacency[a].append((b, ta == tb))
-        adjacency[b].append((a, ta == tb))
-    flips = np.zeros(p, dtype=bool)
-    seen = np.zeros(p, dtype=bool)
-    orientable = True
-    for root in range(p):
-        if seen[root]:
-            continue
-        seen[root] = True
-        component, todo = [root], [root]
-        while todo:
-            a = todo.pop()
-            for b, differ in adjacency[a]:
-                want = flips[a] ^ differ
-                if not seen[b]:
-                    seen[b], flips[b] = True, want
-                    component.append(b)
-                    todo.append(b)
-                elif flips[b] != want:
-                    orientable = False
-        up = 0.0
-        for i in component:
-            nz = _quad_normals(mid[i], faces[i])[:, 2].sum()
-            up += -nz if flips[i] else nz
-        if up < 0.0:
-            flips[component] = ~flips[component]
-    return flips, orientable
-
-
-def _oriented_faces(data, flips) -> np.ndarray:
-    faces = np.array(data.faces, dtype=np.int64)
-    faces[flips] = faces[flips][:, :, ::-1]
-    return faces
-
-
-def crease_fold_angles(data) -> dict:
-    """Signed FOLD fold angle of every crease segment, measured at the design state.
-
-    The plates are oriented consistently (module docstring); the angle of segment ``k`` is
-    ``atan2(-(nL x nR) . e, nL . nR)`` between the quad normals of plates a (left) and b along
-    the segment direction ``e`` of plate a's oriented quad. It only depends on each plate's own
-    mid-surface, so it does not need the hinge vertices to coincide.
-
-    Parameters
-    ----------
-    data : FabricationData
-
-    Returns
-    -------
-    dict
-        ``{crease id: (m - 1,) float}``, degrees: positive valley, negative mountain, 0 when the
-        sign is ambiguous. About ``180 - fold_angle`` in magnitude.
-    """
-    flips, _ = _orientation(data)
-    faces = _oriented_faces(data, flips)
-    mid = np.asarray(data.deployed_mid, dtype=float)
-    n = data.segments
-    out = {}
-    for c in data.creases:
-        a, b = (data.index(pid) for pid in c["plates"])
-        ia, ib = (np.asarray(v, dtype=np.int64) for v in c["vertices"])
-        qa, qb = faces[a][_segment_quads(n, ia)], faces[b][_segment_quads(n, ib)]
-        forward = _traverses(qa, ia[:-1], ia[1:])
-        u = np.where(forward, ia[:-1], ia[1:])
-        v = np.where(forward, ia[1:], ia[:-1])
-        nl, nr = unit(_quad_normals(mid[a], qa)), unit(_quad_normals(mid[b], qb))
-        out[c["id"]] = _signed_angle(nl, nr, unit(mid[a, v] - mid[a, u]))
-    return out
-
-
-def _frame(data, coords, faces, *, hinges, merge_tol, state, signs, flips) -> dict:
-    """One FOLD frame from per-plate coordinates (p, 2n + 2, d) and quads (p, n, 4).
-
-    ``hinges``: "snap" | "merge" | None (never merge); ``state`` for the hinge lines;
-    ``signs``: crease id -> per-segment design-state angles (:func:`crease_fold_angles`), the
-    sign of a crease folded through exactly 180 degrees.
-    """
-    coords = np.asarray(coords, dtype=float)
-    p, nv, dim = coords.shape
-    n = faces.shape[1]
-    ids = data.plate_ids
-    pos = coords.reshape(-1, dim).copy()
-
-    # --- vertices: union-find over the crease vertex pairs that are merged
-    parent = np.arange(p * nv)
-
-    def find(x):
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    snapped, unmerged = [], []
-    for c in data.creases if hinges else ():
-        a, b = (data.index(pid) for pid in c["plates"])
-        ia, ib = (np.asarray(v, dtype=np.int64) for v in c["vertices"])
-        gap = float(np.linalg.norm(coords[a, ia] - coords[b, ib], axis=1).max())
-        if gap > merge_tol:
-            if hinges != "snap" or gap > 2.0 * float(data.thickness) + merge_tol:
-                unmerged.append({"crease": c["id"], "maxDistance": gap})
-                continue
-            line, _, where = crease_line(data, c, state=state)
-            move = max(
-                float(np.linalg.norm(line - coords[a, ia], axis=1).max()),
-                float(np.linalg.norm(line - coords[b, ib], axis=1).max()),
-            )
-            pos[a * nv + ia] = line
-            pos[b * nv + ib] = line
-            snapped.append({"crease": c["id"], "maxDistance": gap, "hinge": where, "maxMove": move})
-        for x, y in zip((a * nv + ia).tolist(), (b * nv + ib).tolist()):
-            rx, ry = find(x), find(y)
-            if rx != ry:
-                parent[max(rx, ry)] = min(rx, ry)
-    roots = np.array([find(x) for x in range(p * nv)])
-    reps, gid = np.unique(roots, return_inverse=True)  # reps: first (lowest) plate vertex
-    vertices_coords = pos[reps]
-    plate_vertices = [[] for _ in reps]
-    for x, g in enumerate(gid.tolist()):
-        plate_vertices[g].append([ids[x // nv], x % nv])
-    gid = gid.reshape(p, nv)
-    nverts = len(reps)
-
-    # --- faces
-    fv = np.concatenate([gid[i][faces[i]] for i in range(p)], axis=0)  # (p n, 4)
-    face_plate = np.repeat(np.arange(p), n)
-
-    # --- edges: one per undirected vertex pair, oriented as in its first (left) face
-    u = fv.reshape(-1)
-    v = np.roll(fv, -1, axis=1).reshape(-1)
-    owner = np.repeat(np.arange(len(fv)), 4)
-    key = np.minimum(u, v) * nverts + np.maximum(u, v)
-    ukeys, first, inverse, counts = np.unique(
-        key, return_index=True, return_inverse=True, return_counts=True
-    )
-    edges = np.stack([u[first], v[first]], axis=1)
-    left = owner[first]
-    right = np.full(len(ukeys), -1)
-    second = np.flatnonzero((counts[inverse] == 2) & (np.arange(len(key)) != first[inverse]))
-    right[inverse[second]] = owner[second]
-    manifold = bool(counts.max() <= 2)
-    oriented = not np.any(u[second] == edges[inverse[second], 0])  # same way twice
-
-    crease_of = {}
-    for c in data.creases:
-        for pid, idx in zip(c["plates"], c["vertices"]):
-            g = gid[data.index(pid), np.asarray(idx, dtype=np.int64)]
-            keys = np.minimum(g[:-1], g[1:]) * nverts + np.maximum(g[:-1], g[1:])
-            for k, kk in enumerate(keys.tolist()):
-                crease_of[kk] = (c["id"], k)
-    located = [crease_of.get(int(k), (-1, -1)) for k in ukeys]
-    edge_crease = np.array([cid for cid, _ in located], dtype=np.int64)
-
-    # --- fold angle of every edge, from this frame's own coordinates (3D frames); the same
-    # angle between the plates' own (unsnapped) quads, ``coords``
-    interior = right >= 0
-    fl, fr = left[interior], right[interior]
-    measured = np.zeros(len(ukeys))
-    flat_or_closed = np.zeros(len(ukeys), dtype=bool)
-    cosine = np.ones(len(ukeys))
-    own = np.zeros(len(ukeys))
-    local = np.concatenate([faces[i] + i * nv for i in range(p)], axis=0)  # (p n, 4) plate rows
-    if dim == 3 and interior.any():
-        normals = unit(_quad_normals(vertices_coords, fv))
-        ev = unit(vertices_coords[edges[interior, 1]] - vertices_coords[edges[interior, 0]])
-        theta, ambiguous, cos = _fold_angles(normals[fl], normals[fr], ev)
-        measured[interior], flat_or_closed[interior], cosine[interior] = theta, ambiguous, cos
-        # the plates' own mid-surfaces: the left face's plate rows of the edge
-        k = first[interior] % 4
-        rows = coords.reshape(-1, dim)
-        own_normals = unit(_quad_normals(rows, local))
-        eu = rows[local[fl, k]]
-        ew = rows[local[fl, (k + 1) % 4]]
-        own_theta, own_ambiguous, own_cos = _fold_angles(
-            own_normals[fl], own_normals[fr], unit(ew - eu)
-        )
-        own[interior] = np.where(own_ambiguous & (own_cos < 0.0), 180.0, own_theta)
-
-    assignment = np.full(len(ukeys), "F", dtype="<U1")
-    assignment[~interior] = "B"
-    fold_angle = np.where(interior, measured, 0.0)
-    folded = interior & ~flat_or_closed
-    assignment[folded & (measured > 0.0)] = "V"
-    assignment[folded & (measured < 0.0)] = "M"
-    # folded through 180 degrees exactly (no sign in the coordinates): the crease keeps the sign
-    # it has at the design state; anything else is "U"
-    for e in np.flatnonzero(interior & flat_or_closed & (cosine < 0.0)):
-        cid, k = located[e]
-        theta = float(signs[cid][k]) if cid >= 0 else 0.0
-        if theta == 0.0:
-            assignment[e], fold_angle[e] = "U", 0.0
-        else:
-            assignment[e] = "V" if theta > 0 else "M"
-            fold_angle[e] = 180.0 if theta > 0 else -180.0
-    # plates folded onto each other: the sign is the file's
-    closed = interior & (own == 180.0)
-    own[closed] = np.where(fold_angle[closed] < 0.0, -180.0, 180.0)
-    kind = np.where(~interior, "outline", np.where(edge_crease >= 0, "crease", "ruling"))
-    warp = _face_warp(vertices_coords, fv) if dim == 3 else np.zeros(len(fv))
-
-    attributes = ["3D" if dim == 3 else "2D"]
-    attributes.append("manifold" if manifold else "nonManifold")
-    if manifold:
-        attributes.append("orientable" if oriented else "nonOrientable")
-    edges_faces = [[int(a), None if b < 0 else int(b)] for a, b in zip(left, right)]
-    return {
-        "frame_attributes": attributes,
-        "frame_unit": "m",
-        "vertices_coords": vertices_coords.tolist(),
-        "faces_vertices": fv.tolist(),
-        "edges_vertices": edges.tolist(),
-        "edges_faces": edges_faces,
-        "edges_assignment": assignment.tolist(),
-        "edges_foldAngle": fold_angle.tolist(),
-        "vertices_ccu:plateVertices": plate_vertices,
-        "faces_ccu:plate": [ids[i] for i in face_plate.tolist()],
-        "faces_ccu:quad": np.tile(np.arange(n), p).tolist(),
-        "faces_ccu:flipped": np.repeat(np.asarray(flips, dtype=bool), n).tolist(),
-        "edges_ccu:crease": edge_crease.tolist(),
-        "edges_ccu:kind": kind.tolist(),
-        "edges_ccu:plateFoldAngle": own.tolist(),
-        "ccu:maxFaceWarp": float(warp.max()) if len(warp) else 0.0,
-        "ccu:hinges": hinges or "separate",
-        "ccu:mergeTolerance": merge_tol,
-        "ccu:snappedCreases": snapped,
-        "ccu:unmergedCreases": unmerged,
-    }
 
 
 def fold_document(
@@ -434,17 +141,17 @@ def fold_document(
     """
     if hinges not in _HINGES:
         raise ValueError(f"hinges must be one of {_HINGES}, got {hinges!r}")
-    flips, orientable = _orientation(data)
-    oriented = _oriented_faces(data, flips)
+    flips, orientable = sheet_orientation(data)
+    oriented = oriented_faces(data, flips)
     signs = crease_fold_angles(data)
     common = {"hinges": hinges, "merge_tol": merge_tol, "signs": signs, "flips": flips}
 
-    key = _frame(data, data.deployed_mid, oriented, state="deployed", **common)
+    key = fold_frame(data, data.deployed_mid, oriented, state="deployed", **common)
     key["frame_title"] = f"{data.name}: deployed mid-surfaces, alpha = {float(data.alpha):g} deg"
     key["frame_classes"] = ["foldedForm"]
 
     offsets = layout_offsets(data, gap=gap)
-    cp = _frame(
+    cp = fold_frame(
         data,
         np.asarray(data.flat, dtype=float) + offsets[:, None, :],
         np.asarray(data.faces, dtype=np.int64),
@@ -465,7 +172,7 @@ def fold_document(
     )
 
     stack_mid = np.asarray(data.stack_solids, dtype=float).mean(axis=1)
-    stack = _frame(data, stack_mid, oriented, state="stack", **common)
+    stack = fold_frame(data, stack_mid, oriented, state="stack", **common)
     stack.update(
         {
             "frame_title": f"{data.name}: flat-folded stack (alpha = 0)",

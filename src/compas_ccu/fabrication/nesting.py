@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from compas_ccu.errors import GeometryError
-from compas_ccu.fabrication.dxf import MM
+from compas_ccu.fabrication.dxf_document import MM
 from compas_ccu.fabrication.packing import PATIENCE, SOLVER, solver_version, strip_pack
 from compas_ccu.fabrication.plan import WorkshopOptions
 from compas_ccu.fabrication.splices import (

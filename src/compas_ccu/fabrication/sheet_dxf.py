@@ -9,7 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from compas_ccu.fabrication.dxf import APPID, MM, label_frame, new_document, save_document, xy_list
+from compas_ccu.fabrication.dxf_document import APPID, MM, new_document, save_document, xy_list
+from compas_ccu.fabrication.label_placement import label_frame
 from compas_ccu.fabrication.plan import WorkshopPlan, outline_ring
 
 __all__ = [

@@ -20,8 +20,9 @@ from compas.geometry import Line, Polyline, Scale
 from compas_ccu.design import Design, load_design
 from compas_ccu.errors import CCUError, OptionError
 from compas_ccu.fabrication import fabrication_data
-from compas_ccu.fabrication.dxf import PLATE_LAYERS, strip_layout
+from compas_ccu.fabrication.dxf import PLATE_LAYERS
 from compas_ccu.fabrication.fabricate import fabricate
+from compas_ccu.fabrication.hinge_dxf import strip_layout
 from compas_ccu.ghpython.convert import crease_plane, curve_points, to_host, to_host_surface
 from compas_ccu.key_figures.text import utilisation_text
 from compas_ccu.kinematics.plates import plate_rulings
