@@ -17,12 +17,12 @@ from compas_ccu.errors import OptionError
 from compas_ccu.fea.record import last_validation
 from compas_ccu.io import read_values
 from compas_ccu.viz.animation import ANIMATION_FORMATS, mp4_available, write_animations
+from compas_ccu.viz.camera import camera
 from compas_ccu.viz.export import FIGURE_FORMATS, save_figure
 from compas_ccu.viz.patterns import plot_cut_patterns
 from compas_ccu.viz.planarity import plot_planarity
 from compas_ccu.viz.quadrants import plot_quadrants
 from compas_ccu.viz.record import read_sheets
-from compas_ccu.viz.render import camera
 from compas_ccu.viz.report import write_report
 from compas_ccu.viz.sequence import plot_deployment_sequence
 from compas_ccu.viz.sheet import plot_contact_sheet

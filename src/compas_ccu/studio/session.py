@@ -17,28 +17,34 @@ is testable in Python:
   written to the recovery copy of its design file in the output folder, restored when the studio
   is started again on the same file with the same content, and *offered* (restore or keep the
   file: :meth:`restore_recovery`, :meth:`discard_recovery`) when the file changed since.
+
+The recovery copies are :mod:`compas_ccu.studio.recovery` (a part of :class:`StudioSession`),
+the documents' values and their :class:`Problem` :mod:`compas_ccu.studio.documents`.
 """
 
 from __future__ import annotations
 
-import logging
 import threading
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 from compas_ccu.catalog import catalog_entries, catalog_path
 from compas_ccu.design import Design
-from compas_ccu.design.document import parse_toml
-from compas_ccu.errors import CCUError, DesignError, OptionError
+from compas_ccu.errors import OptionError
 from compas_ccu.model import CCUModel
 from compas_ccu.studio.controls import UNSET
+from compas_ccu.studio.documents import (
+    Problem,
+    changed_keys,
+    clone_document,
+    parse_document,
+    problem_of,
+)
 from compas_ccu.studio.files import StudioFiles, decode_upload, sha256
+from compas_ccu.studio.recovery import Recovery, SessionRecovery
 from compas_ccu.studio.toml_text import document_text
 
 __all__ = ["Problem", "Recovery", "StudioSession", "document_text", "DEFAULT_DESIGN"]
-
-log = logging.getLogger(__name__)
 
 #: The catalog design the studio opens when no design file is given.
 DEFAULT_DESIGN = "fig09a-arc"
@@ -48,73 +54,7 @@ COALESCE = 1.5
 HISTORY = 500
 
 
-@dataclass(frozen=True)
-class Problem:
-    """Why the current document has no model.
-
-    ``message`` is what ``ccu`` prints after ``ccu: error:`` for the same design file (without
-    the file name); ``key`` is the design key it names (``crease.rise``) or None.
-    """
-
-    message: str
-    key: str | None
-    kind: str
-
-
-@dataclass(frozen=True)
-class Recovery:
-    """A recovery copy older than its design file on disk (the file changed since): offered,
-    never restored silently. ``time`` is when it was written, ``text`` the design it holds."""
-
-    path: Path
-    text: str
-    time: str
-
-
-def _problem(exc: BaseException) -> Problem:
-    if isinstance(exc, CCUError):
-        key = getattr(exc, "key", None) if isinstance(exc, DesignError) else None
-        return Problem(str(exc), key, type(exc).__name__)
-    log.exception("studio: unexpected error while building a design")
-    return Problem(
-        f"internal error {type(exc).__name__}: {exc} (this is a bug in compas_ccu; "
-        "please report it with the design file)",
-        None,
-        "bug",
-    )
-
-
-def _parse(name: str, text: str) -> dict:
-    try:
-        return parse_toml(text)
-    except (ValueError, RecursionError) as exc:
-        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise OptionError(f"{name}: not valid TOML: {first}") from None
-
-
-def _clone(value):
-    """A deep copy of a TOML document or value (dicts, lists and scalars; several times faster
-    than :func:`copy.deepcopy` on a 10,000-point list)."""
-    if isinstance(value, dict):
-        return {k: _clone(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [_clone(v) if isinstance(v, (dict, list)) else v for v in value]
-    return value
-
-
-def _keys(a: dict, b: dict) -> list:
-    """``section.name`` of every key whose value differs between documents ``a`` and ``b``."""
-    out = []
-    for section in sorted(set(a) | set(b)):
-        x, y = a.get(section), b.get(section)
-        if isinstance(x, dict) and isinstance(y, dict):
-            out += [f"{section}.{k}" for k in sorted(set(x) | set(y)) if x.get(k) != y.get(k)]
-        elif x != y:
-            out.append(section)
-    return out
-
-
-class StudioSession:
+class StudioSession(SessionRecovery):
     """One design being edited.
 
     Parameters
@@ -190,9 +130,9 @@ class StudioSession:
         return session
 
     def _load(self, text: str, *, name: str, origin: str, saved: bool) -> None:
-        document = _parse(name, text)
+        document = parse_document(name, text)
         self.source = text
-        self._source_values = _clone(document)
+        self._source_values = clone_document(document)
         self.base_sha256 = sha256(text)  # the content the edits start from
         self.name = name
         self.origin = origin
@@ -207,86 +147,6 @@ class StudioSession:
         self._valid_problem = self.problem
         if model is not None:
             self._set_model(model, document)
-
-    def _find_recovery(self) -> None:
-        """Restore the recovery copy of :attr:`path` made from the same content; set one made
-        from other content aside and offer it."""
-        path, files = self.path, self.files
-        found = files.load_recovery(path)
-        if found is not None:
-            text, meta = found
-            if text == self.source:
-                files.clear_recovery(path)
-            elif meta.get("base_sha256") == self.base_sha256:
-                base = self.base_sha256
-                self._load(text, name=self.name, origin=meta.get("origin", self.origin),
-                           saved=False)  # fmt: skip
-                self.base_sha256 = base
-                self.notice = (
-                    f"restored unsaved edits of {self.name} from {files.recovery_folder} "
-                    f"(saved {meta.get('time', 'earlier')})"
-                )
-            else:
-                files.set_aside(path)
-        offered = files.load_recovery(path, "offered")
-        if offered is not None:
-            text, meta = offered
-            if text == self.text():
-                files.clear_recovery(path, "offered")
-                return
-            self.recovery = Recovery(path, text, str(meta.get("time", "earlier")))
-            self.notice = (
-                f"a recovery copy of {self.name} from {self.recovery.time} is older than the "
-                f"file (it changed since): the file is shown; restore the recovery copy or "
-                "keep the file"
-            )
-
-    def restore_recovery(self) -> None:
-        """Open the offered recovery copy instead of the file (unsaved; one undo step back to
-        the file). The copy is then the session's recovery copy.
-
-        Raises
-        ------
-        OptionError
-            No recovery copy is offered.
-        """
-        with self.lock:
-            offer = self._offer()
-            document = _parse(f"the recovery copy of {self.name}", offer.text)
-            model, problem = self._build(document)
-            self.recovery = None
-            self.files.clear_recovery(offer.path, "offered")
-            self._draft = None
-            self._undo.append(self._document)
-            self._redo.clear()
-            self._document, self.problem = document, problem
-            self._valid_problem = problem
-            self.source = offer.text
-            self._source_values = _clone(document)
-            if model is not None:
-                self._set_model(model, document)
-            self.saved = False
-            self.notice = f"restored the recovery copy of {self.name} from {offer.time}"
-            self._recover()
-
-    def discard_recovery(self) -> None:
-        """Keep the file and delete the offered recovery copy.
-
-        Raises
-        ------
-        OptionError
-            No recovery copy is offered.
-        """
-        with self.lock:
-            offer = self._offer()
-            self.files.clear_recovery(offer.path, "offered")
-            self.recovery = None
-            self.notice = f"kept {self.name}; the recovery copy from {offer.time} is deleted"
-
-    def _offer(self) -> Recovery:
-        if self.recovery is None:
-            raise OptionError(f"no recovery copy of {self.name} is waiting for a choice")
-        return self.recovery
 
     def open_file(self, name: str) -> None:
         """Open design file ``name`` from the design folder (replaces the session's design;
@@ -323,7 +183,7 @@ class StudioSession:
                 raise OptionError(f"{filename!r}: open a design file ending with .toml")
             self.files.inside(name)  # a name that can be saved
             text = decode_upload(name, bytes(content))
-            _parse(name, text)
+            parse_document(name, text)
             self._load(text, name=name, origin=f"upload: {name}", saved=False)
             self._recover()
 
@@ -331,12 +191,12 @@ class StudioSession:
     @property
     def document(self) -> dict:
         """A copy of the design the fields show: the valid design with the pending values."""
-        return _clone(self._fields)
+        return clone_document(self._fields)
 
     @property
     def valid_document(self) -> dict:
         """A copy of the last valid design (what Save writes)."""
-        return _clone(self._document)
+        return clone_document(self._document)
 
     @property
     def _fields(self) -> dict:
@@ -345,14 +205,14 @@ class StudioSession:
     @property
     def pending(self) -> list:
         """``section.name`` of the fields whose values are not in the valid design."""
-        return [] if self._draft is None else _keys(self._draft, self._document)
+        return [] if self._draft is None else changed_keys(self._draft, self._document)
 
     def value(self, section: str, name: str):
         """The value of ``section.name`` in the fields (UNSET if the key is not given)."""
         table = self._fields.get(section)
         if not isinstance(table, dict) or name not in table:
             return UNSET
-        return _clone(table[name])
+        return clone_document(table[name])
 
     def edit(self, section: str, name: str, value) -> Problem | None:
         """Set ``section.name`` to ``value`` (:data:`UNSET` removes it) and rebuild.
@@ -384,7 +244,7 @@ class StudioSession:
         with self.lock:
             if document == self._fields:
                 return self.problem
-            document = _clone(document)
+            document = clone_document(document)
             if document == self._document:  # typed back to the valid design
                 self._draft = None
                 self.problem = self._valid_problem
@@ -454,12 +314,12 @@ class StudioSession:
                 Design(document, name=Path(self.name).stem, base=self.files.design_folder)
             )
         except Exception as exc:  # the studio shows every failure and keeps the last model
-            return None, _problem(exc)
+            return None, problem_of(exc)
         return model, None
 
     def _set_model(self, model, document: dict) -> None:
         self.model = model
-        self.model_document = _clone(document)
+        self.model_document = clone_document(document)
         self.generation += 1
 
     # -- saving --------------------------------------------------------------------------------
@@ -496,7 +356,7 @@ class StudioSession:
             self.files.clear_recovery(before)
             self.files.clear_recovery(path)
             self.source = text
-            self._source_values = _clone(self._document)
+            self._source_values = clone_document(self._document)
             self.base_sha256 = sha256(text)
             self.name = str(path.relative_to(self.files.design_folder))
             self.origin = self.name
@@ -507,19 +367,3 @@ class StudioSession:
     def path(self) -> Path:
         """Where :meth:`save` writes (the design file the recovery copy belongs to)."""
         return self.files.design_folder / self.name
-
-    def _recover(self) -> None:
-        """Keep the valid design in the recovery copy of its file (a killed server loses no
-        edit)."""
-        try:
-            text = self.text()
-            meta = {
-                "name": self.name,
-                "origin": self.origin,
-                "time": time.strftime("%Y-%m-%d %H:%M:%S"),
-                "sha256": sha256(text),
-                "base_sha256": self.base_sha256,
-            }
-            self.files.save_recovery(self.path, text, meta)
-        except (OSError, CCUError) as exc:  # the page says so; the edit itself is not lost
-            self.notice = f"could not write the recovery copy: {exc}"

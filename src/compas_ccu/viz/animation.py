@@ -8,7 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.errors import OptionError
-from compas_ccu.viz.render import draw_scene, path_frames
+from compas_ccu.viz.camera import path_frames
+from compas_ccu.viz.render import draw_scene
 from compas_ccu.viz.views import kind_legend_handles
 
 __all__ = [

@@ -1,10 +1,12 @@
-"""Pictures of the finite-element validation: the deformed shell and the deployment curves.
+"""Pictures of the finite-element shell: one deformed state, and every load case.
 
 :func:`plot_fe_shape` paints a deformed quad mesh coloured by a per-element field, either the
 signed bending stress (paper Fig. 7: tension blue, compression red, white at zero) or the
-deviation from the kinematic model; it uses the cameras, shading and painter's algorithm of
-:mod:`compas_ccu.viz.render`. :func:`plot_fe_curves` draws the deviation and the load–deployment
-curve against the reflection angle α.
+deviation from the kinematic model; it uses the cameras of :mod:`compas_ccu.viz.camera` and the
+shading of :mod:`compas_ccu.viz.render`. :func:`plot_load_cases` draws the deflected shape of
+every load case on one colour scale. The curves against the reflection angle α
+(:func:`plot_fe_curves`, the deviation and the load–deployment curve) are
+:mod:`compas_ccu.viz.fea_curves`, importable from here too.
 """
 
 from __future__ import annotations
@@ -13,7 +15,10 @@ import numpy as np
 
 from compas_ccu.tolerances import DIVISION_FLOOR
 from compas_ccu.viz import colors as C
-from compas_ccu.viz.render import add_colorbar, camera, shade, value_range
+from compas_ccu.viz.camera import camera
+from compas_ccu.viz.colour_scale import add_colorbar, value_range
+from compas_ccu.viz.fea_curves import plot_fe_curves
+from compas_ccu.viz.render import shade
 
 __all__ = ["plot_fe_shape", "plot_fe_curves", "plot_load_cases", "FE_MODES"]
 
@@ -156,6 +161,25 @@ def plot_fe_shape(
     shown, mappable, rgb = _colour_field(values, mode, vmin, vmax, cmap)
     collection, xy = _mesh_collection(positions, elements, rgb, segments, cam)
 
+    fig, ax = _framed_axes(ax, figsize, collection, xy)
+    add_colorbar(fig, mappable, ax, label or _LABELS[mode])
+    note = note if note is not None else _extremes(shown, mode)
+    if note is not None:
+        ax.text(0.0, 0.0, note, transform=ax.transAxes, fontsize=8, color="#444444", va="bottom")
+    if title:
+        ax.set_title(title, fontsize=11)
+    return fig
+
+
+def _framed_axes(ax, figsize, collection, xy) -> tuple:
+    """The axes of :func:`plot_fe_shape` (a new figure's without ``ax``) holding ``collection``,
+    framed around the projected quads ``xy`` (E, 4, 2) at an equal scale, without axis lines.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    ax : matplotlib.axes.Axes
+    """
     if ax is None:
         from matplotlib.figure import Figure
 
@@ -171,13 +195,7 @@ def plot_fe_shape(
     ax.set_ylim(plo[1] - pad, phi[1] + pad)
     ax.set_aspect("equal")
     ax.set_axis_off()
-    add_colorbar(fig, mappable, ax, label or _LABELS[mode])
-    note = note if note is not None else _extremes(shown, mode)
-    if note is not None:
-        ax.text(0.0, 0.0, note, transform=ax.transAxes, fontsize=8, color="#444444", va="bottom")
-    if title:
-        ax.set_title(title, fontsize=11)
-    return fig
+    return fig, ax
 
 
 def _colour_field(values: np.ndarray, mode: str, vmin, vmax, cmap) -> tuple:
@@ -291,143 +309,6 @@ def _extremes(shown: np.ndarray, mode: str):
     return f"max {float(shown[finite].max()):.3g}, mean {float(shown[finite].mean()):.3g}"
 
 
-def _series(name: str, values, m: int) -> np.ndarray:
-    values = np.asarray(values, dtype=float)
-    if values.shape != (m,):
-        raise ValueError(f"{name} must have shape ({m},) like alphas, got {values.shape}")
-    return values
-
-
-def plot_fe_curves(
-    alphas,
-    *,
-    deviation_max,
-    deviation_mean,
-    force=None,
-    energy=None,
-    force_label: str = "generalised force dW/dα [J/rad]",
-    energy_label: str = "strain energy W [J]",
-    x_label: str = "reflection angle α [deg]",
-    title: str | None = None,
-    figsize=(10.0, 4.2),
-):
-    """Deviation from the kinematic model and the load–deployment curve against α.
-
-    Parameters
-    ----------
-    alphas : (M,) float
-        Reflection angles of the analysed states, degrees.
-    deviation_max, deviation_mean : (M,) float
-        Largest and mean deviation of the FE shape from the kinematic model, % of the span.
-    force : (M,) float, optional
-        Generalised force (e.g. dW/dα) of each state.
-    energy : (M,) float, optional
-        Strain energy of each state; on a twin axis when ``force`` is given.
-    force_label, energy_label, x_label : str
-        Axis labels.
-    title : str, optional
-        Figure title.
-    figsize : (float, float)
-        Inches.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-        Left panel: deviation; right panel: force (and energy), or the text "no load data".
-
-    Raises
-    ------
-    ValueError
-        When a series does not have the shape of ``alphas`` (the message names the shape).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> a = np.linspace(0.0, 30.0, 7)
-    >>> fig = plot_fe_curves(a, deviation_max=0.02 * a, deviation_mean=0.01 * a)
-    >>> [len(ax.lines) for ax in fig.axes]
-    [2, 0]
-    """
-    from matplotlib.figure import Figure
-
-    alphas = np.asarray(alphas, dtype=float)
-    if alphas.ndim != 1 or len(alphas) == 0:
-        raise ValueError(f"alphas must have shape (M,) with M >= 1, got {alphas.shape}")
-    m = len(alphas)
-    dmax = _series("deviation_max", deviation_max, m)
-    dmean = _series("deviation_mean", deviation_mean, m)
-    force = None if force is None else _series("force", force, m)
-    energy = None if energy is None else _series("energy", energy, m)
-    marker = "o" if m <= 40 else None
-
-    fig = Figure(figsize=figsize, layout="constrained")
-    left, right = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
-    _deviation_panel(left, alphas, dmax, dmean, marker, x_label)
-    _load_panel(right, alphas, force, energy, marker, x_label, force_label, energy_label)
-    if title:
-        fig.suptitle(title, fontsize=12)
-    return fig
-
-
-def _deviation_panel(ax, alphas, dmax, dmean, marker, x_label: str) -> None:
-    """The left panel of :func:`plot_fe_curves`: largest and mean deviation against α."""
-    ax.plot(alphas, dmax, color="#b2182b", lw=1.6, marker=marker, ms=3.5, label="max")
-    ax.plot(alphas, dmean, color="#2166ac", lw=1.4, ls="--", marker=marker, ms=3, label="mean")
-    ax.set_xlabel(x_label)
-    ax.set_ylabel("deviation from kinematic model [% of span]")
-    ax.set_ylim(bottom=0.0)
-    ax.grid(True, alpha=0.3)
-    ax.legend(frameon=False, fontsize=9)
-    ax.set_title("shape deviation", fontsize=10)
-
-
-def _load_panel(right, alphas, force, energy, marker, x_label, force_label, energy_label):
-    """The right panel of :func:`plot_fe_curves`: the force, and the energy (on a twin axis
-    when both are given), or the text "no load data"."""
-    right.set_title("load–deployment", fontsize=10)
-    right.set_xlabel(x_label)
-    if force is None and energy is None:
-        right.text(
-            0.5,
-            0.5,
-            "no load data",
-            transform=right.transAxes,
-            ha="center",
-            va="center",
-            color="#777777",
-            fontsize=11,
-        )
-        right.set_xticks([])
-        right.set_yticks([])
-        return
-    handles = []
-    if force is not None:
-        handles += right.plot(
-            alphas, force, color="#333333", lw=1.6, marker=marker, ms=3.5, label="force"
-        )
-        right.set_ylabel(force_label)
-        right.axhline(0.0, color="#999999", lw=0.8)
-        right.grid(True, alpha=0.3)
-        twin = right.twinx() if energy is not None else None
-    else:
-        twin = right
-        right.grid(True, alpha=0.3)
-    if energy is not None:
-        handles += twin.plot(
-            alphas,
-            energy,
-            color="#e08214",
-            lw=1.4,
-            ls="-.",
-            marker=marker,
-            ms=3,
-            label="energy",
-        )
-        twin.set_ylabel(energy_label, color="#e08214" if twin is not right else "black")
-    if len(handles) > 1:
-        right.legend(handles=handles, frameon=False, fontsize=9, loc="upper left")
-
-
 def plot_load_cases(
     deployed,
     displacements,
@@ -494,32 +375,39 @@ def plot_load_cases(
     fig = Figure(figsize=figsize or (4.6 * cols, 3.6 * rows + 0.4), layout="constrained")
     axes = [fig.add_subplot(rows, cols, i + 1) for i in range(len(d))]
     for ax, disp, mm, title in zip(axes, d, magnitude, titles):
-        per_element = mm[e].mean(axis=1)
-        plot_fe_shape(
-            x + magnify * disp,
-            e,
-            per_element,
-            mode="deviation",
-            view=view,
-            ax=ax,
-            vmin=0.0,
-            vmax=peak or 1.0,
-            label="deflection [mm]",
-            note=f"largest at a node {mm.max():.3g} mm (colours: element means)",
-        )
-        ax.set_title(title, fontsize=9)
-        ax.text(
-            1.0,
-            0.0,
-            f"× {magnify:.3g}",
-            transform=ax.transAxes,
-            fontsize=7,
-            ha="right",
-            color="#444444",
-            va="bottom",
-        )
+        _load_case_panel(ax, x + magnify * disp, e, mm, title, magnify, peak, view)
     # one colour bar for all panels: keep the last one plot_fe_shape added, drop the others
     bars = [a for a in fig.axes if a not in axes]
     for bar in bars[:-1]:
         bar.remove()
     return fig
+
+
+def _load_case_panel(ax, deflected, elements, mm, title: str, magnify: float, peak: float, view):
+    """One panel of :func:`plot_load_cases`: the ``deflected`` (N, 3) nodes coloured by the
+    element means of the node deflections ``mm`` (N,) on the common scale 0 to ``peak`` mm,
+    with its title and the magnification printed."""
+    per_element = mm[elements].mean(axis=1)
+    plot_fe_shape(
+        deflected,
+        elements,
+        per_element,
+        mode="deviation",
+        view=view,
+        ax=ax,
+        vmin=0.0,
+        vmax=peak or 1.0,
+        label="deflection [mm]",
+        note=f"largest at a node {mm.max():.3g} mm (colours: element means)",
+    )
+    ax.set_title(title, fontsize=9)
+    ax.text(
+        1.0,
+        0.0,
+        f"× {magnify:.3g}",
+        transform=ax.transAxes,
+        fontsize=7,
+        ha="right",
+        color="#444444",
+        va="bottom",
+    )

@@ -5,7 +5,7 @@ them with the key figures of the design (:mod:`compas_ccu.key_figures`) and link
 written. Each file group is one task (design file, fabrication files, data, every figure, the
 animation, the viewer); a task that is refused (a :class:`compas_ccu.errors.CCUError`, e.g. a
 missing optional extra) is listed under "Not produced", any other exception is raised. The page
-and the PDF's blocks are :mod:`compas_ccu.viz.report_page`.
+is :mod:`compas_ccu.viz.report_page`, the PDF's blocks :mod:`compas_ccu.viz.report_blocks`.
 """
 
 from __future__ import annotations
@@ -30,15 +30,9 @@ from compas_ccu.viz.pdf import write_pdf
 from compas_ccu.viz.planarity import plot_planarity
 from compas_ccu.viz.quadrants import plot_quadrants
 from compas_ccu.viz.record import design_record, read_fabrication
-from compas_ccu.viz.report_page import (
-    FIGURES,
-    check_rows,
-    page_html,
-    pdf_blocks,
-    pdf_footer,
-    relative_path,
-    structural_section,
-)
+from compas_ccu.viz.report_blocks import pdf_blocks, pdf_footer
+from compas_ccu.viz.report_content import FIGURES, check_rows
+from compas_ccu.viz.report_page import page_html, relative_path, structural_section
 from compas_ccu.viz.sequence import plot_deployment_sequence
 from compas_ccu.viz.viewer import write_viewer
 from compas_ccu.viz.views import plot_views

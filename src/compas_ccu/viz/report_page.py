@@ -1,10 +1,11 @@
-"""The report's page and its PDF: the HTML of ``index.html`` and the blocks of ``report.pdf``.
+"""The report's page: the HTML of ``index.html``.
 
 :func:`page_html` renders what :func:`compas_ccu.viz.report.write_report` wrote (the record,
 the key figures and checks, the structural and fabrication sections, the viewer, the
-animation, the figures, the design file and the files) as one HTML page; :func:`pdf_blocks`
-gives the same as blocks of :func:`compas_ccu.viz.pdf.write_pdf`. Rows of text come from
-:mod:`compas_ccu.key_figures.text`, so the terminal, the page and the PDF say the same.
+animation, the figures, the design file and the files) as one HTML page. Rows of text come from
+:mod:`compas_ccu.key_figures.text` and :mod:`compas_ccu.viz.report_content`, so the terminal,
+the page and the PDF say the same; the PDF's blocks are :mod:`compas_ccu.viz.report_blocks`
+(:func:`pdf_blocks`, :func:`pdf_footer`, importable from here too).
 """
 
 from __future__ import annotations
@@ -21,15 +22,13 @@ from compas_ccu.key_figures import KeyFigures
 from compas_ccu.key_figures.text import (
     LOAD_CASE_COLUMNS,
     design_values_text,
-    figure_rows,
     load_case_table,
     row_failed,
-    thickness_rows,
-    validation_rows,
     value_text,
 )
 from compas_ccu.viz.colors import KIND_COLORS
-from compas_ccu.viz.record import cell_text, table_columns
+from compas_ccu.viz.report_blocks import pdf_blocks, pdf_footer
+from compas_ccu.viz.report_content import FIGURES, check_rows, fabrication_tables, record_rows
 
 __all__ = [
     "FIGURES",
@@ -41,49 +40,6 @@ __all__ = [
     "fabrication_section",
     "relative_path",
 ]
-
-#: The figures of the report: (file stem, caption), in the order of the page.
-FIGURES = (
-    ("views-kind", "3D views, creases coloured by kind"),
-    ("views-curvature", "3D views, plates coloured by their bending curvature |κ|"),
-    ("views-alpha", "3D views, creases coloured by the reflection angle α"),
-    ("cut-patterns", "Cut patterns of all plates: creases by kind, rulings as score lines"),
-    ("sequence", "Deployment sequence from the flat-folded stack (paper Fig. 1)"),
-    ("quadrants", "The four quadrants of the leading crease (paper Fig. 2)"),
-    ("planarity", "Planarity of every crease along the deployment path (paper Fig. 6d)"),
-)
-
-
-def check_rows(k: KeyFigures, thickness, validation_record) -> list:
-    """The key figures and checks, as ``ccu info`` words them (one definition)."""
-    rows = figure_rows(k)
-    if thickness:
-        rows += thickness_rows(thickness)
-    rows += validation_rows(validation_record)
-    return rows
-
-
-def pdf_footer(k: KeyFigures, record: dict) -> str:
-    """The footer of every PDF page: design, version, date and the design file's hash."""
-    sha = f" · sha256 {record['sha256'][:12]}" if record.get("sha256") else ""
-    return f"{k.name} · compas_ccu {record['version']} · {record['date']}{sha}"
-
-
-def _record_rows(record: dict) -> list:
-    rows = [
-        ("design file", record["file"] or "not given (the model was built in Python)"),
-    ]
-    if record["sha256"]:
-        rows.append(("sha256", record["sha256"]))
-    rows += [
-        ("compas_ccu", f"{record['version']} (Python {record['python']})"),
-        ("date (UTC)", record["date"]),
-    ]
-    rows.append(("units", "; ".join(f"{k} {v}" for k, v in record["units"].items())))
-    return rows
-
-
-# -- the page --------------------------------------------------------------------------------
 
 _CSS = """
 body { font: 15px/1.45 system-ui, -apple-system, "Segoe UI", sans-serif; color: #222;
@@ -144,7 +100,7 @@ def _record_section(record: dict, root: Path) -> str:
     copy = record.get("copy")
     parts = [
         '<h2 id="record">Engineering record</h2>',
-        _rows_table(_record_rows(record)),
+        _rows_table(record_rows(record)),
     ]
     if copy is not None:
         parts.append(
@@ -169,23 +125,6 @@ def _inputs_section(record: dict) -> str:
         f'<p class="sub">sha256 <code>{e(record["sha256"])}</code></p>'
         f"<pre>{e(record['text'])}</pre>"
     )
-
-
-def _fabrication_tables(fab: dict) -> list:
-    """(title, columns, rows of cell strings) of the fabrication folder's tables."""
-    out = []
-    for key, title in (("sheets", "Sheets"), ("bom", "Bill of materials")):
-        rows = fab.get(key)
-        if rows:
-            columns = table_columns(rows)
-            out.append(
-                (
-                    f"{title} (fabrication.json: {key})",
-                    columns,
-                    [[cell_text(r.get(c)) for c in columns] for r in rows],
-                )
-            )
-    return out
 
 
 def fabrication_section(fab: dict | None, root: Path) -> str:
@@ -224,7 +163,7 @@ def fabrication_section(fab: dict | None, root: Path) -> str:
             '<p class="sub">fabrication.json lists no sheets and no bill of materials (its keys '
             "<code>sheets</code>, <code>bom</code>).</p>"
         )
-    for title, columns, rows in _fabrication_tables(fab):
+    for title, columns, rows in fabrication_tables(fab):
         head = "".join(f"<th>{e(c)}</th>" for c in columns)
         body = "".join(
             "<tr>" + "".join(f"<td class=num>{e(c)}</td>" for c in r) + "</tr>" for r in rows
@@ -382,78 +321,6 @@ def _per_plate(t) -> str:
         + ", ".join(f"P{i}: {v:.3f}" for i, v in enumerate(u))
         + "</p>"
     )
-
-
-def pdf_blocks(k: KeyFigures, report, checks, figures, validation, shown) -> list:
-    """The report as blocks of :func:`compas_ccu.viz.pdf.write_pdf`."""
-    r = report.record
-    blocks = [
-        (
-            "title",
-            k.name,
-            (k.description + " · " if k.description else "")
-            + f"compas_ccu {r['version']} · curved-crease unfolding report · {r['date']}",
-        ),
-        ("heading", "Engineering record"),
-        ("rows", _record_rows(r)),
-        ("heading", "Key figures and checks"),
-        ("rows", checks),
-    ]
-    if r["material"]:
-        blocks += [("heading", "Material constants"), ("rows", r["material"])]
-    c = (validation or {}).get("checks")
-    if c and "cases" in c:
-        blocks += [
-            ("heading", "Structural checks (FE, load cases)"),
-            ("paragraph", f"{validation.get('engine', '')} {validation.get('mode', '')}"),
-        ]
-        heading, table, governing = load_case_table(c)
-        blocks += [
-            ("paragraph", heading),
-            (
-                "table",
-                list(LOAD_CASE_COLUMNS),
-                [cells if ok else [f"** {cells[0]} **", *cells[1:]] for cells, ok in table],
-            ),
-            *([("paragraph", design_values_text(c))] if design_values_text(c) else []),
-            ("paragraph", f"governing: {governing}"),
-        ]
-        blocks += [
-            ("image", p, "Deflection under the characteristic loads of every case") for p in shown
-        ]
-    fab = report.fabrication
-    if fab is not None:
-        blocks += [("heading", "Fabrication"), ("paragraph", f"From {fab['folder']}")]
-        blocks += [("paragraph", p) for p in fab["problems"]]
-        if fab.get("failed_checks"):
-            blocks.append(("rows", [("check failed", f"** {c} **") for c in fab["failed_checks"]]))
-        if fab.get("workshop_rows"):
-            blocks.append(("rows", fab["workshop_rows"]))
-        if fab["utilisation"] is not None:
-            blocks.append(("paragraph", f"Sheet utilisation {fab['utilisation']:.1%}"))
-        for title, columns, rows in _fabrication_tables(fab):
-            blocks += [("paragraph", title), ("table", columns, rows)]
-
-        blocks += [
-            ("paragraph", "Files (in fabrication/ beside this report):"),
-            ("lines", fab["files"]),
-        ]
-    for name, caption in FIGURES:
-        if name in figures:
-            png = next(p for p in figures[name] if p.suffix == ".png")
-            blocks.append(("image", png, caption))
-    if r["text"] is not None:
-        blocks += [
-            ("heading", f"Design inputs: {r['file']}"),
-            ("paragraph", f"sha256 {r['sha256']}"),
-            ("code", r["text"]),
-        ]
-    if report.skipped:
-        blocks += [
-            ("heading", "Not produced"),
-            ("lines", [f"{a}: {b}" for a, b in sorted(report.skipped.items())]),
-        ]
-    return blocks
 
 
 def _size(path: Path) -> str:

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from compas_ccu.key_figures import state_figures
-from compas_ccu.viz.render import draw_scene, path_frames
+from compas_ccu.viz.camera import path_frames
+from compas_ccu.viz.render import draw_scene
 from compas_ccu.viz.views import readout
 
 __all__ = ["plot_deployment_sequence"]

@@ -13,7 +13,7 @@ import numpy as np
 
 from compas_ccu.key_figures import state_figures
 from compas_ccu.tolerances import EXACT_RELATIVE
-from compas_ccu.viz.render import camera
+from compas_ccu.viz.camera import camera
 from compas_ccu.viz.viewer_traces import FONT_COLOR
 from compas_ccu.viz.views import readout
 

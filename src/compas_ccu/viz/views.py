@@ -8,7 +8,9 @@ from compas_ccu.errors import OptionError
 from compas_ccu.key_figures import figure, state_figures
 from compas_ccu.tolerances import DIVISION_FLOOR
 from compas_ccu.viz import colors as C
-from compas_ccu.viz.render import add_colorbar, camera, draw_scene
+from compas_ccu.viz.camera import camera
+from compas_ccu.viz.colour_scale import add_colorbar
+from compas_ccu.viz.render import draw_scene
 from compas_ccu.viz.scene import scene_from_structure
 
 __all__ = ["plot_views", "kind_legend_handles", "dimension_points", "readout", "DIMENSION_COLOR"]
