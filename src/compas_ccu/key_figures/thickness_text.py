@@ -20,6 +20,7 @@ __all__ = [
 
 def thickness_rows(summary: dict) -> list:
     """Rows of a :meth:`compas_ccu.thickness.ThickModel.summary` (info, fabricate, report)."""
+    bending, collisions = summary["bending"], summary["collisions"]
     pairs = summary["pairing"]
     plates = summary.get("stack_height_plates")  # fabrication.json: the stack with splices
     spliced = ""
@@ -44,27 +45,26 @@ def thickness_rows(summary: dict) -> list:
             f"gap along the path {summary['hinge_gap_max_path'] * 1e3:.3g} mm",
         ),
     ]
-    rows += _collision_rows(summary)
-    rows += _bending_rows(summary["bending"])
+    rows += _collision_rows(summary, collisions)
+    rows += _bending_rows(bending)
     push = summary.get("actuation")
     if push:
         rows.append(("deployment effort", _effort_text(push)))
     return rows
 
 
-def _collision_rows(summary: dict) -> list:
-    """The collision check along the path and the angle to which the thick plates are clear."""
-    c = summary["collisions"]
-    rows = []
+def _collision_rows(summary: dict, c: dict) -> list:
+    """The collision check ``c`` along the path (``summary["collisions"]``) and the angle to
+    which the thick plates are clear."""
     text = collision_text(c)
-    rows.append(
+    rows = [
         (
             "collisions",
             f"** {text} **"
             if c["first"]
             else text.replace("none", "none from the flat stack to the design", 1),
         )
-    )
+    ]
     if "collision_free_alpha" in summary:
         first = summary.get("first_collision")
         rows.append(
