@@ -116,18 +116,18 @@ def engine(request):
 
 def captured_plate_contacts(thick, alphas):
     """The arguments ``ThickModel.collisions(alphas)`` passes to ``plate_contacts``."""
-    import compas_ccu.thickness.model as thickness_model
+    import compas_ccu.thickness.collision_check as collision_check
 
     seen = {}
-    original = thickness_model.plate_contacts
+    original = collision_check.plate_contacts
 
     def spy(*args, **kwargs):
         seen["call"] = (args, kwargs)
         return original(*args, **kwargs)
 
-    thickness_model.plate_contacts = spy
+    collision_check.plate_contacts = spy
     try:
         thick.collisions(alphas)
     finally:
-        thickness_model.plate_contacts = original
+        collision_check.plate_contacts = original
     return seen["call"]

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
-from compas_ccu.key_figures.text import utilisation_text
+from compas_ccu.key_figures.rows import utilisation_text
 
 __all__ = [
     "Check",

@@ -32,13 +32,23 @@ active bending's alone: self-weight and loads add their own thrust (the FE react
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 
 from compas_ccu.strips.curvature import plate_curvature
+from compas_ccu.thickness.bending import bending_angles
 
-__all__ = ["bending_energy", "actuation_force", "ring_tension", "foot_ring", "Actuation"]
+__all__ = [
+    "bending_energy",
+    "actuation_force",
+    "ring_tension",
+    "foot_ring",
+    "Actuation",
+    "radial_feet",
+    "path_actuation",
+]
 
 
 class Actuation(NamedTuple):
@@ -268,3 +278,41 @@ def foot_ring(vertices, origin, axis, end: int) -> tuple:
     angle = np.arctan2(np.abs(np.cross(a, b) @ e), np.einsum("...i,...i->...", a, b))
     radius = 0.5 * (np.linalg.norm(a, axis=-1) + np.linalg.norm(b, axis=-1)).mean(axis=-1)
     return np.linalg.norm(b - a, axis=-1).sum(axis=-1), angle.sum(axis=-1), radius
+
+
+def radial_feet(model, vertices) -> tuple | None:
+    """The axis and the feet of a radial layout: ``(origin, axis, end)`` for
+    :func:`foot_ring`, or None for other layouts.
+
+    The axis is the line every crease plane contains (world coordinates); the feet are the end
+    rulings at the lower end of the creases (world z, at the last state of ``vertices``).
+    """
+    planes = model.planes
+    if model.design.values["layout"]["type"] != "radial" or planes is None:
+        return None
+    # plane k holds the axis line x = axis, z = 0 of the leading frame: n . (axis, y, 0) = d
+    k = int(np.argmax(np.abs(planes.normals[:, 0])))
+    x = planes.offsets[k] / planes.normals[k, 0]
+    origin, ahead = model.to_world(np.array([[x, 0.0, 0.0], [x, 1.0, 0.0]]))
+    n = model.segments
+    last = np.asarray(vertices, dtype=float)[-1]
+    end = 0 if last[:, 0, 2].mean() <= last[:, n, 2].mean() else n
+    return origin, ahead - origin, end
+
+
+def path_actuation(thick, alphas=None) -> Actuation:
+    """Bending energy and the force between the feet of ``thick`` (a
+    :class:`compas_ccu.thickness.ThickModel`) at reference angles ``alphas`` (degrees; default:
+    21 states from the flat stack to the design; :meth:`ThickModel.actuation`)."""
+    if alphas is None:
+        alphas = np.linspace(0.0, thick.model.alpha_design, 21)
+    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+    structures = thick.model.path(alphas, check=False)
+    vertices = np.array([st.deployed for st in structures])
+    angles = bending_angles(thick.model.flat(), math.radians(thick.grain))
+    rigidity = thick.material.plate_rigidity(thick.thickness, angles)
+    energy = bending_energy(vertices, rigidity)
+    span = np.array([st.metrics["span"] for st in structures])
+    ring = radial_feet(thick.model, vertices)
+    feet = (None, None, None) if ring is None else foot_ring(vertices, *ring)
+    return Actuation(alphas, energy, span, actuation_force(alphas, energy, span), *feet)

@@ -28,14 +28,22 @@ characteristic basis, so those numbers are the same bit for bit.
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 
+from compas_ccu.kinematics.plates import stack_rows
 from compas_ccu.materials import DesignFactors
 from compas_ccu.strips.curvature import plate_curvature
 
-__all__ = ["BendingCheck", "bending_check", "bending_angles", "bending_verdict"]
+__all__ = [
+    "BendingCheck",
+    "bending_check",
+    "bending_angles",
+    "bending_verdict",
+    "path_bending",
+]
 
 
 class BendingCheck(NamedTuple):
@@ -179,3 +187,22 @@ def bending_verdict(exceeded: bool, basis: dict) -> str:
         return "EXCEEDED: above the characteristic bending strength: the plates would break"
     label = f"{basis['code']} SC{basis['service_class']} {basis['load_duration']}"
     return f"EXCEEDED: above the design bending strength ({label})"
+
+
+def path_bending(thick, alphas=None) -> BendingCheck:
+    """The bending check of ``thick`` (a :class:`compas_ccu.thickness.ThickModel`) at
+    reference angles ``alphas`` (degrees; default: 21 states from the flat stack to the design),
+    plates in id order (:meth:`ThickModel.bending`)."""
+    if alphas is None:
+        alphas = np.linspace(0.0, thick.model.alpha_design, 21)
+    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+    st = thick.place(alphas)
+    mid = thick.model.plates.to_output(stack_rows(st.near, st.far), axis=1)
+    return bending_check(
+        mid,
+        thick.model.flat(),
+        thick.thickness,
+        thick.material,
+        grain=math.radians(thick.grain),
+        factors=thick.factors,
+    )

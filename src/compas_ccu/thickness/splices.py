@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.geometry import cross3, unit3
-from compas_ccu.thickness.collision import point_gaps
+from compas_ccu.thickness.cells import point_gaps
 
 __all__ = [
     "Splice",
@@ -296,7 +296,7 @@ def slab_points(splices, near2, far2, mid_near, mid_far, offsets, plate_thicknes
 
 def splice_gaps(points, targets, mid_near, mid_far, offsets, thickness) -> np.ndarray:
     """(k, s) smallest gap of every splice plate's points over its neighbouring plate in every
-    state (:func:`~compas_ccu.thickness.collision.point_gaps`; negative: it lies inside it by
+    state (:func:`~compas_ccu.thickness.cells.point_gaps`; negative: it lies inside it by
     that depth; inf where no point lies over it or there is no neighbour).
 
     Parameters

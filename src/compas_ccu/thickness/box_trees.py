@@ -1,0 +1,169 @@
+"""Oriented boxes and binary trees of boxes: the bounding volumes of the candidate search.
+
+:mod:`compas_ccu.thickness.candidate_search` boxes blocks of cells and blocks of face vertices
+and walks two trees of boxes down to the block pairs that can meet. Here: the hull of what a
+cell's lateral test accepts up to a height (:func:`cell_hulls`), the frames of cells
+(:func:`cell_frames`), boxes around point sets in such frames (:func:`oriented_boxes`), packed
+as columns (:func:`pack_boxes`) for the separating axis test (:func:`separated`), the blocks of
+consecutive indices (:func:`index_blocks`) and the tree over the leaf boxes of every plate
+(:func:`box_tree`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from compas_ccu.geometry import cross3, dot, norm3, unit3
+
+__all__ = [
+    "cell_hulls",
+    "cell_frames",
+    "oriented_boxes",
+    "pack_boxes",
+    "separated",
+    "index_blocks",
+    "box_tree",
+]
+
+
+def cell_hulls(cells, tol, height):
+    """(..., n, 8, 3) points whose convex hull holds every point that the lateral test of a cell
+    accepts at a distance of up to ``height`` from the cell's mid plane
+    (:mod:`compas_ccu.thickness.candidate_search`).
+
+    In the planes parallel to the mid plane each lateral plane leaves a line of fixed direction;
+    the accepted set is bounded by the four corners where adjacent lines meet if, along each
+    line, its two neighbours bound it from opposite sides. Where that fails, or a corner line
+    never meets those planes (a degenerate cell), the points are infinite.
+    """
+    centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
+    near, far, side0, side1 = (a, e_near), (d, e_far), (a, s0), (b, s1)
+    oc = dot(centre, normal)[..., None]
+    out = []
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for (ba, na), (bb, nb) in ((near, side0), (side0, far), (far, side1), (side1, near)):
+            oa = dot(ba, na)[..., None] - tol  # the lateral half-spaces, moved out by tol
+            ob = dot(bb, nb)[..., None] - tol
+            axis = cross3(na, nb)
+            det = dot(normal, axis)[..., None]
+            x0 = (oa * cross3(nb, normal) + ob * cross3(normal, na) + oc * axis) / det
+            out += [x0 - height * axis / det, x0 + height * axis / det]
+    out = np.stack(out, axis=-2)
+    bounded = np.ones(out.shape[:-2], dtype=bool)
+    for (_, line), (_, one), (_, other) in (
+        (near, side0, side1),
+        (far, side0, side1),
+        (side0, near, far),
+        (side1, near, far),
+    ):
+        u = cross3(normal, line)  # the line's direction in the planes parallel to the mid plane
+        bounded &= dot(one, u) * dot(other, u) < 0.0
+    out[~bounded] = np.inf
+    return out
+
+
+def cell_frames(mid_near, normal, cell):
+    """(k, p, c, 3, 3) orthonormal frames (columns: edge, ruling side, normal) of cells
+    ``cell`` (c,) of every plate."""
+    t = mid_near[:, :, cell + 1] - mid_near[:, :, cell]  # the crease-side edge b - a
+    nrm = normal[:, :, cell]
+    t = unit3(t - dot(t, nrm)[..., None] * nrm)
+    return np.stack([t, cross3(nrm, t), nrm], axis=-1)
+
+
+def oriented_boxes(points, axes, tol):
+    """Oriented boxes around point sets (..., s, 3) in the frames ``axes`` (..., 3, 3): centres
+    (..., 3), the axes and the half-extents (..., 3), widened for round-off (inf where a point
+    is not finite)."""
+    x, y, z = (points[..., i] for i in range(3))
+    lo, hi = [], []
+    with np.errstate(invalid="ignore", over="ignore"):
+        for c in range(3):  # coordinates along axis c
+            a = axes[..., c]
+            along = x * a[..., 0, None] + y * a[..., 1, None] + z * a[..., 2, None]
+            lo.append(along.min(axis=-1))
+            hi.append(along.max(axis=-1))
+        lo, hi = np.stack(lo, axis=-1), np.stack(hi, axis=-1)
+        mid = 0.5 * (lo + hi)
+        half = 0.5 * (hi - lo) + 1e-9 * (np.abs(lo) + np.abs(hi)) + tol
+    bad = ~np.isfinite(half).all(axis=-1)
+    mid[bad], half[bad] = 0.0, np.inf
+    centre = np.einsum("...ij,...j->...i", axes, mid)
+    return centre, axes, half
+
+
+def pack_boxes(box):
+    """Boxes as columns ``(centre, axes (row by row), half-extents)`` of 15 numbers: (15, ...),
+    so that the separating-axis test runs on contiguous rows."""
+    centre, axes, half = box
+    rows = np.concatenate([centre, axes.reshape(*axes.shape[:-2], 9), half], axis=-1)
+    return np.moveaxis(rows, -1, 0)
+
+
+def separated(box_a, box_b):
+    """(N,) bool: packed boxes ``a`` and ``b`` (15, N) are disjoint by a face axis of either
+    (the separating axis test on those six axes; False where undecided)."""
+    d = box_b[:3] - box_a[:3]
+    a, b = box_a[3:12], box_b[3:12]  # axes[row, column] at 3 row + column
+    ha, hb = box_a[12:], box_b[12:]
+    # |a_i . b_j| and the projections of d on the axes a_i and b_j
+    r = [
+        [np.abs(a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j]) for j in range(3)]
+        for i in range(3)
+    ]
+    da = [np.abs(a[i] * d[0] + a[3 + i] * d[1] + a[6 + i] * d[2]) for i in range(3)]
+    db = [np.abs(b[j] * d[0] + b[3 + j] * d[1] + b[6 + j] * d[2]) for j in range(3)]
+    with np.errstate(invalid="ignore"):
+        slack = 1e-9 * (norm3(d.T) + ha.sum(axis=0) + hb.sum(axis=0))
+        out = np.zeros(d.shape[1], dtype=bool)
+        for i in range(3):
+            out |= da[i] > ha[i] + r[i][0] * hb[0] + r[i][1] * hb[1] + r[i][2] * hb[2] + slack
+        for j in range(3):
+            out |= db[j] > hb[j] + r[0][j] * ha[0] + r[1][j] * ha[1] + r[2][j] * ha[2] + slack
+    return out
+
+
+def index_blocks(count, size):
+    """(blocks, size) indices ``0 .. count - 1`` in consecutive blocks (the last one padded
+    with its last index)."""
+    blocks = -(-count // size)
+    return np.minimum(np.arange(blocks * size).reshape(blocks, size), count - 1)
+
+
+def _corners(box):
+    """(..., 8, 3) corners of boxes."""
+    centre, axes, half = box
+    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+    with np.errstate(invalid="ignore"):
+        offsets = np.einsum("...ij,...cj->...ci", axes, signs * half[..., None, :])
+    return centre[..., None, :] + offsets
+
+
+def box_tree(box, middle, frame, tol):
+    """Boxes of a binary tree over the leaf boxes of every plate (leaves along axis 2).
+
+    ``middle(level, node)`` is the cell whose frame a node takes, ``frame(cells)`` the frames
+    of cells; a parent's box holds the corners of its children's boxes. Leaves are padded to a
+    power of two with empty ones. Returns the levels from the leaves up, each the packed boxes
+    (15, states x plates x nodes) and which nodes are not padding.
+    """
+    count = box[0].shape[2]
+    size = 1 << max(count - 1, 0).bit_length()
+    pad = size - count
+    valid = np.r_[np.ones(count, dtype=bool), np.zeros(pad, dtype=bool)]
+    box = tuple(np.concatenate([x, np.repeat(x[:, :, -1:], pad, axis=2)], axis=2) for x in box)
+    levels = [(box, valid)]
+    level = 0
+    while size > 1:
+        size //= 2
+        level += 1
+        corners = _corners(box)  # (k, p, 2 size, 8, 3)
+        pair = valid.reshape(size, 2)
+        # an empty child takes its sibling's corners (a parent of two empty ones is empty)
+        corners = corners.reshape(*corners.shape[:2], size, 2, 8, 3)
+        corners = np.where(pair[:, :, None, None], corners, corners[:, :, :, ::-1])
+        corners = corners.reshape(*corners.shape[:2], size, 16, 3)
+        box = oriented_boxes(corners, frame(middle(level, np.arange(size))), tol)
+        valid = pair.any(axis=1)
+        levels.append((box, valid))
+    return [(pack_boxes(box).reshape(15, -1), valid) for box, valid in levels]

@@ -1,0 +1,316 @@
+"""The candidate search of the collision check: the cell blocks and ruling blocks that can meet.
+
+:func:`compas_ccu.thickness.collision.plate_contacts` with ``method="cells"`` (the default)
+runs the exact tests of :mod:`compas_ccu.thickness.cells` only on the block pairs found here:
+:func:`plate_blocks` (the blocks, their boxes and trees, :mod:`compas_ccu.thickness.box_trees`),
+:func:`block_pairs` (the walk down the trees) and :func:`exact_tests` (the tests on a batch).
+
+**Why no contact is lost.** Testing every vertex against every cell
+costs O(n²) per pair while a vertex lies over one or two cells; so the cells of a plate are
+grouped in blocks of ``CELLS`` consecutive cells and the face vertices of a plate in blocks of
+``RULINGS`` consecutive rulings (both rows, both faces: the vertices and the rulings between
+them), and the exact tests run only on block pairs that can meet. What a block pair can miss:
+
+* *What a cell accepts.* The lateral test accepts, at height ``h`` over the cell's mid plane,
+  the quadrilateral cut from that plane by the four lateral half-spaces (each moved out by
+  ``tol``). Every plane keeps its direction in the cut, so the cut's corners lie on the four
+  lines where adjacent lateral planes meet, ``X(h) = X(0) + h w``, and every vertex of the cut,
+  even where the two side lines cross, lies on a segment between two such corners. A vertex
+  whose gap counts (``|d| - t/2 <= reach``) has ``|h| <= t/2 + reach``, so it lies in the convex
+  hull of the eight points ``X(±(t/2 + reach))`` of the cell (:func:`cell_hulls`; a corner line
+  parallel to the mid plane gives infinite points: that cell meets everything). A crossing
+  point lies on the mid plane (``h = 0`` up to round-off) inside the footprint, so in the same
+  hull, and on its ruling, so in the hull of the ruling block's vertices.
+* *Blocks.* A cell block is boxed in the frame of its middle cell around the hulls of its
+  cells, a ruling block in the frame of its plate's middle cell around its vertices (both
+  widened by ``1e-9`` of the coordinates plus ``tol`` for round-off). Along each plate the
+  blocks form a binary tree whose nodes are boxed around their children's boxes; for every pair
+  and state a walk from the two roots keeps the node pairs whose boxes overlap (the separating
+  axis test on the six face axes) down to the leaf blocks. Two plates joined by a hinge leave
+  out its row of vertices and the crossing test, so for them the leaf box of the ruling
+  block's other row stands in. No accepted vertex, counted gap or crossing is outside both
+  boxes of its block pair, nor of any node pair above it, so none is lost: every contact within
+  the reach, and every crossing at any distance, is found.
+* *The same numbers.* On the remaining block pairs the heights are the same BLAS matrix
+  products as in the brute force (one product of the ``4 RULINGS`` vertices with the ``5 CELLS``
+  plane normals per block pair: BLAS sums the three terms of every entry the same way whatever
+  the shape of the product, which the tests check) minus the same plane offsets, and the
+  tests, minima and crossing points are the brute force's element-wise operations. The results
+  equal those of ``method="all"`` (the brute force of :func:`plate_contacts`) bit for bit; the
+  tests compare the two on many layouts. (Plates of a single cell go to the brute force:
+  their heights are matrix-vector products, which BLAS rounds differently.)
+
+The work is linear in the segments: a block meets a bounded number of blocks of every plate
+within the reach, and the walk tests a bounded number of node pairs per kept pair on every
+level (docs/benchmarks.md: the vault from 32 to 512 segments). A k-d tree over balls around the
+blocks, tried first, keeps pairs up to the plate width plus the reach apart along the strip:
+their number grows with the square of the segments.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from compas_ccu.geometry import dot
+from compas_ccu.thickness.box_trees import (
+    box_tree,
+    cell_frames,
+    cell_hulls,
+    index_blocks,
+    oriented_boxes,
+    pack_boxes,
+    separated,
+)
+from compas_ccu.thickness.broad_phase import PairTable
+from compas_ccu.thickness.cells import plate_cells
+
+__all__ = [
+    "CELLS",
+    "RULINGS",
+    "BATCH",
+    "Blocks",
+    "plate_blocks",
+    "block_pairs",
+    "Found",
+    "exact_tests",
+]
+
+#: Cells per cell block and rulings per vertex block of the candidate search.
+CELLS = 4
+RULINGS = 8
+#: Block pairs per batch of the exact tests (bounds the temporaries: ~1 MB per 100 pairs).
+BATCH = 512
+
+
+class Blocks(NamedTuple):
+    """The blocks of cells and of face vertices of every plate in a chunk of states, their
+    boxes and trees (:func:`plate_blocks`). Flat arrays run over (state, plate, block)."""
+
+    plates: int  # p
+    cell_block: np.ndarray  # (J, CELLS) cells of every cell block
+    local: np.ndarray  # (I, 4 RULINGS) face vertices of every vertex block
+    planes: list  # the four lateral planes (base, normal), each (k, p, n, 3)
+    normals: np.ndarray  # (k p J, 5 CELLS, 3) plane normals of every cell block
+    offsets: np.ndarray  # (k p J, 5, CELLS, 1) and their offsets
+    points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block
+    cell_tree: list  # levels of packed boxes over the cell blocks, leaves first
+    ruling_tree: list  # the same over the vertex blocks
+    rows: np.ndarray  # (15, 3 k p I) packed leaf boxes: both rows, near rows, far rows
+    row_box: np.ndarray  # (H + 1,) which leaf box a hinged pair meets (-1: none)
+    skip: np.ndarray  # (H + 1, I, 4 RULINGS) bool: hinge vertices left out, per hinge
+
+
+def plate_blocks(mid_near, mid_far, offsets, faces, table: PairTable, tol, height) -> Blocks:
+    """Blocks, boxes and trees of the candidate search (module docstring).
+
+    Parameters
+    ----------
+    mid_near, mid_far, offsets : (k, p, n + 1, 3) float
+    faces : (k, p, 2, 2n + 2, 3) float
+    table : PairTable
+    tol : float
+        Lateral tolerance, m.
+    height : float
+        Largest distance from a cell's mid plane that counts (``t/2 + reach``), m.
+    """
+    k, p, m = mid_near.shape[:3]
+    n = m - 1
+    # cells and their five planes (mid plane, then the lateral ones), every state and plate
+    cells = plate_cells(mid_near, mid_far, offsets)
+    centre, normal, planes = cells[0], cells[1], cells[2:]
+    normals = np.stack([normal] + [nrm for _, nrm in planes], axis=-2)  # (k, p, n, 5, 3)
+    plane_offsets = np.stack(
+        [dot(centre, normal)] + [dot(base, nrm) for base, nrm in planes], axis=-1
+    )  # (k, p, n, 5)
+
+    # cell blocks: a box (in the frame of the middle cell) around the hull of what their
+    # lateral tests accept up to the reach
+    cell_block = index_blocks(n, CELLS)  # (J, CELLS)
+    nj = len(cell_block)
+    hull = cell_hulls(cells, tol, height)[:, :, cell_block].reshape(k, p, nj, -1, 3)
+    cell_box = oriented_boxes(hull, cell_frames(mid_near, normal, cell_block[:, CELLS // 2]), tol)
+    # the five planes of the cells of every block: normals (plane, cell) and offsets
+    block_normals = normals[:, :, cell_block].swapaxes(3, 4).reshape(-1, 5 * CELLS, 3)
+    block_offsets = plane_offsets[:, :, cell_block].swapaxes(3, 4)[..., None]
+
+    # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
+    # near / far row, then the ruling): the vertices and the rulings between them (vertex
+    # numbers grow along a block); a box in the frame of the middle cell
+    column = index_blocks(m, RULINGS)  # (I, RULINGS)
+    ni = len(column)
+    nv = 2 * faces.shape[3]
+    local = np.arange(2)[:, None, None] * (2 * m) + np.arange(2)[None, :, None] * m
+    local = (local[None] + column[:, None, None, :]).reshape(ni, 4 * RULINGS)
+    points = faces.reshape(k, p, nv, 3)
+    block_points = points[:, :, local]  # (k, p, I, 4 RULINGS, 3)
+    frames = cell_frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
+    vertex_box = oriented_boxes(block_points, frames, tol)
+    # a pair whose one row is all on their hinge meets the other row only (no crossing test):
+    # boxes of the near rows and of the far rows too, and which box each hinge meets
+    rows = local.reshape(ni, 2, 2, RULINGS)
+    boxes = [vertex_box] + [
+        oriented_boxes(points[:, :, rows[:, :, r].reshape(ni, -1)], frames, tol) for r in (0, 1)
+    ]
+    boxes = [np.stack(parts).reshape(-1, *parts[0].shape[3:]) for parts in zip(*boxes)]
+    masks = table.masks
+    on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
+    row_box = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
+
+    def frame(cells):
+        return cell_frames(mid_near, normal, np.minimum(cells, n - 1))
+
+    def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
+        return lambda level, node: ((2 * node + 1) << level) * size // 2
+
+    return Blocks(
+        plates=p,
+        cell_block=cell_block,
+        local=local,
+        planes=planes,
+        normals=block_normals,
+        offsets=block_offsets.reshape(-1, 5, CELLS, 1),
+        points=block_points.reshape(-1, 4 * RULINGS, 3),
+        cell_tree=box_tree(cell_box, middle(CELLS), frame, tol),
+        ruling_tree=box_tree(vertex_box, middle(RULINGS), frame, tol),
+        rows=pack_boxes(tuple(boxes)).reshape(15, -1),
+        row_box=row_box,
+        skip=masks[:, local],
+    )
+
+
+def block_pairs(blocks: Blocks, table: PairTable, state, pair):
+    """The block pairs that can meet: a walk down the two trees of boxes of every candidate
+    pair and state, from their roots to the leaf blocks, keeping the node pairs whose boxes
+    overlap.
+
+    Parameters
+    ----------
+    blocks : Blocks
+    table : PairTable
+    state, pair : (N,) int
+        Candidate (state, pair) of the chunk (:func:`candidate_pairs`).
+
+    Returns
+    -------
+    pair : (M,) int
+    cell_id, ruling_id : (M,) int
+        Flat (state, plate, block) indices of the cell block of ``a`` and the vertex block of
+        ``b``.
+    """
+    p = blocks.plates
+    cell_tree, ruling_tree = blocks.cell_tree, blocks.ruling_tree
+    nj, ni = len(cell_tree[0][1]), len(ruling_tree[0][1])  # leaves, with the padding
+    row_box = blocks.row_box[table.hinge]  # -1 -> the last row: no hinge, both rows
+    keep = row_box[pair] >= 0
+    qq = pair[keep]
+    node_a = state[keep] * p + table.pairs[qq, 0]  # (state, plate, node) at the current levels
+    node_b = state[keep] * p + table.pairs[qq, 1]
+    la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
+    rows = blocks.rows
+    kpi = rows.shape[1] // 3
+    while True:
+        (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
+        keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
+        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        if la == 0 and lb == 0:  # the leaves: for hinged pairs, the box of the free row
+            plate_b, ii = np.divmod(node_b, ni)
+            b_of = rows.take(row_box[qq] * kpi + plate_b * len(blocks.local) + ii, axis=1)
+        else:
+            b_of = box_b.take(node_b, axis=1)
+        keep = ~separated(box_a.take(node_a, axis=1), b_of)
+        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        if la == 0 and lb == 0:
+            break
+        split_a, split_b = la >= lb, lb >= la  # the deeper tree first, both if level
+        fan = (2 if split_a else 1) * (2 if split_b else 1)
+        qq, node_a, node_b = (np.repeat(x, fan) for x in (qq, node_a, node_b))
+        child = np.tile(np.arange(fan), len(qq) // fan)
+        if split_a:
+            node_a = 2 * node_a + child % 2
+        if split_b:
+            node_b = 2 * node_b + (child // 2 if split_a else child)
+        la, lb = la - split_a, lb - split_b
+    plate_a, jj = np.divmod(node_a, nj)
+    plate_b, ii = np.divmod(node_b, ni)
+    cell_id = plate_a * len(blocks.cell_block) + jj  # (state, plate, block) without padding
+    ruling_id = plate_b * len(blocks.local) + ii
+    return qq, cell_id, ruling_id
+
+
+class Found(NamedTuple):
+    """What the exact tests of one batch of block pairs found."""
+
+    key: np.ndarray  # (N,) state * pairs + pair of every gap within the reach
+    vertex: np.ndarray  # (N,) the vertex of b of the smallest gap of its block pair
+    gap: np.ndarray  # (N,) that gap, m
+    crossing: np.ndarray  # (C,) state * pairs + pair of every crossing found
+
+
+def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half, reach, tol):
+    """The brute force's exact tests on one batch of block pairs (module docstring).
+
+    Parameters
+    ----------
+    blocks : Blocks
+    table : PairTable
+    pair, cell_id, ruling_id : (N,) int
+        From :func:`block_pairs`.
+    half, reach, tol : float
+        Half the thickness, the contact reach and the lateral tolerance, m.
+
+    Returns
+    -------
+    Found
+        Keys over the chunk's states (``state * len(table.pairs) + pair``).
+    """
+    p, npairs = blocks.plates, len(table.pairs)
+    ni, nj = len(blocks.local), len(blocks.cell_block)
+    count = len(pair)
+    kb, ab = np.divmod(cell_id // nj, p)  # state and plate a
+    ib = ruling_id % ni
+    vertices = blocks.local[ib]  # (N, 4 RULINGS)
+    x = blocks.points.take(ruling_id, axis=0)  # (N, 4 RULINGS, 3)
+    # heights (N, plane, cell, vertex) by the same matrix products as the brute force
+    heights = blocks.normals.take(cell_id, axis=0) @ x.swapaxes(1, 2)
+    heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
+    heights -= blocks.offsets.take(cell_id, axis=0)
+    lateral = heights[:, 1] >= -tol
+    for plane in (2, 3, 4):
+        lateral &= heights[:, plane] >= -tol
+    hinge = table.hinge[pair]  # -1: the all-False last row of the masks
+    lateral &= ~blocks.skip.reshape(-1, 4 * RULINGS).take(
+        np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib, axis=0
+    )[:, None]
+    # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
+    size = np.abs(heights[:, 0])
+    size[~lateral] = np.inf
+    gap = size.min(axis=1) - half
+    best = gap.argmin(axis=1)  # the first of the smallest gaps: the lowest vertex number
+    rows = np.arange(count)
+    value = gap[rows, best]
+    near = value <= reach
+    keys = kb * npairs + pair
+    found = Found(keys[near], vertices[rows, best][near], value[near], keys[:0])
+    # crossings: a ruling of b (near row -> far row) through a's mid plane inside the cell
+    test = hinge < 0
+    if not test.any():
+        return found
+    d = heights[test, 0].reshape(-1, CELLS, 2, 2, RULINGS)  # (N, cell, face, row, ruling)
+    d0, d1 = d[:, :, :, 0], d[:, :, :, 1]
+    change = np.nonzero((d0 * d1) < 0.0)  # (N, cell, face, ruling)
+    if not len(change[0]):
+        return found
+    nb, c, f, r = change
+    d0, d1 = d0[change], d1[change]
+    xs = x[test].reshape(-1, 2, 2, RULINGS, 3)
+    x0, x1 = xs[nb, f, 0, r], xs[nb, f, 1, r]
+    s = d0 / (d0 - d1)
+    point = x0 + s[:, None] * (x1 - x0)
+    cell = blocks.cell_block[cell_id[test] % nj][nb, c]
+    ks, as_ = kb[test][nb], ab[test][nb]
+    inside = np.ones(len(s), dtype=bool)
+    for base, plane in blocks.planes:
+        inside &= dot(point - base[ks, as_, cell], plane[ks, as_, cell]) >= tol
+    return found._replace(crossing=keys[test][nb][inside])

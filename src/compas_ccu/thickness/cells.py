@@ -1,0 +1,97 @@
+"""The cells of a thick plate: the half-spaces of every quad cell and the tests on them.
+
+A thick plate is the union of its quad *cells*: cell ``j`` is bounded by the two offset planes
+of quad ``j`` (``|d| ≤ t/2`` along the quad normal), the two ruling-side planes (through ruling
+``j`` and its offset vector ν_j, and the same for ``j + 1``) and the planes through the
+crease-side and far-side edges that contain the quad normal. :func:`plate_cells` gives these
+planes, :func:`plane_heights` the signed distances of points from them (one batched matrix
+product), :func:`in_footprint` whether a point's foot lies inside a cell's footprint, and
+:func:`point_gaps` the gap of any points over one plate. The contact test of two plates
+(:mod:`compas_ccu.thickness.collision`) and its candidate search
+(:mod:`compas_ccu.thickness.candidate_search`) are built on them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from compas_ccu.geometry import cross3, dot, unit3
+from compas_ccu.tolerances import EXACT_RELATIVE
+
+__all__ = ["plate_cells", "plane_heights", "in_footprint", "point_gaps"]
+
+
+def plate_cells(mid_near, mid_far, offsets):
+    """Half-space description of the cells of plates (..., n cells)."""
+    a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]
+    c, d = mid_far[..., 1:, :], mid_far[..., :-1, :]
+    normal = unit3(cross3(c - a, d - b))
+    ruling = unit3(mid_far - mid_near)
+    side = unit3(cross3(ruling, offsets))  # plane of ruling j and ν_j
+    # orient the side planes so that the cell is on their positive side
+    centre = 0.25 * (a + b + c + d)
+    s0 = side[..., :-1, :]
+    s0 = s0 * np.sign(dot(centre - a, s0))[..., None]
+    s1 = side[..., 1:, :]
+    s1 = s1 * np.sign(dot(centre - b, s1))[..., None]
+    e_near = unit3(cross3(normal, b - a))
+    e_near = e_near * np.sign(dot(centre - a, e_near))[..., None]
+    e_far = unit3(cross3(normal, c - d))
+    e_far = e_far * np.sign(dot(centre - d, e_far))[..., None]
+    return centre, normal, (a, s0), (b, s1), (a, e_near), (d, e_far)
+
+
+def plane_heights(points, base, normal):
+    """(K, P, n) signed distances ``(p - base_j) . normal_j`` of points (K, P, 3) from the
+    planes (K, n, 3): one batched matrix product (BLAS) instead of a (K, P, n, 3) temporary."""
+    return points @ np.swapaxes(normal, -1, -2) - dot(base, normal)[..., None, :]
+
+
+def in_footprint(points, cells, tol):
+    """(..., P, n) True where a point's foot lies inside a cell's footprint."""
+    _, _, *planes = cells
+    inside = None
+    for base, normal in planes:
+        ok = plane_heights(points, base, normal) >= -tol
+        inside = ok if inside is None else inside & ok
+    return inside
+
+
+def point_gaps(points, mid_near, mid_far, offsets, thickness, *, tol=EXACT_RELATIVE):
+    """Gap of points over one plate in every state: ``|d| - t/2`` over the cell whose footprint
+    holds the point's foot (the smallest over such cells), inf where none does.
+
+    Negative: the point lies inside the plate by that depth. The brute force of
+    :func:`_contacts_all` (every point against every cell) for points that are not a plate's
+    face vertices, e.g. sample points of a splice plate (:mod:`compas_ccu.thickness.splices`).
+
+    Parameters
+    ----------
+    points : (k, P, 3) float
+    mid_near, mid_far, offsets : (k, n + 1, 3) float
+        The plate's mid-surface boundaries (with the crease corrections) and face offsets.
+    thickness : float
+        The plate's, m.
+    tol : float
+        Lateral tolerance of the footprint test, m.
+
+    Returns
+    -------
+    (k, P) float
+
+    Examples
+    --------
+    A 1 x 1 plate 8 mm thick in z = 0 and points 1 mm and 10 mm above it, and one beside it:
+
+    >>> near = np.array([[[0.0, 0, 0], [1, 0, 0]]])
+    >>> far = near + [0, 1, 0]
+    >>> nu = np.broadcast_to([0.0, 0, 1], near.shape)
+    >>> pts = np.array([[[0.5, 0.5, 0.001], [0.5, 0.5, 0.01], [2.0, 0.5, 0.0]]])
+    >>> np.round(point_gaps(pts, near, far, nu, 0.008), 9).tolist()
+    [[-0.003, 0.006, inf]]
+    """
+    cells = plate_cells(mid_near, mid_far, offsets)
+    centre, normal = cells[0], cells[1]
+    lateral = in_footprint(points, cells, tol)  # (k, P, n)
+    d = plane_heights(points, centre, normal)
+    return np.where(lateral, np.abs(d) - 0.5 * thickness, np.inf).min(axis=2)
