@@ -87,3 +87,36 @@ def test_no_missing_extra_error_is_raised_by_hand(tmp_path):
     (tmp_path / "viz").mkdir()
     (tmp_path / "viz" / "plot.py").write_text("    raise MissingExtraError(\n")
     assert hand_raised(tmp_path) == ["viz/plot.py:1"]  # the check finds one
+
+
+def exception_classes_outside_errors(root: Path) -> list:
+    """``class X(...Error / ...Warning / Exception)`` defined anywhere but ``errors.py``."""
+    pattern = re.compile(r"^class\s+(\w+)\s*\(([^)]*)\)")
+    return [
+        f"{path.relative_to(root)}:{number} {match.group(1)}"
+        for path in sorted(root.rglob("*.py"))
+        if path.name != "errors.py" or path.parent != root
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+        for match in [pattern.match(line)]
+        if match and re.search(r"(Error|Warning|Exception)\b", match.group(2))
+    ]
+
+
+def test_every_exception_of_the_package_is_defined_in_errors_py(tmp_path):
+    assert exception_classes_outside_errors(SRC) == []
+    (tmp_path / "fea").mkdir()
+    (tmp_path / "fea" / "problem.py").write_text("class FEError(CCUError):\n    pass\n")
+    (tmp_path / "fea" / "ok.py").write_text("class Result(Data):\n    pass\n")
+    assert exception_classes_outside_errors(tmp_path) == ["fea/problem.py:1 FEError"]
+
+
+def test_errors_moved_to_errors_py_are_still_importable_where_they_were_raised():
+    from compas_ccu.fea import ConvergenceError, FEError
+    from compas_ccu.materials import MaterialError
+
+    assert (FEError, ConvergenceError, MaterialError) == (
+        errors.FEError,
+        errors.ConvergenceError,
+        errors.MaterialError,
+    )
+    assert all(issubclass(cls, errors.CCUError) for cls in (FEError, ConvergenceError))

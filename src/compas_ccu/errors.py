@@ -24,6 +24,9 @@ __all__ = [
     "SelfIntersectionError",
     "SweepError",
     "FitError",
+    "FEError",
+    "ConvergenceError",
+    "MaterialError",
     "rebuild_error",
     "require",
     "missing_modules",
@@ -143,6 +146,37 @@ class FitError(CCUError):
     """A fit to geometry failed (``ccu asbuilt``, ``ccu fit``): a scan that fits no state of
     the design, a target no design within the bounds can reach, a fit that did not converge
     within its evaluations; the message names the cause and the value."""
+
+
+class FEError(CCUError):
+    """An FE problem is inconsistent or an engine is missing."""
+
+
+class ConvergenceError(CCUError):
+    """A nonlinear analysis did not converge, even after cutting the step.
+
+    Attributes
+    ----------
+    step : int
+        The step (1 .. S) that failed.
+    residual : float
+        The last relative residual / displacement-increment norm of Newton.
+    result : compas_ccu.fea.FEResult
+        The converged history up to ``step - 1`` (for inspection, not as a result).
+    """
+
+    def __init__(self, message: str, *, step: int, residual: float, result=None):
+        self.step = step
+        self.residual = residual
+        self.result = result
+        super().__init__(message)
+
+    def __reduce__(self):  # keyword-only attributes: pickle them (Dask workers, copies)
+        return rebuild_error, (type(self), self.args, self.__dict__)
+
+
+class MaterialError(CCUError):
+    """A material name or value is unknown or impossible."""
 
 
 def rebuild_error(cls, args, attributes):

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from compas_ccu.errors import CCUError, rebuild_error
+from compas_ccu.errors import ConvergenceError, FEError
 from compas_ccu.materials import Material
 
 __all__ = [
@@ -55,33 +55,6 @@ def buckling_steps(buckling, steps: int) -> set:
     if bad:
         raise FEError(f"buckling steps must lie in 1 .. {steps}, got {bad}")
     return out
-
-
-class FEError(CCUError):
-    """An FE problem is inconsistent or an engine is missing."""
-
-
-class ConvergenceError(CCUError):
-    """A nonlinear analysis did not converge, even after cutting the step.
-
-    Attributes
-    ----------
-    step : int
-        The step (1 .. S) that failed.
-    residual : float
-        The last relative residual / displacement-increment norm of Newton.
-    result : FEResult
-        The converged history up to ``step - 1`` (for inspection, not as a result).
-    """
-
-    def __init__(self, message: str, *, step: int, residual: float, result=None):
-        self.step = step
-        self.residual = residual
-        self.result = result
-        super().__init__(message)
-
-    def __reduce__(self):  # keyword-only attributes: pickle them (Dask workers, copies)
-        return rebuild_error, (type(self), self.args, self.__dict__)
 
 
 @dataclass

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, replace
 
-from compas_ccu.errors import CCUError
+from compas_ccu.errors import MaterialError
 from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = ["Material", "MATERIALS", "MATERIAL_KINDS", "material", "MaterialError"]
@@ -19,10 +19,6 @@ __all__ = ["Material", "MATERIALS", "MATERIAL_KINDS", "material", "MaterialError
 #: What a material is, for its design factors (docs/thickness.md, "Design values"): plywood
 #: (EN 1995-1-1), gfrp, aluminium (EN 1999-1-1) or other.
 MATERIAL_KINDS = ("plywood", "gfrp", "aluminium", "other")
-
-
-class MaterialError(CCUError):
-    """A material name or value is unknown or impossible."""
 
 
 @dataclass(frozen=True)
