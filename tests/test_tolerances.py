@@ -1,4 +1,5 @@
-"""Named tolerances: the division floor is written once, in ``tolerances.py``."""
+"""Named tolerances: the division floor and every round-off tolerance are written once, in
+``tolerances.py``."""
 
 from __future__ import annotations
 
@@ -38,3 +39,33 @@ def test_the_check_finds_a_literal(tmp_path):
     (tmp_path / "b.py").write_text("t = brentq(f, 0, 1, xtol=1.0E-300)  # 1e-300\n")
     assert literal_floors(tmp_path) == ["a.py:2", "b.py:1"]
     assert DIVISION_FLOOR == 1e-300
+
+
+def literal_tolerances(root: Path) -> list:
+    """Every number literal between 1e-16 and 1e-9 (the round-off family: ``1e-9``, ``1e-12``,
+    ``1.0E-14`` ...) in code under ``root`` except ``tolerances.py``: ``path:line literal``.
+    Docstrings and comments are words, not numbers (the tokenizer gives them as strings)."""
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        if path.name == "tolerances.py":
+            continue
+        text = path.read_text(encoding="utf-8")
+        for token in tokenize.generate_tokens(io.StringIO(text).readline):
+            if token.type == tokenize.NUMBER and not token.string.endswith(("j", "J")):
+                value = token.string.replace("_", "")
+                if any(c in value for c in ".eE") and 1e-16 <= float(value) <= 1e-9:
+                    found.append(f"{path.relative_to(root)}:{token.start[0]} {token.string}")
+    return found
+
+
+def test_every_round_off_tolerance_is_named_in_tolerances():
+    """``EXACT_RELATIVE``, ``ZERO_LENGTH``, ``ROUND_OFF``, ``MACHINE`` ... not the number."""
+    assert literal_tolerances(SRC) == []
+
+
+def test_the_tolerance_check_finds_each_spelling(tmp_path):
+    (tmp_path / "tolerances.py").write_text("EXACT_RELATIVE = 1e-9\n")
+    (tmp_path / "a.py").write_text('"""to 1e-12 of the size"""\nok = err < 1e-12 * size  # 1e-9\n')
+    (tmp_path / "b.py").write_text("x = brentq(f, 0, 1, xtol=1.0E-15)\ny = 1e-6\nz = 1e-18\n")
+    (tmp_path / "c.py").write_text("TOUCH = 0.000000001\n")
+    assert literal_tolerances(tmp_path) == ["a.py:2 1e-12", "b.py:1 1.0E-15", "c.py:1 0.000000001"]

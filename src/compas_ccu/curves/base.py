@@ -13,12 +13,12 @@ from abc import ABC, abstractmethod
 import numpy as np
 
 from compas_ccu.errors import ProfileError
-from compas_ccu.tolerances import ZERO_LENGTH
+from compas_ccu.tolerances import ARC_PARAMETER, ZERO_LENGTH
 
 __all__ = ["Profile"]
 
 #: Relative tolerance on arc-length arguments slightly outside ``[0, length]`` (round-off).
-_S_TOLERANCE = 1e-10
+_S_TOLERANCE = ARC_PARAMETER
 
 
 def require_real(name: str, value: object, *, unit: str = "m") -> float:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.errors import ProfileError
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["plane_coordinates"]
 
@@ -72,7 +73,9 @@ def plane_coordinates(points, *, source: str = "curve", planarity: float = 1e-6)
         )
     chord = p[-1] - p[0]
     chord -= (chord @ normal) * normal
-    if np.linalg.norm(chord) <= 1e-9 * size:  # a closed curve: the first principal direction
+    if (
+        np.linalg.norm(chord) <= EXACT_RELATIVE * size
+    ):  # a closed curve: the first principal direction
         chord = vt[0]
     xaxis = chord / np.linalg.norm(chord)
     yaxis = np.cross(normal, xaxis)

@@ -24,7 +24,7 @@ from compas_ccu.curves.dxf_input import (
     straight_polyline_points,
 )
 from compas_ccu.errors import ProfileError
-from compas_ccu.tolerances import DIVISION_FLOOR
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 
 __all__ = ["dxf_candidates", "dxf_sampler", "dxf_line_chains"]
 
@@ -179,7 +179,7 @@ def dxf_line_chains(lines) -> list:
         size = max(
             float(np.linalg.norm(np.ptp([p for s in segs for p in s[:2]], axis=0))), DIVISION_FLOOR
         )
-        close = 1e-9 * size
+        close = EXACT_RELATIVE * size
         unused = list(range(len(segs)))
         while unused:
             first = unused.pop(0)

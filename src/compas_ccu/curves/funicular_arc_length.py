@@ -12,12 +12,14 @@ import functools
 
 import numpy as np
 
+from compas_ccu.tolerances import ROUND_OFF
+
 __all__ = ["ArcLengthTable", "cell_of"]
 
 _GAUSS_ORDER = 16
 _MAX_BISECTIONS = 40
-_QUADRATURE_TOLERANCE = 1e-14
-_NEWTON_TOLERANCE = 1e-14
+_QUADRATURE_TOLERANCE = ROUND_OFF
+_NEWTON_TOLERANCE = ROUND_OFF
 _NEWTON_MAX_ITERATIONS = 60
 
 

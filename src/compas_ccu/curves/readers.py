@@ -56,6 +56,7 @@ from compas_ccu.curves.dxf_input import check_finite, extent
 from compas_ccu.curves.rhino_curves import rhino_candidates
 from compas_ccu.curves.svg_curves import svg_candidates
 from compas_ccu.errors import ProfileError
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = [
     "dxf_sampler",
@@ -196,7 +197,7 @@ def _sample(path: Path, chosen: Candidate, tolerance: float) -> np.ndarray:
     points = check_finite(chosen.sample(tolerance * size), f"{str(path)!r}: {chosen.label}")
     limits.check("points", len(points), what=f"points of {chosen.label} in {path.name}")
     if len(points) > 1:  # drop repeated points (joints of segments)
-        keep = np.r_[True, np.linalg.norm(np.diff(points, axis=0), axis=1) > 1e-12 * size]
+        keep = np.r_[True, np.linalg.norm(np.diff(points, axis=0), axis=1) > ZERO_LENGTH * size]
         points = points[keep]
     if len(points) < 2:
         raise ProfileError(f"{str(path)!r}: {chosen.label} has fewer than 2 distinct points")

@@ -8,6 +8,7 @@ import numpy as np
 
 from compas_ccu.curves.base import Profile, require_points
 from compas_ccu.errors import ProfileError
+from compas_ccu.tolerances import ROUND_OFF
 
 __all__ = ["SplineProfile"]
 
@@ -16,8 +17,8 @@ BOUNDARY_CONDITIONS = ("natural", "not-a-knot")
 
 _GAUSS_ORDER = 16
 _MAX_BISECTIONS = 40
-_QUADRATURE_TOLERANCE = 1e-14
-_NEWTON_TOLERANCE = 1e-14
+_QUADRATURE_TOLERANCE = ROUND_OFF
+_NEWTON_TOLERANCE = ROUND_OFF
 _NEWTON_MAX_ITERATIONS = 60
 
 

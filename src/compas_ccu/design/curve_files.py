@@ -14,6 +14,7 @@ from pathlib import Path
 from compas_ccu.curves.readers import plane_coordinates, read_curve
 from compas_ccu.design.schema import CURVE_FILE_PLACES
 from compas_ccu.errors import DesignError, MissingExtraError, ProfileError
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["read_curve_files", "absolute_curve_files"]
 
@@ -102,7 +103,7 @@ def read_curve_files(values: dict, base=None, *, plane_given: bool = True) -> di
             else:
                 z = curve.points[:, 2]
                 size = float(abs(curve.points).max()) or 1.0
-                if float(z.max() - z.min()) > 1e-9 * size:
+                if float(z.max() - z.min()) > EXACT_RELATIVE * size:
                     raise ProfileError(
                         f"{curve.source}: a target curve is drawn in a plane z = const (its "
                         f"x, y are d and the value); z varies by {float(z.max() - z.min()):.6g} m"

@@ -26,6 +26,7 @@ from compas_ccu.errors import DesignError, SweepError
 from compas_ccu.explore.metrics import metric, metric_group, metric_names
 from compas_ccu.fea.problem import FEError
 from compas_ccu.fea.validation import FESettings
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["Parameter", "Variant", "parse_parameter", "parse_checks", "parse_fe", "parse_goals"]
 __all__ += ["table", "known", "integer", "flatten", "schema_key", "default_constraints"]
@@ -401,7 +402,7 @@ def _search_range(name: str, spec: dict, key, where: str) -> Parameter:
         if flags["integer"] and not float(step).is_integer():
             raise SweepError(f"an integer range needs an integer step, got {step!r}", key=where)
         count = (high - low) / step
-        if abs(count - round(count)) > 1e-9 * max(1.0, count):
+        if abs(count - round(count)) > EXACT_RELATIVE * max(1.0, count):
             raise SweepError(
                 f"step {step!r} does not divide the range {low:g} .. {high:g} into whole steps",
                 key=where,

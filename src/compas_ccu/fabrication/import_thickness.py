@@ -27,7 +27,7 @@ from compas_ccu.geometry import fit_planes, unit
 from compas_ccu.kinematics.mechanism import Mechanism
 from compas_ccu.kinematics.plates import hinge_and_rulings
 from compas_ccu.thickness.axis_shift import crease_sides, place_thick, vertex_offsets
-from compas_ccu.tolerances import EXACT_RELATIVE
+from compas_ccu.tolerances import EXACT_RELATIVE, UNDO_ABSOLUTE, UNDO_RELATIVE
 
 __all__ = [
     "thickness_shifts",
@@ -84,12 +84,9 @@ def thickness_shifts(mechanism: Mechanism, thickness: float, alpha: float):
 
 
 #: Undoing the thickness correction: the shifts are iterated until they change by less than
-#: this (m) or :data:`UNDO_RELATIVE` times the largest plate's size (rounding: the 22-plate
-#: dome's planar steps stop at changes of 3e-12 to 6e-12 m, plates 2.3 m across) ...
-UNDO_TOLERANCE = 1e-13
-
-
-UNDO_RELATIVE = 1e-11
+#: this (m) or :data:`UNDO_RELATIVE` times the largest plate's size (both from
+#: :mod:`compas_ccu.tolerances`) ...
+UNDO_TOLERANCE = UNDO_ABSOLUTE
 
 
 #: ... within this many iterations.

@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from compas_ccu.errors import GeometryError, LimitError, require
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["Packing", "strip_pack", "solver_version", "SOLVER", "PATIENCE"]
 
@@ -178,7 +179,7 @@ def strip_pack(
         return Packing({}, 0.0, 0.0, 0, "steps", seed, SOLVER, version)
     for name in sorted(shapes):
         least = _least_height(np.asarray(shapes[name], dtype=float), orientations[name])
-        if least > height + 1e-9:
+        if least > height + EXACT_RELATIVE:
             raise GeometryError(
                 f"part {name} is at least {least:.1f} mm high in its allowed orientations, "
                 f"more than the strip of {height:.1f} mm"

@@ -13,6 +13,7 @@ from compas_ccu.fabrication.splices import (
     stagger_cuts,
     sub_outline,
 )
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = [
     "make_parts",
@@ -148,7 +149,7 @@ def splice_bending(
             a, b = flat[j], flat[n + 1 + j]
             d = (b - a) / np.linalg.norm(b - a)
             off = np.abs((flat - a) @ np.array([-d[1], d[0]]))
-            band = off <= 0.5 * options.splice_width + 1e-12
+            band = off <= 0.5 * options.splice_width + ZERO_LENGTH
             plate_u = float(u[i, band].max())
             cuts.append(
                 {

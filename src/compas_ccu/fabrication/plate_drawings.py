@@ -21,6 +21,7 @@ from compas_ccu.curves.dxf_input import (
 )
 from compas_ccu.curves.readers import UNITS, dxf_line_chains, dxf_sampler
 from compas_ccu.errors import DesignError, ProfileError, require
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
     "REQUIRED_LAYERS",
@@ -44,7 +45,7 @@ SNAP = 1e-7
 
 
 #: Sampling tolerance of curved outlines and creases, relative to the plate's size.
-SAMPLING = 1e-9
+SAMPLING = EXACT_RELATIVE
 
 
 @dataclass

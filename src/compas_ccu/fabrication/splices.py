@@ -26,6 +26,7 @@ import numpy as np
 
 from compas_ccu.errors import GeometryError
 from compas_ccu.thickness.splices import PileMap, Splice, max_pile
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = [
     "part_orientations",
@@ -255,9 +256,9 @@ def stagger_cuts(data, options, *, stagger: bool = True) -> dict:
             for option in shifted_cuts(flat, options, grain, cuts):
                 rects = [splice_rectangle(flat, n, j, options, data.hinge_width) for j in option]
                 pile = piles.trial(np.array(rects), thick)
-                if best is None or pile < best[0] - 1e-12:
+                if best is None or pile < best[0] - ZERO_LENGTH:
                     best = (pile, option, rects)
-                if pile <= piles.max + 1e-12:  # no higher than the stack already is
+                if pile <= piles.max + ZERO_LENGTH:  # no higher than the stack already is
                     break
             _, cuts, rects = best
             piles.add(np.array(rects), thick)

@@ -25,6 +25,7 @@ import numpy as np
 
 from compas_ccu.fea.mesh import ShellMesh
 from compas_ccu.geometry import edge_fold_angles
+from compas_ccu.tolerances import ZERO_ANGLE
 
 __all__ = ["crease_rows", "crease_alphas", "crease_fold_table"]
 
@@ -97,7 +98,7 @@ def crease_fold_table(
                 "kinematic_alpha": k.tolist(),
                 "residual": (f - k).tolist(),
                 "residual_max": np.abs(fe[:, c] - kin[:, c]).max(axis=1).tolist(),
-                "follow": float((f[-1] - f[start]) / dk) if abs(dk) > 1e-12 else None,
+                "follow": float((f[-1] - f[start]) / dk) if abs(dk) > ZERO_ANGLE else None,
             }
         )
     return rows

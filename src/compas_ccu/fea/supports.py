@@ -30,6 +30,7 @@ import numpy as np
 
 from compas_ccu.fea.mesh import ShellMesh
 from compas_ccu.fea.problem import FEError
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["SupportModel", "support_model", "foot_lengths", "SUPPORT_TYPES"]
 
@@ -150,7 +151,7 @@ def support_model(
     if tie:
         axis = np.asarray(span_axis, dtype=float)
         j = int(np.argmax(np.abs(axis)))
-        if abs(abs(axis[j]) - 1.0) > 1e-9:
+        if abs(abs(axis[j]) - 1.0) > EXACT_RELATIVE:
             raise FEError(
                 f"a tie needs the span along a global axis (the end feet slide along it); the "
                 f"span runs along {np.round(axis, 6).tolist()}: set [plane] xaxis to a "

@@ -26,6 +26,7 @@ from compas_ccu.design.schema import SCHEMA
 from compas_ccu.errors import CCUError, DesignError, FitError, OptionError
 from compas_ccu.fit.distance import PlateSurface, plate_triangles
 from compas_ccu.model import CCUModel
+from compas_ccu.tolerances import EXACT_RELATIVE, FIT_OBJECTIVE
 
 __all__ = ["FreeKey", "DesignFit", "fit_design", "parse_free", "free_keys", "TARGET_SIZE_FACTOR"]
 __all__ += ["target_distance", "target_spacing"]
@@ -278,7 +279,7 @@ def fit_design(
     pick = np.sort(rng.choice(len(tri0) * len(_BARY), size=nplate, replace=False))
     count = 0
     x0 = np.array(list(start.values()))
-    scale = np.array([max(f.upper - f.lower, 1e-9) for f in free])
+    scale = np.array([max(f.upper - f.lower, EXACT_RELATIVE) for f in free])
 
     def residuals(u):
         nonlocal count
@@ -314,7 +315,7 @@ def fit_design(
         max_nfev=int(max_evaluations),
         diff_step=1e-6,
         xtol=1e-8,
-        ftol=1e-10,
+        ftol=FIT_OBJECTIVE,
     )
     if res.status <= 0:
         raise FitError(

@@ -31,6 +31,7 @@ from compas_ccu.errors import FitError, GeometryError, OptionError
 from compas_ccu.fit.distance import Distances, PlateSurface
 from compas_ccu.fit.rigid import apply, axis_rotations, invert, matrix, rotation
 from compas_ccu.key_figures import state_figures
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["AsBuilt", "PlateDeviation", "register", "MIN_COVERAGE", "MIN_INLIER_SHARE"]
 
@@ -245,7 +246,7 @@ def _icp(start, scan, surf: PlateSurface, iterations: int, keep: float, cap: flo
         xs, n = x[sel], normals[i[sel]]
         a = np.concatenate([np.cross(xs, n), n], axis=1)
         b = ((surf.samples[i[sel]] - xs) * n).sum(axis=1)
-        step = np.linalg.lstsq(a.T @ a + 1e-9 * np.eye(6), a.T @ b, rcond=None)[0]
+        step = np.linalg.lstsq(a.T @ a + EXACT_RELATIVE * np.eye(6), a.T @ b, rcond=None)[0]
         m = matrix(rotation(step[:3]), step[3:]) @ m
     x = apply(m, scan)
     _, i = surf.tree.query(x)

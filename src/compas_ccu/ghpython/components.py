@@ -29,6 +29,7 @@ from compas_ccu.kinematics.plates import plate_rulings
 from compas_ccu.model import CCUModel
 from compas_ccu.scene.draw import draw_items, item_structure, ruling_lines
 from compas_ccu.thickness import ThickModel
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
     "as_model",
@@ -50,7 +51,7 @@ __all__ = [
 #: The layers of the cut patterns: those of the DXF plate files.
 CUT_LAYERS = tuple(k for k in PLATE_LAYERS if k != "LABEL")
 #: Largest relative invariant error (isometry, planarity, hinge, mirror) a check passes.
-INVARIANT_TOLERANCE = 1e-9
+INVARIANT_TOLERANCE = EXACT_RELATIVE
 
 
 def _unit_scale(unit_scale) -> float:

@@ -17,6 +17,7 @@ from compas.datastructures import Mesh
 from compas.geometry import Line, Polyline
 
 from compas_ccu.errors import GeometryError, OptionError
+from compas_ccu.tolerances import EXACT_RELATIVE, MACHINE, ZERO_LENGTH
 
 __all__ = [
     "point_xyz",
@@ -135,14 +136,14 @@ def crease_plane(points) -> tuple:
     pts = np.asarray(points, dtype=float)
     chord = pts[-1] - pts[0]
     size = float(np.linalg.norm(np.ptp(pts, axis=0)))
-    if float(np.linalg.norm(chord)) <= 1e-12 * max(size, 1.0):
+    if float(np.linalg.norm(chord)) <= ZERO_LENGTH * max(size, 1.0):
         raise GeometryError(
             "the crease curve is closed (its end points coincide): need an open curve"
         )
     xaxis = chord / np.linalg.norm(chord)
     centred = pts - pts.mean(axis=0)
     _, s, vt = np.linalg.svd(centred, full_matrices=False)
-    if s[1] <= 1e-9 * size:
+    if s[1] <= EXACT_RELATIVE * size:
         raise GeometryError("the crease curve is straight: a CCU crease is curved")
     normal = vt[2] if len(s) > 2 else np.cross(vt[0], vt[1])
     off = float(np.max(np.abs(centred @ normal)))
@@ -157,7 +158,7 @@ def crease_plane(points) -> tuple:
     profile = np.c_[rel @ xaxis, rel @ yaxis]
     if profile[:, 1].sum() < 0.0:
         yaxis, profile[:, 1] = -yaxis, -profile[:, 1]
-    profile[np.abs(profile) < 1e-15] = 0.0
+    profile[np.abs(profile) < MACHINE] = 0.0
     return pts[0], xaxis, yaxis + 0.0, profile
 
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 from compas_ccu.key_figures.rows import utilisation_text
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
     "Check",
@@ -37,7 +38,7 @@ __all__ = [
 
 #: The largest relative error of the kinematic invariants (isometry, planarity, mirror) a
 #: certified state may have: the exact construction holds them to ~1e-15.
-INVARIANT_TOLERANCE = 1e-9
+INVARIANT_TOLERANCE = EXACT_RELATIVE
 
 
 @dataclass(frozen=True)

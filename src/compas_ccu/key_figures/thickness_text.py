@@ -10,6 +10,7 @@ from __future__ import annotations
 from compas_ccu.key_figures.rows import basis_text, utilisation_text
 from compas_ccu.thickness.bending import bending_verdict
 from compas_ccu.thickness.collision_check import collision_text
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = [
     "thickness_rows",
@@ -27,7 +28,7 @@ def thickness_rows(summary: dict) -> list:
     if plates is not None:
         spliced = (
             " (no splice plates)"
-            if abs(summary["stack_height"] - plates) < 1e-12
+            if abs(summary["stack_height"] - plates) < ZERO_LENGTH
             else f" with the splice plates ({plates * 1e3:.4g} mm plates)"
         )
     rows = [

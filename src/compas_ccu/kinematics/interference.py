@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.kinematics.plates import plate_quads
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
     "ANGLE_TOLERANCE",
@@ -61,7 +62,7 @@ ANGLE_TOLERANCE = 1e-7
 #: A point within this fraction of the structure size of a plane (or of a quad's edge) is on it:
 #: touching is not crossing. Where a quad is planar only to a larger distance (layouts whose
 #: creases leave their planes), twice that distance is its tolerance.
-TOUCH_RELATIVE = 1e-9
+TOUCH_RELATIVE = EXACT_RELATIVE
 
 _INITIAL_STATES = 33
 _CHUNK = 16

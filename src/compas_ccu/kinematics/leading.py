@@ -45,7 +45,7 @@ import numpy as np
 
 from compas_ccu.errors import DeploymentLimitError, GeometryError
 from compas_ccu.strips.intrinsics import StripIntrinsics
-from compas_ccu.tolerances import ZERO_LENGTH
+from compas_ccu.tolerances import MACHINE, ZERO_LENGTH
 
 __all__ = ["LeadingStrip", "LeadingPlacement"]
 
@@ -298,7 +298,7 @@ class LeadingStrip:
         hi = np.full_like(alpha, self.s0_max)
         guess_factor = self.tilt_factors[min(self.reference, self.n - 1)]
         s = np.clip(np.sin(alpha) / guess_factor, 0.0, self.s0_max)
-        tol = 1e-15
+        tol = MACHINE
         for _ in range(60):
             f = self.reference_alpha(s) - alpha
             if np.all(np.abs(f) <= tol):

@@ -30,12 +30,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.tolerances import MACHINE
+
 __all__ = ["levenberg_marquardt", "termination", "MESSAGES"]
 
 # the initial damping (relative to the Marquardt scale diag(J^T J)), its floor and the ceiling
 # beyond which a step that cannot be computed is given up
 DAMPING_START = 1e-6
-DAMPING_MIN = 1e-15
+DAMPING_MIN = MACHINE
 DAMPING_MAX = 1e16
 #: scipy.optimize.least_squares' messages, by status code (-1: this solver's own)
 MESSAGES = {

@@ -29,6 +29,7 @@ from compas.geometry import Line, Polyline
 from compas.scene import SceneObject
 
 from compas_ccu.scene.draw import bounding_box, draw_items
+from compas_ccu.tolerances import EXACT_RELATIVE
 from compas_ccu.viz.colors import RULING_COLOR, hex_to_rgb
 
 __all__ = [
@@ -360,7 +361,7 @@ def frame_camera(camera, box, *, margin: float = 1.15) -> float:
     """
     lo, hi = np.asarray(box, dtype=float)
     centre = (lo + hi) / 2.0
-    radius = max(float(np.linalg.norm(hi - lo)) / 2.0, 1e-9)
+    radius = max(float(np.linalg.norm(hi - lo)) / 2.0, EXACT_RELATIVE)
     fov = float(getattr(camera, "fov", 45.0) or 45.0)
     distance = margin * radius / math.sin(math.radians(fov) / 2.0)
     camera.target = centre.tolist()

@@ -7,7 +7,7 @@ from typing import NamedTuple
 import numpy as np
 
 from compas_ccu.errors import GeometryError
-from compas_ccu.tolerances import DIVISION_FLOOR
+from compas_ccu.tolerances import DIVISION_FLOOR, ROUND_OFF
 
 __all__ = ["CreaseFrames", "crease_frames", "signed_menger_curvature"]
 
@@ -56,7 +56,7 @@ def crease_frames(points: np.ndarray) -> CreaseFrames:
     p = np.asarray(points, dtype=float)[:, :2]
     d = np.diff(p, axis=0)
     lengths = np.hypot(d[:, 0], d[:, 1])
-    if np.any(lengths <= 1e-14 * max(lengths.sum(), DIVISION_FLOOR)):
+    if np.any(lengths <= ROUND_OFF * max(lengths.sum(), DIVISION_FLOOR)):
         raise GeometryError(f"crease edge {int(np.argmin(lengths))} has zero length")
     u = d / lengths[:, None]
     turns = np.zeros(len(p))

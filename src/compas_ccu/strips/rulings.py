@@ -26,7 +26,7 @@ import numpy as np
 
 from compas_ccu.errors import DevelopabilityError, GeometryError
 from compas_ccu.strips.frames import crease_frames
-from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_ANGLE, ZERO_LENGTH
+from compas_ccu.tolerances import EXACT_RELATIVE, MACHINE, ZERO_ANGLE, ZERO_LENGTH
 
 __all__ = [
     "rulings_from_tilts",
@@ -324,6 +324,6 @@ def ruling_angle_rulings(
             f"{math.degrees(flat):.6g} deg there (its ruling points across the crease); use "
             "more segments, a reference vertex inside the crease or a ruling angle nearer 90 deg"
         )
-    c = brentq(lambda c: ref_alpha(c) - alpha, lo, hi, xtol=1e-15, rtol=1e-15, maxiter=200)
+    c = brentq(lambda c: ref_alpha(c) - alpha, lo, hi, xtol=MACHINE, rtol=MACHINE, maxiter=200)
     tilts = tilts_for(c)
     return rulings_from_tilts(points, tilts, gamma), tilts

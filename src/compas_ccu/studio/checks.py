@@ -18,6 +18,7 @@ from compas_ccu.key_figures.table import FIGURES
 from compas_ccu.key_figures.text import size_figures, utilisation_text
 from compas_ccu.thickness import ThickModel
 from compas_ccu.thickness.bending import bending_verdict
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["Check", "StudioChecks", "design_checks", "first_collision", "PATH_STATES"]
 
@@ -28,7 +29,7 @@ COLLISION_STATES = 25
 #: Bisection steps that refine the first collision between two scanned states.
 COLLISION_BISECTIONS = 6
 #: Invariant error (relative) above which the exact kinematics has failed.
-INVARIANT_LIMIT = 1e-9
+INVARIANT_LIMIT = EXACT_RELATIVE
 #: Bending utilisation above which the row warns.
 BENDING_WARN = 0.9
 

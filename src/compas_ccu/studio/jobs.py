@@ -19,13 +19,14 @@ from compas_ccu.studio.panels import checks_html, patterns_html
 from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, view_state
 from compas_ccu.studio.widgets import set_content
 from compas_ccu.thickness import ThickModel
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["StudioJobs", "RELAX_ABOVE", "RELAXED_KEPT", "EXACT", "RELAXING", "RELAXED"]
 
 log = logging.getLogger("compas_ccu.studio.app")  # one log for the app
 
 #: Relative crease planarity above which a state is relaxed.
-RELAX_ABOVE = 1e-9
+RELAX_ABOVE = EXACT_RELATIVE
 #: Relaxed states kept (per model).
 RELAXED_KEPT = 64
 EXACT = "exact kinematics"

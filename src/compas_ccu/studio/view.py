@@ -19,7 +19,7 @@ from compas_ccu.analysis.plate_size import fits_sheet, plate_rectangles
 from compas_ccu.design.schema import STOCK_SHEET
 from compas_ccu.fabrication.meshes import solid_mesh
 from compas_ccu.kinematics.plates import plate_rulings
-from compas_ccu.tolerances import DIVISION_FLOOR
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.patterns import pattern_layout, plate_outline
 
@@ -34,7 +34,7 @@ SHEET = STOCK_SHEET
 #: Relative range below which a value is drawn as constant.
 CONSTANT = 1e-6
 #: Crease planarity (relative to the size) below which a crease counts as planar.
-PLANAR = 1e-9
+PLANAR = EXACT_RELATIVE
 
 
 def _rgb(color: str) -> tuple:

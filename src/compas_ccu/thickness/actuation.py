@@ -39,6 +39,7 @@ import numpy as np
 
 from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.thickness.bending import bending_angles
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = [
     "bending_energy",
@@ -201,7 +202,7 @@ def actuation_force(alphas, energy, span) -> np.ndarray:
     ds = np.gradient(np.asarray(span, dtype=float), a, edge_order=order)
     # the flat stack: both derivatives vanish there (a 0/0 limit the one-sided differences
     # cannot resolve), and wherever the span stands still
-    still = (np.abs(ds) <= 1e-12 * np.maximum(np.abs(np.asarray(span)), 1.0)) | (a <= 0.0)
+    still = (np.abs(ds) <= ZERO_LENGTH * np.maximum(np.abs(np.asarray(span)), 1.0)) | (a <= 0.0)
     return np.where(still, np.nan, de / np.where(still, 1.0, ds))
 
 

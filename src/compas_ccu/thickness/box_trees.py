@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.geometry import cross3, dot, norm3, unit3
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
     "cell_hulls",
@@ -85,7 +86,7 @@ def oriented_boxes(points, axes, tol):
             hi.append(along.max(axis=-1))
         lo, hi = np.stack(lo, axis=-1), np.stack(hi, axis=-1)
         mid = 0.5 * (lo + hi)
-        half = 0.5 * (hi - lo) + 1e-9 * (np.abs(lo) + np.abs(hi)) + tol
+        half = 0.5 * (hi - lo) + EXACT_RELATIVE * (np.abs(lo) + np.abs(hi)) + tol
     bad = ~np.isfinite(half).all(axis=-1)
     mid[bad], half[bad] = 0.0, np.inf
     centre = np.einsum("...ij,...j->...i", axes, mid)
@@ -114,7 +115,7 @@ def separated(box_a, box_b):
     da = [np.abs(a[i] * d[0] + a[3 + i] * d[1] + a[6 + i] * d[2]) for i in range(3)]
     db = [np.abs(b[j] * d[0] + b[3 + j] * d[1] + b[6 + j] * d[2]) for j in range(3)]
     with np.errstate(invalid="ignore"):
-        slack = 1e-9 * (norm3(d.T) + ha.sum(axis=0) + hb.sum(axis=0))
+        slack = EXACT_RELATIVE * (norm3(d.T) + ha.sum(axis=0) + hb.sum(axis=0))
         out = np.zeros(d.shape[1], dtype=bool)
         for i in range(3):
             out |= da[i] > ha[i] + r[i][0] * hb[0] + r[i][1] * hb[1] + r[i][2] * hb[2] + slack

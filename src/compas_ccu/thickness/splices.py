@@ -28,6 +28,7 @@ import numpy as np
 
 from compas_ccu.geometry import cross3, unit3
 from compas_ccu.thickness.cells import point_gaps
+from compas_ccu.tolerances import EXACT_RELATIVE, ZERO_LENGTH
 
 __all__ = [
     "Splice",
@@ -41,7 +42,7 @@ __all__ = [
 ]
 
 #: Lateral tolerance of the footprint test, m: footprints that only touch along an edge pile.
-TOUCH = 1e-9
+TOUCH = EXACT_RELATIVE
 
 
 @dataclass(frozen=True)
@@ -139,7 +140,13 @@ def _crossings(p, d, q, e, tol: float = TOUCH) -> np.ndarray:
         s = (w[..., 0] * e[None, :, 1] - w[..., 1] * e[None, :, 0]) / den
         u = (w[..., 0] * d[:, None, 1] - w[..., 1] * d[:, None, 0]) / den
     scale = np.linalg.norm(d, axis=1)[:, None] * np.linalg.norm(e, axis=1)[None]
-    ok = (np.abs(den) > 1e-12 * scale) & (s >= -tol) & (s <= 1 + tol) & (u >= -tol) & (u <= 1 + tol)
+    ok = (
+        (np.abs(den) > ZERO_LENGTH * scale)
+        & (s >= -tol)
+        & (s <= 1 + tol)
+        & (u >= -tol)
+        & (u <= 1 + tol)
+    )
     i, _ = np.nonzero(ok)
     return p[i] + s[ok][:, None] * d[i]
 

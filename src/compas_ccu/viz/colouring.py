@@ -15,7 +15,7 @@ import numpy as np
 
 from compas_ccu.errors import OptionError
 from compas_ccu.strips.curvature import plate_curvature
-from compas_ccu.tolerances import DIVISION_FLOOR
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.colour_scale import value_mappable
 
@@ -59,7 +59,7 @@ def _divisions(corner_values: np.ndarray, span: float) -> tuple:
     step = _COLOUR_STEP * max(span, DIVISION_FLOOR)
     along_u = np.nanmax(np.abs(np.r_[v[:, 1] - v[:, 0], v[:, 2] - v[:, 3]]), initial=0.0)
     along_v = np.nanmax(np.abs(np.r_[v[:, 3] - v[:, 0], v[:, 2] - v[:, 1]]), initial=0.0)
-    su, sv = (max(1, math.ceil(x / step - 1e-9)) for x in (along_u, along_v))
+    su, sv = (max(1, math.ceil(x / step - EXACT_RELATIVE)) for x in (along_u, along_v))
     while su * sv > SUBDIVISIONS:  # share the budget in proportion
         su, sv = (max(1, x - 1) if x >= y else x for x, y in ((su, sv), (sv, su)))
     return int(su), int(sv)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.errors import OptionError
-from compas_ccu.tolerances import EXACT_RELATIVE
+from compas_ccu.tolerances import EXACT_RELATIVE, MACHINE, ROUND_OFF
 
 __all__ = ["plot_planarity"]
 
@@ -57,8 +57,10 @@ def plot_planarity(model, *, steps: int = 60, alpha: float | None = None, title=
         color="#aa0000",
         fontsize=8,
     )
-    ax.axhspan(floor, 1e-14 * size, color="#dddddd", alpha=0.5, lw=0)
-    ax.text(alphas[-1], 2e-15 * size, "rounding level", ha="right", fontsize=8, color="#666666")
+    ax.axhspan(floor, ROUND_OFF * size, color="#dddddd", alpha=0.5, lw=0)
+    ax.text(
+        alphas[-1], 2 * MACHINE * size, "rounding level", ha="right", fontsize=8, color="#666666"
+    )
     ax.set_xlabel("reference reflection angle α (°)")
     ax.set_ylabel("crease distance from its plane (m)")
     ax.set_ylim(floor, max(10 * float(dev.max()), 100 * EXACT_RELATIVE * size))

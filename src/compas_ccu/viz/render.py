@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.tolerances import DIVISION_FLOOR
+from compas_ccu.tolerances import DIVISION_FLOOR, EXACT_RELATIVE
 from compas_ccu.viz import colors as C
 from compas_ccu.viz.camera import VIEWS, Camera, PathFrames, camera, path_frames, projected_limits
 from compas_ccu.viz.colour_scale import add_colorbar, colour_scale, value_range
@@ -270,4 +270,4 @@ def _add_rulings(paint, scene, cam, centre, size, bias):
 RASTER_ABOVE = 6000
 
 #: Depths closer than this fraction of the scene size are a tie (coincident, stacked plates).
-_DEPTH_TIE = 1e-9
+_DEPTH_TIE = EXACT_RELATIVE

@@ -13,6 +13,7 @@ import math
 import numpy as np
 
 from compas_ccu.errors import OptionError
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["cut_pattern_layout", "sheet_grid_layout", "sheet_document", "outline_index"]
 
@@ -142,7 +143,7 @@ def cut_pattern_layout(flat: np.ndarray, n: int, *, gap: float, beside=None) -> 
         if beside is not None:
             width, depth = max(width, beside[0]), depth + beside[1] + 2.0 * gap
         side = float(max(width, depth))
-        if best is None or side < best[0] - 1e-9:
+        if best is None or side < best[0] - EXACT_RELATIVE:
             best = (side, offsets)
     return best[1]
 
@@ -219,7 +220,7 @@ def sheet_grid_layout(sizes, *, gap: float, structure=None) -> np.ndarray:
         if box is not None:
             lo, hi = np.minimum(lo, box[:2]), np.maximum(hi, box[2:])
         side = float(max(hi - lo))
-        if best is None or side < best[0] - 1e-9:
+        if best is None or side < best[0] - EXACT_RELATIVE:
             best = (side, corners)
     return best[1]
 
