@@ -156,9 +156,9 @@ def planarity_along_path(model, alphas=None, *, steps: int = 32, relax: bool = F
         report.relaxation = {
             "alpha": float(alphas[worst]),
             "kinematic_isometry": float(
-                model.invariants(model.mechanism.deploy(np.radians(alphas[worst : worst + 1])))[
-                    "isometry"
-                ][0]
+                model.invariants(
+                    model.mechanism.deploy(np.radians(alphas[worst : worst + 1]))
+                ).isometry[0]
             ),
             "relaxed_isometry": structure.metrics["isometry"],
             "relaxed_crease_planarity": structure.metrics["crease_planarity_max"],

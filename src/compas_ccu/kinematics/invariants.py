@@ -9,6 +9,8 @@ themselves in their plane (the plates would pass through each other).
 
 from __future__ import annotations
 
+from dataclasses import dataclass, fields
+
 import numpy as np
 
 from compas_ccu.geometry import dot, unit
@@ -17,6 +19,7 @@ from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import quad_lengths
 
 __all__ = [
+    "InvariantErrors",
     "invariant_errors",
     "overlapping_creases",
     "overlap_limit",
@@ -31,7 +34,56 @@ INVARIANT_KEYS = ("isometry", "quad_planarity", "hinge_gap", "mirror_error", "le
 EXACT_KEYS = ("isometry", "quad_planarity", "hinge_gap", "mirror_error", "leading_in_plane")
 
 
-def invariant_errors(mechanism, states, reference_lengths: np.ndarray, *, frame=None) -> dict:
+@dataclass(frozen=True)
+class InvariantErrors:
+    """The invariant errors of ``k`` placed states, metres (:func:`invariant_errors`).
+
+    Attributes
+    ----------
+    isometry : (k,) float
+        The largest change of a quad side or diagonal length from the cut pattern.
+    quad_planarity : (k,) float
+        The largest distance of a quad's fourth corner from the plane of the other three.
+    hinge_gap : (k,) float
+        The largest distance between the two plates' vertices of a crease.
+    mirror_error : (k,) float
+        The largest distance between a ruling point of plate b reflected in the crease plane
+        and plate a's ruling.
+    leading_in_plane : (k,) float
+        The largest distance of the leading crease from its plane.
+    crease_planarity : (k, c) float
+        Every crease's largest distance from its plane.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> zeros, mirror = np.zeros(2), np.array([0.0, 3e-16])
+    >>> errors = InvariantErrors(zeros, zeros, zeros, mirror, zeros, np.zeros((2, 1)))
+    >>> errors.worst(EXACT_KEYS).tolist()
+    [0.0, 3e-16]
+    >>> sorted(errors.as_dict())[:2]
+    ['crease_planarity', 'hinge_gap']
+    """
+
+    isometry: np.ndarray
+    quad_planarity: np.ndarray
+    hinge_gap: np.ndarray
+    mirror_error: np.ndarray
+    leading_in_plane: np.ndarray
+    crease_planarity: np.ndarray
+
+    def worst(self, names=INVARIANT_KEYS) -> np.ndarray:
+        """(k,) float: the largest of the scalar errors ``names`` in each state."""
+        return np.max([getattr(self, name) for name in names], axis=0)
+
+    def as_dict(self) -> dict:
+        """``{name: array}`` of every field (for JSON writers and tables)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def invariant_errors(
+    mechanism, states, reference_lengths: np.ndarray, *, frame=None
+) -> InvariantErrors:
     """Invariant errors of ``k`` placed states, metres.
 
     Parameters
@@ -48,9 +100,10 @@ def invariant_errors(mechanism, states, reference_lengths: np.ndarray, *, frame=
 
     Returns
     -------
-    dict of (k,) float
+    InvariantErrors
         ``isometry`` (largest quad side / diagonal length change), ``quad_planarity``,
-        ``hinge_gap``, ``mirror_error``, ``leading_in_plane``, and ``crease_planarity`` (k, c).
+        ``hinge_gap``, ``mirror_error``, ``leading_in_plane``, each (k,), and
+        ``crease_planarity`` (k, c).
     """
     near, far = states.near, states.far
     origins, normals = states.plane_origins, states.plane_normals
@@ -89,18 +142,18 @@ def invariant_errors(mechanism, states, reference_lengths: np.ndarray, *, frame=
         reflected = pb_pts - 2.0 * dist[..., None] * nrm[:, None, :]
         mirror.append(np.linalg.norm(reflected - pa_pts, axis=-1).max(axis=1))
     zeros = np.zeros(near.shape[0])
-    return {
-        "isometry": isometry,
-        "quad_planarity": planarity,
-        "hinge_gap": np.max(gaps, axis=0) if gaps else zeros,
-        "mirror_error": np.max(mirror, axis=0) if mirror else zeros,
-        "crease_planarity": (
+    return InvariantErrors(
+        isometry=isometry,
+        quad_planarity=planarity,
+        hinge_gap=np.max(gaps, axis=0) if gaps else zeros,
+        mirror_error=np.max(mirror, axis=0) if mirror else zeros,
+        leading_in_plane=np.abs(dot(near[:, 0] - lead_origin, lead_normal)).max(axis=1),
+        crease_planarity=(
             np.stack(crease_planarity, axis=1).reshape(len(zeros), -1)
             if frame is not None and crease_planarity
             else states.planarity
         ),
-        "leading_in_plane": np.abs(dot(near[:, 0] - lead_origin, lead_normal)).max(axis=1),
-    }
+    )
 
 
 def overlapping_creases(mechanism, states) -> np.ndarray:

@@ -22,6 +22,7 @@ from compas_ccu.errors import GeometryError
 from compas_ccu.geometry import PlaneFrame, plane_frame
 from compas_ccu.kinematics.interference import PathCertificate
 from compas_ccu.kinematics.invariants import (
+    InvariantErrors,
     invariant_errors,
     overlap_limit,
     overlapping_creases,
@@ -340,7 +341,7 @@ class CCUModel(Data):
     def _check_states(self, count: int) -> None:
         check_path(self, count)
 
-    def invariants(self, states) -> dict:
+    def invariants(self, states) -> InvariantErrors:
         """Invariant errors of ``k`` placed states, metres, measured on the world coordinates
         that the structures and files hold (:func:`invariant_errors`)."""
         return invariant_errors(self.mechanism, states, self.reference_lengths, frame=self.frame)

@@ -64,7 +64,7 @@ def check_design(model) -> None:
     st = model.mechanism.place(s0)
     check_reproduced(model, st)
     design = model.invariants(st)
-    worst = max(float(design[key][0]) for key in EXACT_KEYS)
+    worst = float(design.worst(EXACT_KEYS)[0])
     # half the bar: a reader that measures planarity or lengths another way sees up to
     # twice the round-off of the world coordinates
     if not worst <= 0.5 * EXACT_RELATIVE * model.size:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.geometry import edge_fold_angles
-from compas_ccu.kinematics.invariants import INVARIANT_KEYS
+from compas_ccu.kinematics.invariants import INVARIANT_KEYS, InvariantErrors
 from compas_ccu.strips.rulings import vertex_reflection_angles
 from compas_ccu.structure import Structure
 from compas_ccu.tolerances import DIVISION_FLOOR
@@ -49,7 +49,7 @@ class StateRecords:
         self._sum_beta = None  # (k, c, n - 1) sector-angle sums at the inner vertices, degrees
 
     @property
-    def invariants(self) -> dict:
+    def invariants(self) -> InvariantErrors:
         if self._invariants is None:
             self._invariants = self.model.invariants(self.states)
         return self._invariants
@@ -85,7 +85,7 @@ class StateRecords:
         model, states = self.model, self.states
         self._relations()
         kinds = model.crease_kinds()
-        planarity = self.invariants["crease_planarity"]
+        planarity = self.invariants.crease_planarity
         creases = []
         for ci in range(len(model.mechanism.creases)):
             rows_a, rows_b = model.plates.crease_rows(ci)
@@ -137,9 +137,9 @@ class StateRecords:
             ).tolist(),
         }
         for key in INVARIANT_KEYS:
-            metrics[key] = float(invariants[key][k])
-            metrics[key + "_relative"] = float(invariants[key][k]) / model.size
-        cp = invariants["crease_planarity"][k]
+            metrics[key] = float(getattr(invariants, key)[k])
+            metrics[key + "_relative"] = metrics[key] / model.size
+        cp = invariants.crease_planarity[k]
         metrics["crease_planarity_max"] = float(cp.max()) if cp.size else 0.0
         metrics["crease_planarity_max_relative"] = metrics["crease_planarity_max"] / model.size
         return metrics

@@ -34,9 +34,9 @@ def thick_metrics(thick, st) -> dict:
         gaps.append(np.linalg.norm(fa - fb, axis=-1).max(axis=1))
     k = st.near.shape[0]
     return {
-        "isometry": inv["isometry"],
-        "quad_planarity": inv["quad_planarity"],
-        "mirror_error": inv["mirror_error"],
+        "isometry": inv.isometry,
+        "quad_planarity": inv.quad_planarity,
+        "mirror_error": inv.mirror_error,
         "hinge_gap": np.max(gaps, axis=0) if gaps else np.zeros(k),
         "offset_planarity": st.offset_planarity,
         "correction": np.abs(st.corrections).max(axis=2),
