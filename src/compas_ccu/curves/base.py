@@ -141,6 +141,17 @@ class Profile(ABC):
     ----------
     name : str
         Name of the profile type, as used by :func:`compas_ccu.curves.profile_from_dict`.
+
+    Examples
+    --------
+    Every profile type is a Profile; a half circle of radius 1 m:
+
+    >>> from compas_ccu.curves import ArcProfile
+    >>> arc = ArcProfile(span=2.0, rise=1.0)
+    >>> isinstance(arc, Profile), arc.name, round(arc.length, 6)
+    (True, 'arc', 3.141593)
+    >>> arc.point([0.0, arc.length / 2]).round(6).tolist()  # the start point and the apex
+    [[-1.0, 0.0], [0.0, 1.0]]
     """
 
     name: str = "profile"

@@ -38,6 +38,13 @@ class Candidate:
         sample (for the curve's size).
     layers : tuple of str
         SVG: the ids and labels of every enclosing group, lower case.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> line = Candidate("LINE #1F on layer CREASE", "CREASE", "1F", lambda tol: np.eye(2, 3))
+    >>> line.layer, line.sample(None).shape, line.layers
+    ('CREASE', (2, 3), ())
     """
 
     label: str
@@ -68,6 +75,19 @@ def adaptive(evaluate, t0: float, t1: float, tolerance, *, start: int = 16, brea
     Returns
     -------
     (n, 3) float
+
+    Examples
+    --------
+    A quarter of the unit circle, sampled to a chord tolerance of 1 mm:
+
+    >>> import numpy as np
+    >>> def circle(t):
+    ...     return np.c_[np.cos(t), np.sin(t), np.zeros_like(t)]
+    >>> points = adaptive(circle, 0.0, np.pi / 2, 1e-3)
+    >>> len(points), bool(np.allclose(np.linalg.norm(points, axis=1), 1.0))
+    (33, True)
+    >>> len(adaptive(circle, 0.0, np.pi / 2, None, start=4))  # no tolerance: the start samples
+    5
     """
     ts = np.unique(np.r_[np.linspace(t0, t1, start + 1), [b for b in breaks if t0 < b < t1]])
     if tolerance is None:
@@ -94,6 +114,11 @@ def need_module(module: str, extra: str, what: str):
     ------
     MissingExtraError
         The module is not installed (the message names the extra, as every such message).
+
+    Examples
+    --------
+    >>> need_module("json", "fab", "JSON files").dumps([1, 2])
+    '[1, 2]'
     """
     require(module, extra, what=f"reading {what}")
     return importlib.import_module(module)

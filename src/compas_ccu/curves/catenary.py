@@ -78,6 +78,14 @@ class CatenaryProfile(SpanRiseProfile):
     ------
     ProfileError
         If ``span`` or ``rise`` is not a real finite number > 0.
+
+    Examples
+    --------
+    >>> arch = CatenaryProfile(span=4.0, rise=1.0)
+    >>> round(arch.length, 6), arch.point(arch.length / 2).round(6).tolist()  # length, apex
+    (4.603164, [0.0, 1.0])
+    >>> round(float(arch.curvature(arch.length / 2)), 6)  # -1 / a at the apex
+    -0.465411
     """
 
     name = "catenary"

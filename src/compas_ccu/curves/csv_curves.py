@@ -41,6 +41,18 @@ def csv_candidates(path: Path):
     ------
     ProfileError
         The file is unreadable, or a line is not 2 or 3 finite numbers (named by its number).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> path = Path(tempfile.mkdtemp()) / "crease.csv"
+    >>> _ = path.write_text("0,0\\n0.5,0.25\\n1,0\\n")
+    >>> candidates, units, factor = csv_candidates(path)
+    >>> len(candidates), units, factor, candidates[0].label
+    (1, 'm', None, '3 points')
+    >>> candidates[0].sample(None).tolist()
+    [[0.0, 0.0, 0.0], [0.5, 0.25, 0.0], [1.0, 0.0, 0.0]]
     """
     try:
         text = path.read_text(encoding="utf-8-sig")

@@ -35,6 +35,14 @@ def discrete_curvature(points: object) -> np.ndarray:
     ------
     compas_ccu.errors.ProfileError
         If ``points`` is not a finite (n, 2) array with n >= 3 and distinct consecutive points.
+
+    Examples
+    --------
+    Three points of the unit circle, traversed counter-clockwise (turning left):
+
+    >>> kappa = discrete_curvature([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]])
+    >>> kappa.shape, round(float(kappa[1]), 6)
+    ((3,), 1.0)
     """
     vertices = require_points(points)
     incoming = vertices[1:-1] - vertices[:-2]

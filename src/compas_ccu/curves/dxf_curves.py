@@ -53,6 +53,22 @@ def dxf_candidates(path: Path, units=None):
         The file is unreadable, above the point limit, or its ``$INSUNITS`` is not understood.
     MissingExtraError
         ezdxf is not installed.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import ezdxf
+    >>> doc = ezdxf.new()
+    >>> doc.header["$INSUNITS"] = 4  # mm
+    >>> _ = doc.modelspace().add_lwpolyline([(0, 0), (1000, 500), (2000, 0)])
+    >>> path = Path(tempfile.mkdtemp()) / "crease.dxf"
+    >>> doc.saveas(path)
+    >>> candidates, units, factor = dxf_candidates(path)
+    >>> len(candidates), units, factor
+    (1, 'mm', None)
+    >>> candidates[0].sample(None)[:, :2].tolist()
+    [[0.0, 0.0], [1000.0, 500.0], [2000.0, 0.0]]
     """
     ezdxf = need_module("ezdxf", "fab", "DXF files")
     check_dxf_points(path)
@@ -166,6 +182,16 @@ def dxf_line_chains(lines) -> list:
     Returns
     -------
     list of (layer, handles, (k, 3) float points)
+
+    Examples
+    --------
+    Two LINEs meeting at (1, 0), the second drawn backwards, make one chain:
+
+    >>> import ezdxf
+    >>> msp = ezdxf.new().modelspace()
+    >>> lines = [msp.add_line((0, 0), (1, 0)), msp.add_line((2, 1), (1, 0))]
+    >>> [(layer, len(handles), pts.tolist()) for layer, handles, pts in dxf_line_chains(lines)]
+    [('0', 2, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 1.0, 0.0]])]
     """
     out = []
     by_layer: dict = {}

@@ -47,6 +47,14 @@ def dxf_units(doc, path) -> str | None:
     ProfileError
         The code is none of :data:`DXF_UNITS` (the message names the code and the codes
         understood).
+
+    Examples
+    --------
+    >>> import ezdxf
+    >>> doc = ezdxf.new()
+    >>> doc.header["$INSUNITS"] = 4
+    >>> dxf_units(doc, "crease.dxf")
+    'mm'
     """
     code = doc.header.get("$INSUNITS", 0)
     if code is None or code == "":
@@ -60,7 +68,13 @@ def dxf_units(doc, path) -> str | None:
 
 
 def dxf_point_count(data: bytes) -> int:
-    """An upper bound of the points a DXF file holds: its group-code 10 tags (x coordinates)."""
+    """An upper bound of the points a DXF file holds: its group-code 10 tags (x coordinates).
+
+    Examples
+    --------
+    >>> dxf_point_count(b"0\\nLINE\\n 10\\n0.0\\n 20\\n0.0\\n 11\\n1.0\\n 21\\n0.0\\n")
+    1
+    """
     text = data.replace(b"\r\n", b"\n")
     count = text.count(b"\n 10\n") + text.count(b"\n10\n") + text.count(b"\n  10\n")
     return count + int(text.startswith(b"10\n") or text.startswith(b" 10\n"))
@@ -73,6 +87,17 @@ def check_dxf_points(path) -> None:
     ------
     LimitError
         Names the file, the count and how to raise the limit.
+
+    Examples
+    --------
+    A small file is let through without being read:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> path = Path(tempfile.mkdtemp()) / "small.dxf"
+    >>> _ = path.write_bytes(b"0\\nEOF\\n")
+    >>> check_dxf_points(path) is None
+    True
     """
     path = Path(path)
     try:
@@ -86,7 +111,17 @@ def check_dxf_points(path) -> None:
 
 
 def check_finite(points, label: str):
-    """``points`` as a float array, or a ProfileError naming the first non-finite coordinate."""
+    """``points`` as a float array, or a ProfileError naming the first non-finite coordinate.
+
+    Examples
+    --------
+    >>> check_finite([[0, 1, 2]], "LINE #1").tolist()
+    [[0.0, 1.0, 2.0]]
+    >>> check_finite([[0, 1, 2], [0, float("nan"), 0]], "LINE #1")
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.ProfileError: LINE #1 has a non-finite coordinate at point 1: [0.0, nan, 0.0]
+    """
     pts = np.asarray(points, dtype=float)
     bad = ~np.isfinite(pts)
     if bad.any():
@@ -96,13 +131,25 @@ def check_finite(points, label: str):
 
 
 def one_line(exc) -> str:
-    """An exception's message on one line (ezdxf's can hold the offending line's newline)."""
+    """An exception's message on one line (ezdxf's can hold the offending line's newline).
+
+    Examples
+    --------
+    >>> one_line(ValueError("bad tag\\n  on line 12"))
+    'bad tag on line 12'
+    """
     return " ".join(str(exc).split())
 
 
 def extent(points, label: str) -> float:
     """The bounding-box diagonal of finite ``points`` (k, 3), or a ProfileError if it exceeds
-    what a float holds (coordinates near 1e308)."""
+    what a float holds (coordinates near 1e308).
+
+    Examples
+    --------
+    >>> extent([[0.0, 0.0, 0.0], [3.0, 4.0, 0.0]], "LINE #1")
+    5.0
+    """
     if not len(points):
         return 0.0
     with np.errstate(over="ignore", invalid="ignore"):
@@ -129,6 +176,14 @@ def spline_sampler(e):
     ProfileError
         The SPLINE has fewer than 2 distinct fit points and no control points, a non-finite
         coordinate, or ezdxf cannot build a curve of its data (the message names the handle).
+
+    Examples
+    --------
+    >>> import ezdxf
+    >>> spline = ezdxf.new().modelspace().add_spline(fit_points=[(0, 0), (1, 1), (2, 0)])
+    >>> points = spline_sampler(spline)(1e-3)
+    >>> len(points) > 10, (points[[0, -1]].round(6) + 0.0).tolist()
+    (True, [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
     """
     label = f"SPLINE #{e.dxf.handle}"
     state: dict = {}
@@ -189,7 +244,17 @@ def spline_sampler(e):
 
 def straight_polyline_points(e):
     """The WCS vertices of an LWPOLYLINE without arcs ((n, 3) float, the first repeated at
-    the end if it is closed), or None if it has an arc (bulge) segment."""
+    the end if it is closed), or None if it has an arc (bulge) segment.
+
+    Examples
+    --------
+    >>> import ezdxf
+    >>> msp = ezdxf.new().modelspace()
+    >>> straight_polyline_points(msp.add_lwpolyline([(0, 0), (1, 1), (2, 0)])).tolist()
+    [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [2.0, 0.0, 0.0]]
+    >>> print(straight_polyline_points(msp.add_lwpolyline([(0, 0, 0, 0, 1.0), (1, 1)])))  # a bulge
+    None
+    """
     data = np.asarray(list(e.lwpoints), dtype=float).reshape(-1, 5)
     if np.any(data[:, 4] != 0.0):
         return None

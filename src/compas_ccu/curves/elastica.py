@@ -86,6 +86,14 @@ class ElasticaProfile(SpanRiseProfile):
     ------
     ProfileError
         If ``span`` or ``rise`` is not a real finite number > 0.
+
+    Examples
+    --------
+    >>> rod = ElasticaProfile(span=4.0, rise=1.0)
+    >>> round(rod.length, 6), rod.point(rod.length / 2).round(6).tolist()
+    (4.584788, [0.0, 1.0])
+    >>> [round(float(k), 6) + 0.0 for k in rod.curvature([0.0, rod.length / 2])]  # 0 at the pins
+    [0.0, -0.501793]
     """
 
     name = "elastica"

@@ -78,6 +78,12 @@ def profile_from_dict(spec: Mapping) -> Profile:
         If ``profile`` is missing or unknown; if a key is unknown, missing or conflicting (the
         message names it and lists the allowed keys); if a value is not a real finite number
         (``bool`` is not a number) or is otherwise invalid.
+
+    Examples
+    --------
+    >>> profile = profile_from_dict({"profile": "catenary", "span": 4, "rise": 1, "segments": 32})
+    >>> type(profile).__name__, profile.parameters()
+    ('CatenaryProfile', {'span': 4.0, 'rise': 1.0})
     """
     if not isinstance(spec, Mapping):
         raise ProfileError(f"profile spec must be a dict, got {type(spec).__name__}")

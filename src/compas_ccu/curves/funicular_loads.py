@@ -29,6 +29,15 @@ def require_point_loads(loads: object, half: float) -> np.ndarray:
     ProfileError
         A row that is not two real finite numbers, a position outside the span or a load
         that is not > 0 (named by its index).
+
+    Examples
+    --------
+    >>> require_point_loads([[0.0, 10.0]], 2.0).tolist()
+    [[0.0, 10.0]]
+    >>> require_point_loads([[3.0, 10.0]], 2.0)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.ProfileError: point_loads[0]: x must lie inside the span, ... got 3.0
     """
     rows = _require_rows(loads, "point_loads", ("x", "P"), "[x, P]")
     for index, (x, load) in enumerate(rows):
@@ -54,6 +63,15 @@ def require_distributed_loads(loads: object, half: float) -> np.ndarray:
     ProfileError
         A row that is not four real finite numbers, an interval outside the span or empty, a
         negative intensity or both intensities 0 (named by its index).
+
+    Examples
+    --------
+    >>> require_distributed_loads([[-2.0, 0.0, 1.0, 0.5]], 2.0).tolist()
+    [[-2.0, 0.0, 1.0, 0.5]]
+    >>> require_distributed_loads([[-2.0, 0.0, 0.0, 0.0]], 2.0)
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.ProfileError: distributed_loads[0]: q0 and q1 are both 0 (no load)
     """
     rows = _require_rows(loads, "distributed_loads", ("x0", "x1", "q0", "q1"), "[x0, x1, q0, q1]")
     for index, (x0, x1, q0, q1) in enumerate(rows):
@@ -113,6 +131,17 @@ def snap_positions(points: np.ndarray, distributed: np.ndarray, half: float):
     points : (n, 2) float
     distributed : (m, 4) float
         Copies with the positions snapped.
+
+    Examples
+    --------
+    A point load 1e-15 m from mid-span and a load end 1e-15 m past a point load:
+
+    >>> import numpy as np
+    >>> points = np.array([[1e-15, 10.0], [1.0, 5.0]])
+    >>> distributed = np.array([[-2.0, 1.0 + 1e-15, 1.0, 1.0]])
+    >>> points, distributed = snap_positions(points, distributed, 2.0)
+    >>> points[:, 0].tolist(), distributed[0, :2].tolist()
+    ([0.0, 1.0], [-2.0, 1.0])
     """
     tolerance = KINK_TOLERANCE * 2.0 * half
     points, distributed = points.copy(), distributed.copy()

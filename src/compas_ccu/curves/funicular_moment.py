@@ -59,6 +59,17 @@ class BeamMoment:
     ------
     ProfileError
         The total load is not finite or is zero, or ``M`` is not positive inside the span.
+
+    Examples
+    --------
+    A point load at the middle of a 4 m beam: ``M = P L / 4`` (one load unit times 1 m):
+
+    >>> import numpy as np
+    >>> moment = BeamMoment(np.array([[0.0, 10.0]]), np.zeros((0, 4)), 4.0)
+    >>> moment.load_unit, moment.reactions.tolist(), moment.max_moment, moment.apex_x
+    (10.0, [0.5, 0.5], 1.0, 0.0)
+    >>> moment.breaks.tolist(), moment.kink_x.tolist()
+    ([-2.0, 0.0, 2.0], [0.0])
     """
 
     def __init__(self, points: np.ndarray, distributed: np.ndarray, span: float):
@@ -199,6 +210,16 @@ def coefficients_from_left(
     Returns
     -------
     (len(origins), 4) float
+
+    Examples
+    --------
+    A unit load at mid-span of a 4 m beam (reaction 0.5): ``M = 0.5 t`` from the left support,
+    ``M = 1 - 0.5 t`` from mid-span:
+
+    >>> import numpy as np
+    >>> points = np.array([[0.0, 1.0]])
+    >>> coefficients_from_left(np.array([-2.0, 0.0]), points, np.zeros((0, 4)), 0.5, 2.0).tolist()
+    [[0.0, 0.5, 0.0, 0.0], [1.0, -0.5, 0.0, 0.0]]
     """
     coefficients = np.zeros((len(origins), 4))
     coefficients[:, 0] = reaction * (origins + half)
@@ -230,7 +251,13 @@ def coefficients_from_left(
 
 
 def quadratic_roots(a: float, b: float, c: float) -> list:
-    """Real roots of ``a t^2 + b t + c`` (cancellation-free), none if it is constant."""
+    """Real roots of ``a t^2 + b t + c`` (cancellation-free), none if it is constant.
+
+    Examples
+    --------
+    >>> quadratic_roots(1.0, -3.0, 2.0), quadratic_roots(0.0, 2.0, -1.0), quadratic_roots(1, 0, 1)
+    ([2.0, 1.0], [0.5], [])
+    """
     if a == 0.0:
         return [] if b == 0.0 else [-c / b]
     discriminant = b * b - 4.0 * a * c

@@ -30,6 +30,14 @@ class PolylineProfile(Profile):
     ProfileError
         If the points are not a finite (n, 2) array with n >= 3 and distinct consecutive
         points.
+
+    Examples
+    --------
+    >>> roof = PolylineProfile([[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]])
+    >>> round(roof.length, 6), roof.point(roof.length / 2).tolist()
+    (2.828427, [1.0, 1.0])
+    >>> roof.curvature([0.0, roof.length]).round(6).tolist()  # the circle through the 3 vertices
+    [-1.0, -1.0]
     """
 
     name = "polyline"

@@ -96,6 +96,13 @@ class CurveRead:
         ``"path: ENTITY"``, naming the entity read (type, handle or name, layer).
     units : str
         The units of the file's numbers (a key of :data:`UNITS`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> curve = CurveRead(np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), "crease.csv: 2 points", "m")
+    >>> curve.points.shape, curve.units
+    ((2, 3), 'm')
     """
 
     points: np.ndarray

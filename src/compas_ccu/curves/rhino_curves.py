@@ -43,6 +43,21 @@ def rhino_candidates(path: Path):
         The file is not a 3dm file, or its model units are none of :data:`UNITS`.
     MissingExtraError
         rhino3dm is not installed.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import rhino3dm
+    >>> model = rhino3dm.File3dm()
+    >>> model.Settings.ModelUnitSystem = rhino3dm.UnitSystem.Millimeters
+    >>> _ = model.Objects.AddLine(rhino3dm.Point3d(0, 0, 0), rhino3dm.Point3d(1000, 0, 0))
+    >>> path = Path(tempfile.mkdtemp()) / "crease.3dm"
+    >>> model.Write(str(path), 7)
+    True
+    >>> candidates, units, factor = rhino_candidates(path)
+    >>> len(candidates), units, factor, candidates[0].sample(None).round(6).tolist()
+    (1, 'mm', None, [[0.0, 0.0, 0.0], [1000.0, 0.0, 0.0]])
     """
     rhino3dm = need_module("rhino3dm", "fab", "3dm files")
     model = rhino3dm.File3dm.Read(str(path))

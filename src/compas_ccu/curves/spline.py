@@ -55,6 +55,15 @@ class SplineProfile(Profile):
     ProfileError
         If the points are not a finite (n, 2) array with n >= 3 and distinct consecutive
         points, or if ``bc_type`` is not allowed.
+
+    Examples
+    --------
+    >>> spline = SplineProfile([[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]])
+    >>> round(spline.length, 6), spline.point(spline.length / 2).round(6).tolist()
+    (2.914479, [1.0, 1.0])
+    >>> s = [0.0, spline.length / 2, spline.length]
+    >>> [round(float(k), 6) + 0.0 for k in spline.curvature(s)]
+    [0.0, -3.0, 0.0]
     """
 
     name = "spline"

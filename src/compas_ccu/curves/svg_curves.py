@@ -42,6 +42,21 @@ def svg_candidates(path: Path):
         The file is not SVG that svgelements parses.
     MissingExtraError
         svgelements is not installed.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> path = Path(tempfile.mkdtemp()) / "crease.svg"
+    >>> _ = path.write_text(
+    ...     '<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+    ...     '<polyline id="crease" points="0,0 48,48 96,0"/></svg>'
+    ... )
+    >>> candidates, units, factor = svg_candidates(path)
+    >>> len(candidates), candidates[0].name, units, round(factor * 96, 6)  # 96 px per inch
+    (1, 'crease', 'px', 0.0254)
+    >>> (candidates[0].sample(None)[[0, -1]] + 0.0).tolist()  # y negated
+    [[0.0, 0.0, 0.0], [96.0, 0.0, 0.0]]
     """
     svgelements = need_module("svgelements", "fab", "SVG files")
     try:

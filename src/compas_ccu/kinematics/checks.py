@@ -56,6 +56,16 @@ def total_turning(points: np.ndarray) -> np.ndarray:
     Returns
     -------
     (k,) float
+
+    Examples
+    --------
+    A right angle and a straight line:
+
+    >>> import numpy as np
+    >>> bent = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]
+    >>> straight = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]
+    >>> np.degrees(total_turning(np.array([bent, straight]))).round(6).tolist()
+    [90.0, 0.0]
     """
     e = np.diff(points, axis=1)
     cross = norm3(cross3(e[:, :-1], e[:, 1:]))
@@ -79,6 +89,17 @@ def self_intersecting(points: np.ndarray, origins: np.ndarray, normals: np.ndarr
     Returns
     -------
     (k,) bool
+
+    Examples
+    --------
+    A square spiral whose last edge crosses its first, and an open square:
+
+    >>> import numpy as np
+    >>> spiral = [[0, 0, 0], [2, 0, 0], [2, 2, 0], [1, 2, 0], [1, -1, 0]]
+    >>> square = [[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0], [0, 1, 0]]
+    >>> points = np.array([spiral, square], dtype=float)
+    >>> self_intersecting(points, np.zeros((2, 3)), np.array([[0.0, 0.0, 1.0]] * 2)).tolist()
+    [True, False]
     """
     out = np.zeros(len(points), dtype=bool)
     suspects = np.flatnonzero(total_turning(points) > np.pi)

@@ -93,6 +93,16 @@ class Interference:
         The largest touch tolerance used, m: within it of a quad's plane or edge is touching,
         not crossing (:data:`TOUCH_RELATIVE` of the size, or twice the quad's own
         non-planarity, whichever is larger).
+
+    Examples
+    --------
+    The cone pair of ``examples/cone.toml`` stays clear up to its deployment limit:
+
+    >>> import math
+    >>> from compas_ccu.model import load_model
+    >>> result = load_model("examples/cone.toml").interference
+    >>> result.clear_to_end, result.plates, round(math.degrees(result.clear), 6)
+    (True, None, 89.0625)
     """
 
     clear: float
@@ -400,7 +410,20 @@ class PathCertificate:
 
 
 def describe(result: Interference, ids) -> str:
-    """One line: which plates (by ``ids``: mechanism plate → id) meet where, in degrees."""
+    """One line: which plates (by ``ids``: mechanism plate → id) meet where, in degrees.
+
+    Examples
+    --------
+    >>> import math
+    >>> hit = Interference(
+    ...     clear=math.radians(50.0), hit=math.radians(50.01), plates=(1, 2), kind="crossing",
+    ...     point=None, states=12,
+    ... )
+    >>> for part in describe(hit, ids=[5, 6, 7]).split("; "):
+    ...     print(part)
+    plates 6 and 7 cross at alpha = 50.01 deg
+    the largest alpha reached from the flat stack without any two plates crossing is 50 deg
+    """
     a, b = (ids[i] for i in result.plates)
     how = "pass through each other" if result.kind == "pass-through" else "cross"
     return (

@@ -104,6 +104,20 @@ def invariant_errors(
         ``isometry`` (largest quad side / diagonal length change), ``quad_planarity``,
         ``hinge_gap``, ``mirror_error``, ``leading_in_plane``, each (k,), and
         ``crease_planarity`` (k, c).
+
+    Examples
+    --------
+    The cone pair of ``examples/cone.toml`` keeps every invariant to round-off:
+
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> states = model.mechanism.deploy(np.radians([20.0, 40.0]))
+    >>> errors = invariant_errors(model.mechanism, states, model.reference_lengths)
+    >>> errors.isometry.shape, errors.crease_planarity.shape
+    ((2,), (2, 1))
+    >>> all(float(np.max(e)) < 1e-12 for e in errors.as_dict().values())
+    True
     """
     near, far = states.near, states.far
     origins, normals = states.plane_origins, states.plane_normals
@@ -166,6 +180,14 @@ def overlapping_creases(mechanism, states) -> np.ndarray:
     ----------
     mechanism : compas_ccu.kinematics.mechanism.Mechanism
     states : compas_ccu.kinematics.mechanism.MechanismStates
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> mechanism = load_model("examples/cone.toml").mechanism
+    >>> overlapping_creases(mechanism, mechanism.deploy(np.radians([20.0, 40.0]))).tolist()
+    [[False, False], [False, False]]
     """
     near, far = states.near, states.far
     k = near.shape[0]
@@ -193,6 +215,17 @@ def overlap_limit(mechanism, *, bisections: int = 40) -> float:
     """Largest reference alpha (radians) before a crease overlaps itself, or the limit.
 
     Bisection on :func:`overlapping_creases` between the flat stack and the deployment limit.
+
+    Examples
+    --------
+    The crease of ``examples/cone.toml`` (a 90 degree arc in the pattern) winds further as the
+    cone deploys, until it overlaps itself:
+
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> mechanism = load_model("examples/cone.toml").mechanism
+    >>> round(float(np.degrees(overlap_limit(mechanism))), 4)
+    75.5126
     """
     limit = mechanism.alpha_limit
     if not overlapping_creases(mechanism, mechanism.deploy(limit)).any():

@@ -63,6 +63,17 @@ class LeadingPlacement(NamedTuple):
         Far boundary vertices ``near + ruling_lengths * rulings``.
     tilts : (k, n) float
         Reflection angle ``psi_j`` of every crease segment, radians.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> leading = load_model("examples/cone.toml").mechanism.leading
+    >>> placed = leading.place_alpha(np.radians([20.0]))
+    >>> placed.near.shape, placed.tilts.shape, float(np.abs(placed.near[..., 2]).max())
+    ((1, 49, 3), (1, 48), 0.0)
+    >>> np.degrees(placed.tilts).round(6).tolist() == [[20.002792] * 48]  # a cone: all alike
+    True
     """
 
     near: np.ndarray

@@ -57,6 +57,15 @@ def termination(reduction, predicted, cost, step_norm, x_norm, ftol, xtol):
     below ``ftol * cost`` (neither the step nor the linear model can gain more, also when
     round-off rejects the step); the step test is scipy's, ``|step| < xtol (xtol + |x|)``,
     for rejected steps too (the step has become negligible).
+
+    Examples
+    --------
+    >>> termination(1e-15, 1e-15, 1.0, 0.1, 1.0, ftol=1e-12, xtol=1e-12)  # no cost to gain
+    2
+    >>> termination(0.5, 0.4, 1.0, 1e-20, 1.0, ftol=1e-12, xtol=1e-12)  # a negligible step
+    3
+    >>> print(termination(0.5, 0.4, 1.0, 0.1, 1.0, ftol=1e-12, xtol=1e-12))
+    None
     """
     cost_met = abs(reduction) < ftol * cost and predicted < ftol * cost
     step_met = step_norm < xtol * (xtol + x_norm)
@@ -102,6 +111,25 @@ def levenberg_marquardt(residuals, linearise, solve, x0, *, ftol, xtol, gtol, ma
     x : (n,) float
     outcome : dict
         ``cost``, ``optimality`` (``max |J^T r|``), ``nfev``, ``njev``, ``status``, ``message``.
+
+    Examples
+    --------
+    The linear least-squares line through three points, ``r = (a + b t_i - y_i)``:
+
+    >>> import numpy as np
+    >>> t, y = np.array([0.0, 1.0, 2.0]), np.array([1.0, 3.0, 5.0])
+    >>> jac = np.c_[np.ones(3), t]
+    >>> def residuals(v):
+    ...     return v[0] + v[1] * t - y
+    >>> def linearise(v, r):
+    ...     return jac.T @ jac, jac.T @ r, np.diag(jac.T @ jac).copy()
+    >>> def solve(system, g, damping, scale):
+    ...     return np.linalg.solve(system + damping * np.diag(scale), -g)
+    >>> x, outcome = levenberg_marquardt(
+    ...     residuals, linearise, solve, [0.0, 0.0], ftol=1e-12, xtol=1e-12, gtol=1e-12, max_nfev=50
+    ... )
+    >>> np.round(x, 9).tolist(), outcome["status"] > 0
+    ([1.0, 2.0], True)
     """
     ftol, xtol, gtol = (0.0 if t is None else float(t) for t in (ftol, xtol, gtol))
     x = np.array(x0, dtype=float)

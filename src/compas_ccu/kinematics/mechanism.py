@@ -49,6 +49,15 @@ class PlateLink:
         ``"ccu"`` (mirror partner) or ``"ccf"`` (folded continuation).
     crease : int or None
         Index of the shared crease.
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> link = load_model("examples/cone.toml").mechanism.plates[1]  # the leading plate's partner
+    >>> link.parent, link.boundary, link.relation, link.crease
+    (0, 'near', 'ccu', 0)
+    >>> link.intrinsics.ruling_lengths[:2].round(6).tolist()
+    [0.4, 0.4]
     """
 
     intrinsics: StripIntrinsics
@@ -64,6 +73,13 @@ class CreaseLink:
 
     ``fixed`` is True for the leading crease plane (local ``z = 0``). ``design_normal`` orients
     the fitted plane normals consistently (local frame).
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> crease = load_model("examples/vault.toml").mechanism.creases[1]
+    >>> crease.plate_a, crease.boundary_a, crease.plate_b, crease.relation, crease.fixed
+    (1, 'far', 2, 'ccu', False)
     """
 
     plate_a: int
@@ -87,6 +103,16 @@ class MechanismStates(NamedTuple):
         Largest distance of a crease vertex from its plane.
     tilts : (k, n) float
         Reflection angle of every segment of the leading crease.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> states = load_model("examples/cone.toml").mechanism.deploy(np.radians([20.0, 40.0]))
+    >>> states.near.shape, states.plane_normals.shape, states.tilts.shape
+    ((2, 2, 49, 3), (2, 1, 3), (2, 48))
+    >>> np.degrees(states.tilts).round(4).max(axis=1).tolist()
+    [20.0028, 40.0064]
     """
 
     near: np.ndarray
@@ -108,6 +134,18 @@ class CreasePlanes:
     attribute ``mirror_rows``; :class:`compas_ccu.thickness.axis_shift.HingePlanes` is the one
     of thick plates. :meth:`Mechanism.place` asks :meth:`planes` for all the creases of one
     generation of plates at once.
+
+    Examples
+    --------
+    The creases of ``examples/vault.toml`` lie in parallel planes (local ``z`` = const):
+
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> mechanism = load_model("examples/vault.toml").mechanism
+    >>> states = mechanism.deploy(np.radians([10.0, 30.0]))
+    >>> origins, normals, planarity = CreasePlanes().plane(mechanism, 1, states.near, states.far)
+    >>> (normals.round(6) + 0.0).tolist(), bool(planarity.max() < 1e-12)
+    ([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]], True)
     """
 
     #: False: a child plate shares its parent's crease row; True: it gets the row's mirror image.
@@ -181,6 +219,21 @@ class Mechanism:
         The fixed leading crease plane.
     crease_normals : (c, 3) float
         Design normals that orient the fitted planes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> mechanism = load_model("examples/vault.toml").mechanism
+    >>> len(mechanism.plates), len(mechanism.creases), mechanism.segments
+    (10, 9, 64)
+    >>> [g.tolist() for g in mechanism.generations]  # plate 0, then its neighbours outwards
+    [[0], [1, 5], [2, 6], [3, 7], [4, 8], [9]]
+    >>> states = mechanism.deploy(np.radians([10.0, 30.0]))
+    >>> states.near.shape, bool(states.planarity.max() < 1e-12)
+    ((2, 10, 65, 3), True)
+    >>> round(float(np.degrees(mechanism.alpha_limit)), 4)
+    88.9538
     """
 
     def __init__(self, leading: LeadingStrip, plates: list, creases: list):

@@ -39,13 +39,25 @@ __all__ = [
 
 
 def plate_quads(n: int) -> np.ndarray:
-    """(n, 4) int: quad ``j`` of a plate of ``n`` quads is ``j, j + 1, n + 2 + j, n + 1 + j``."""
+    """(n, 4) int: quad ``j`` of a plate of ``n`` quads is ``j, j + 1, n + 2 + j, n + 1 + j``.
+
+    Examples
+    --------
+    >>> plate_quads(2).tolist()
+    [[0, 1, 4, 3], [1, 2, 5, 4]]
+    """
     j = np.arange(n)
     return np.c_[j, j + 1, n + 2 + j, n + 1 + j]
 
 
 def plate_rulings(n: int) -> np.ndarray:
-    """(n + 1, 2) int: ruling ``j`` of a plate of ``n`` quads joins ``j`` and ``n + 1 + j``."""
+    """(n + 1, 2) int: ruling ``j`` of a plate of ``n`` quads joins ``j`` and ``n + 1 + j``.
+
+    Examples
+    --------
+    >>> plate_rulings(2).tolist()
+    [[0, 3], [1, 4], [2, 5]]
+    """
     j = np.arange(n + 1)
     return np.c_[j, n + 1 + j]
 
@@ -57,6 +69,14 @@ def boundary_rows(near: np.ndarray, far: np.ndarray, boundary: str):
     ----------
     near, far : (..., n + 1, 3) float
     boundary : {"near", "far"}
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> near, far = np.zeros((3, 3)), np.ones((3, 3))
+    >>> row, other = boundary_rows(near, far, "far")
+    >>> row[0].tolist(), other[0].tolist()
+    ([1.0, 1.0, 1.0], [0.0, 0.0, 0.0])
     """
     if boundary == "near":
         return near, far
@@ -77,13 +97,30 @@ def hinge_and_rulings(near: np.ndarray, far: np.ndarray, boundary: str):
     Returns
     -------
     row, away : (..., n + 1, 3) float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> near = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    >>> far = near + [0.0, 2.0, 0.0]
+    >>> row, away = hinge_and_rulings(near, far, "far")
+    >>> row.tolist(), away.tolist()
+    ([[0.0, 2.0, 0.0], [1.0, 2.0, 0.0]], [[0.0, -1.0, 0.0], [0.0, -1.0, 0.0]])
     """
     row, other = boundary_rows(near, far, boundary)
     return row, unit(other - row)
 
 
 def stack_rows(near: np.ndarray, far: np.ndarray) -> np.ndarray:
-    """Plate vertex arrays ``(..., 2n + 2, 3)`` from the two boundaries ``(..., n + 1, 3)``."""
+    """Plate vertex arrays ``(..., 2n + 2, 3)`` from the two boundaries ``(..., n + 1, 3)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> near = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    >>> stack_rows(near, near + [0.0, 2.0, 0.0])[:, :2].tolist()
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 2.0], [1.0, 2.0]]
+    """
     return np.concatenate([near, far], axis=-2)
 
 
@@ -102,6 +139,16 @@ class PlateIndex:
     crease_boundaries : tuple of str
         The boundary (``"near"`` / ``"far"``) of plate ``a`` that each crease lies on; plate
         ``b`` always hangs on a crease by its near boundary.
+
+    Examples
+    --------
+    Two plates of two quads; plate 1 is output first:
+
+    >>> index = PlateIndex(2, ids=(1, 0), crease_plates=((0, 1),), crease_boundaries=("near",))
+    >>> index.order.tolist(), index.output_ids
+    ([1, 0], [0, 1])
+    >>> index.quads.tolist()
+    [[0, 1, 4, 3], [1, 2, 5, 4]]
     """
 
     segments: int

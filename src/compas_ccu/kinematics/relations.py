@@ -50,6 +50,15 @@ class CreaseRelations(NamedTuple):
 
     ``sector_angles`` is (n + 1, 4). Residuals: ``eq1`` and ``eq3`` are filled for CCF creases,
     ``eq2`` and ``eq4`` for CCU creases, ``eq5`` for both.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> relations = model.relations(model.mechanism.deploy(np.radians([20.0])), 0, 0)
+    >>> relations.sector_angles.shape, relations.kinds[:2]
+    ((49, 4), [None, 'synclastic'])
     """
 
     sector_angles: np.ndarray
@@ -106,6 +115,14 @@ def classify(sum_beta: np.ndarray, relation, *, tol: float = EXACT_RELATIVE) -> 
     ``sum_beta`` is (..., n + 1); ``relation`` is "ccu" or "ccf", or an array of them that
     broadcasts against the leading axes of ``sum_beta`` (one per crease). Returns a list
     (nested lists for leading axes) of "synclastic", "anticlastic", "straight", "ccf" or None.
+
+    Examples
+    --------
+    Sector-angle sums below, at and above 360 degrees:
+
+    >>> import numpy as np
+    >>> classify(np.radians([np.nan, 350.0, 360.0, 370.0, np.nan]), "ccu")
+    [None, 'synclastic', 'straight', 'anticlastic', None]
     """
     s = np.asarray(sum_beta, dtype=float)
     ccf = _is_ccf(relation)
@@ -147,6 +164,25 @@ def crease_relations(
     -------
     CreaseRelations
         Arrays with the leading axes; ``kinds`` a list (nested for leading axes).
+
+    Examples
+    --------
+    The cone pair of ``examples/cone.toml`` (crease radius 2 m in the pattern) at 20 degrees:
+    orthogonal rulings, a constant reflection angle and a crease of curvature
+    ``1 / (2 cos 20 deg)`` in space:
+
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> states = load_model("examples/cone.toml").mechanism.deploy(np.radians([20.0]))
+    >>> near, far = states.near[0], states.far[0]
+    >>> normal = states.plane_normals[0, 0]
+    >>> rel = crease_relations(near[0], far[0] - near[0], far[1] - near[1], normal)
+    >>> round(float(np.degrees(rel.gamma_a[1])), 6), round(float(np.degrees(rel.alpha[1])), 6)
+    (90.0, 20.0)
+    >>> round(float(rel.kappa_3d[1]), 6), round(1.0 / (2.0 * float(np.cos(np.radians(20.0)))), 6)
+    (0.532089, 0.532089)
+    >>> bool(np.nanmax(np.abs(rel.eq2)) < 1e-12), rel.kinds[1]
+    (True, 'synclastic')
     """
     p = np.asarray(hinge, dtype=float)
     ra = unit3(np.asarray(ruling_a, dtype=float))

@@ -33,7 +33,22 @@ _LSMR_OPTIONS = {"atol": SOLVER, "btol": SOLVER}
 
 
 class RelaxationProblem:
-    """Index arrays, sparsity pattern and residual/Jacobian of one relaxation problem."""
+    """Index arrays, sparsity pattern and residual/Jacobian of one relaxation problem.
+
+    Examples
+    --------
+    The problem of two plates of two quads, plate 1 hanging on plate 0's near boundary; the
+    reference lengths of a unit square (sides 1, diagonals sqrt 2) fit the placed squares:
+
+    >>> import numpy as np
+    >>> ref = np.tile([1.0, 1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0)], (2, 2, 1))
+    >>> problem = RelaxationProblem(2, 2, ref, [(1, 0, "near")], (0,), 1.0)
+    >>> near = np.array([[[0.0, 0, 0], [1, 0, 0], [2, 0, 0]]] * 2)
+    >>> far = near + np.array([[[0.0, 1.0, 0.0]], [[0.0, -1.0, 0.0]]])
+    >>> pos = problem.start(near, far)
+    >>> pos.shape, float(np.abs(problem.residuals(pos)).max()), problem.jacobian(pos).shape
+    ((9, 3), 0.0, (14, 9))
+    """
 
     def __init__(self, p: int, n: int, reference_lengths, links, fixed, planarity_weight):
         ref = np.asarray(reference_lengths, dtype=float)

@@ -491,5 +491,10 @@ def load_model(path) -> CCUModel:
         The file is missing, not TOML, or not a valid design (the message names the key).
     GeometryError, DeploymentLimitError, SelfIntersectionError
         The design cannot be built (see :class:`CCUModel`).
+
+    Examples
+    --------
+    >>> load_model("examples/cone.toml")
+    CCUModel('cone', plates=2, segments=48, alpha=40 deg)
     """
     return CCUModel(load_design(Path(path)))

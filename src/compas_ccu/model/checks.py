@@ -15,7 +15,14 @@ __all__ = ["check_size", "check_design", "check_reproduced", "check_path"]
 
 
 def check_size(design) -> None:
-    """Refuse designs beyond the work limits before anything is built."""
+    """Refuse designs beyond the work limits before anything is built.
+
+    Examples
+    --------
+    >>> from compas_ccu.design import load_design
+    >>> check_size(load_design("examples/cone.toml")) is None  # 2 plates of 48 quads: fine
+    True
+    """
     n = design.crease.segments
     layout = design.layout
     if layout.patterns is not None:
@@ -39,6 +46,12 @@ def check_design(model) -> None:
     * a mechanism that does not reproduce its own design state to the exactness bar
       (:func:`check_reproduced`: never silently deploy something other than the design);
     * a crease that overlaps itself at the design state.
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> check_design(load_model("examples/cone.toml")) is None
+    True
     """
     bad = crossing_rulings(model.flat()[..., :2], model.plates.quads)
     if bad is not None:
@@ -97,6 +110,21 @@ def check_reproduced(model, st) -> None:
     Raises
     ------
     GeometryError
+
+    Examples
+    --------
+    ``examples/cone.toml`` is designed flat: its mechanism at ``s0 = 0`` is the design state, a
+    deployed state is not:
+
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> check_reproduced(model, model.mechanism.place(0.0)) is None
+    True
+    >>> check_reproduced(model, model.mechanism.deploy(np.radians([20.0])))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.GeometryError: this design cannot be deployed exactly: ...
     """
     g = model.geometry
     misses = np.maximum(
@@ -122,7 +150,19 @@ def check_reproduced(model, st) -> None:
 
 
 def check_path(model, count: int) -> None:
-    """Refuse a path beyond the work limits before its arrays are made (limits module)."""
+    """Refuse a path beyond the work limits before its arrays are made (limits module).
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> check_path(model, 100) is None
+    True
+    >>> check_path(model, 10**9)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.LimitError: 1000000000 states of one path exceed the limit of 10000 ...
+    """
     limits.check("states", count, what="states of one path")
     # the placed boundaries, their world copies and the invariants' temporaries: about a
     # dozen float arrays of (states, plates, 2n + 2, 3)

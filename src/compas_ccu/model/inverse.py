@@ -34,6 +34,22 @@ def flat_design(design, *, name: str | None = None):
         ``crease.state = "flat"``, the pattern's crease as a polyline kept vertex by vertex,
         ``rulings.type = "explicit"`` with the pattern's ruling ends, the same reference vertex,
         design angle and plane placement, in the units of ``design``.
+
+    Examples
+    --------
+    A deployed-state arch of 8 segments and its cut pattern:
+
+    >>> from compas_ccu.design import Design
+    >>> crease = {"profile": "arc", "span": 2.0, "rise": 0.5, "segments": 8, "state": "deployed"}
+    >>> arch = Design({
+    ...     "crease": crease, "rulings": {"type": "orthogonal"}, "deployment": {"alpha": 30.0},
+    ...     "layout": {"type": "single", "width": 0.3},
+    ... }, name="arch")
+    >>> flat = flat_design(arch)
+    >>> flat.name, flat.crease.state, flat.crease.profile, len(flat.crease.points)
+    ('arch-pattern', 'flat', 'polyline', 9)
+    >>> flat.document["rulings"]["type"]
+    'explicit'
     """
     if design.layout.type != "single" or design.layout.quadrants:
         raise DesignError(
@@ -137,6 +153,18 @@ def round_trip(design) -> dict:
         ``max`` (m) and ``max_relative`` (to the span) distance between the deployed pattern
         design and the target at the design angle, over the crease (``crease_max``) and over
         every plate vertex (``max``); ``alpha`` (degrees); ``span`` (m).
+
+    Examples
+    --------
+    >>> from compas_ccu.design import Design
+    >>> crease = {"profile": "arc", "span": 2.0, "rise": 0.5, "segments": 8, "state": "deployed"}
+    >>> arch = Design({
+    ...     "crease": crease, "rulings": {"type": "orthogonal"}, "deployment": {"alpha": 30.0},
+    ...     "layout": {"type": "single", "width": 0.3},
+    ... }, name="arch")
+    >>> result = round_trip(arch)
+    >>> result["alpha"], result["span"], bool(result["max_relative"] < 1e-12)
+    (30.0, 2.0, True)
     """
     if design.crease.state != "deployed":
         raise DesignError("round_trip starts from a 3D target (crease.state = 'deployed')")

@@ -39,6 +39,17 @@ class StateRecords:
     states : compas_ccu.kinematics.mechanism.MechanismStates
     invariants : dict, optional
         :meth:`CCUModel.invariants` of ``states`` (computed on first use if not given).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> records = StateRecords(model, model.mechanism.deploy(np.radians([20.0, 40.0])))
+    >>> records.fold_angles(0, 0).shape, records.fold_angles(1, 0).round(4)[:2].tolist()
+    ((48,), [80.0129, 80.0129])
+    >>> round(records.metrics(1)["span"], 6), bool(records.metrics(1)["isometry"] < 1e-12)
+    (2.619468, True)
     """
 
     def __init__(self, model, states, invariants: dict | None = None):
@@ -175,6 +186,17 @@ def state_structure(
         The state's reference reflection angle, degrees.
     invariants : dict, optional
         :meth:`invariants` of ``states`` (computed when first needed if not given).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> structure = state_structure(model, model.mechanism.deploy(np.radians([20.0])), 0, 20.0)
+    >>> structure
+    Structure(alpha=20 deg, plates=2, creases=1)
+    >>> structure.deployed.shape, round(structure.metrics["span"], 6)
+    ((2, 98, 3), 2.788401)
     """
     return StateRecords(model, states, invariants).structure(k, alpha)
 
@@ -182,6 +204,16 @@ def state_structure(
 def path_structures(model, states, alphas, invariants: dict | None = None) -> list:
     """The :class:`Structure` of every state of ``states`` at reference angles ``alphas``
     (degrees), sharing one :class:`StateRecords`: reading any structure's records computes
-    those of all states in one go."""
+    those of all states in one go.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> states = model.mechanism.deploy(np.radians([20.0, 40.0]))
+    >>> [(s.alpha, round(s.metrics["span"], 6)) for s in path_structures(model, states, [20, 40])]
+    [(20.0, 2.788401), (40.0, 2.619468)]
+    """
     records = StateRecords(model, states, invariants)
     return [records.structure(k, float(a)) for k, a in enumerate(alphas)]

@@ -30,6 +30,18 @@ def relaxed_structure(model, alpha: float, *, planarity_weight: float = 1.0, **o
     structure : compas_ccu.structure.Structure
         The relaxed state; ``metrics["relaxation"]`` holds the residuals, per plate by plate id.
     relaxation : compas_ccu.kinematics.relaxation.Relaxation
+
+    Examples
+    --------
+    An exact deployment is already relaxed (one evaluation, nothing moves):
+
+    >>> from compas_ccu.model import load_model
+    >>> structure, relaxation = relaxed_structure(load_model("examples/cone.toml"), 30.0)
+    >>> structure.alpha, relaxation.converged, relaxation.displacement
+    (30.0, True, 0.0)
+    >>> metrics = structure.metrics["relaxation"]
+    >>> metrics["nfev"], bool(metrics["max_strain"] < 1e-12)
+    (1, True)
     """
     states = model.mechanism.deploy(np.radians([alpha]))
     result = relax(

@@ -25,6 +25,21 @@ def check_overlap(model, states, alphas) -> None:
     ------
     SelfIntersectionError
         Names the first such state, the crease and the largest alpha before any overlap.
+
+    Examples
+    --------
+    The crease of ``examples/cone.toml`` overlaps itself beyond 75.5 degrees:
+
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> check_overlap(model, model.mechanism.deploy(np.radians([20.0, 40.0])), [20.0, 40.0]) is None
+    True
+    >>> over = model.mechanism.deploy(np.radians([80.0]))
+    >>> check_overlap(model, over, [80.0])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.SelfIntersectionError: self-intersection at alpha = 80 deg: ... 75.5126 deg
     """
     bad = model.overlapping(states)
     if bad.any():
@@ -42,7 +57,16 @@ def check_overlap(model, states, alphas) -> None:
 
 def path_certificate(model) -> PathCertificate:
     """The interpenetration certificate of ``model``'s path from the flat stack to the limit,
-    every plate pair, the hinges of every crease excluded where they meet."""
+    every plate pair, the hinges of every crease excluded where they meet.
+
+    Examples
+    --------
+    >>> import math
+    >>> from compas_ccu.model import load_model
+    >>> result = path_certificate(load_model("examples/cone.toml")).result()
+    >>> result.hit is None, round(math.degrees(result.clear), 4)  # clear up to the limit
+    (True, 89.0625)
+    """
     mechanism = model.mechanism
 
     def vertices_at(alphas):
@@ -63,7 +87,16 @@ def path_certificate(model) -> PathCertificate:
 
 def collision_free_alpha(model) -> float:
     """Largest reference alpha (degrees) of ``model`` reached from the flat stack without a
-    crease overlapping itself or two plates crossing (the deployment limit if neither)."""
+    crease overlapping itself or two plates crossing (the deployment limit if neither).
+
+    Examples
+    --------
+    The plates of ``examples/cone.toml`` never cross; its crease overlaps itself first:
+
+    >>> from compas_ccu.model import load_model
+    >>> round(collision_free_alpha(load_model("examples/cone.toml")), 4)
+    75.5126
+    """
     overlap = math.radians(model.overlap_alpha)
     found = model.certificate.certify(overlap)
     return math.degrees(min(overlap, found.clear if found is not None else overlap))
@@ -77,6 +110,12 @@ def check_interference(model, alphas) -> None:
     ------
     SelfIntersectionError
         Names the two plates, the alpha where they first meet and the largest alpha clear.
+
+    Examples
+    --------
+    >>> from compas_ccu.model import load_model
+    >>> check_interference(load_model("examples/cone.toml"), [20.0, 40.0, 60.0]) is None
+    True
     """
     alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
     if not len(alphas):

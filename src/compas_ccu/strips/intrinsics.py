@@ -40,6 +40,14 @@ class StripIntrinsics(NamedTuple):
         NaN at ``i = n``.
     ruling_lengths : (n + 1,) float
         ``|Q_i - P_i|``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> near = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> strip = strip_intrinsics(near, near + [0.0, 2.0])
+    >>> isinstance(strip, StripIntrinsics), strip.ruling_lengths.tolist()
+    (True, [2.0, 2.0, 2.0])
     """
 
     edge_lengths: np.ndarray
@@ -127,6 +135,18 @@ def strip_intrinsics(near: np.ndarray, far: np.ndarray) -> StripIntrinsics:
     ------
     GeometryError
         Zero-length crease edge or ruling, or a ruling along the crease (sector angle 0 or pi).
+
+    Examples
+    --------
+    A strip of two quads with slanted rulings ``(0.5, 1)``:
+
+    >>> import numpy as np
+    >>> near = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> strip = strip_intrinsics(near, near + [0.5, 1.0])
+    >>> strip.edge_lengths.tolist(), strip.ruling_lengths.round(6).tolist()
+    ([1.0, 1.0], [1.118034, 1.118034, 1.118034])
+    >>> np.degrees(strip.sector_forward).round(6).tolist()  # atan(2), NaN at the last vertex
+    [63.434949, 63.434949, nan]
     """
     near = np.asarray(near, dtype=float)
     far = np.asarray(far, dtype=float)

@@ -44,6 +44,15 @@ def vertex_reflection_angles(points: np.ndarray, rulings: np.ndarray) -> np.ndar
 
     alpha_i is the angle between O and the surface tangent ``S_i``: the unit vector normal to the
     discrete tangent ``T_i`` in the plane spanned by ``T_i`` and the ruling.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> phi = np.linspace(0.75 * np.pi, 0.25 * np.pi, 5)
+    >>> arc = 2.0 * np.c_[np.cos(phi), np.sin(phi)]
+    >>> rulings = orthogonal_rulings(arc, alpha=np.radians(20.0), reference=0)
+    >>> np.degrees(vertex_reflection_angles(arc, rulings)).round(6).tolist()
+    [20.0, 20.0, 20.0, 20.0, 20.0]
     """
     f = crease_frames(points)
     r = np.asarray(rulings, dtype=float)
@@ -74,6 +83,17 @@ def rulings_from_tilts(points: np.ndarray, tilts: np.ndarray, gamma=None) -> np.
     -------
     (n + 1, 3) float
         Unit ruling directions.
+
+    Examples
+    --------
+    Every quad of a circular crease (radius 2 m, 4 edges) tilted by 30 degrees:
+
+    >>> import numpy as np
+    >>> phi = np.linspace(0.75 * np.pi, 0.25 * np.pi, 5)
+    >>> arc = 2.0 * np.c_[np.cos(phi), np.sin(phi)]
+    >>> rulings = rulings_from_tilts(arc, np.full(4, np.radians(30.0)))
+    >>> rulings.shape, np.degrees(vertex_reflection_angles(arc, rulings)).round(6).tolist()
+    ((5, 3), [29.520997, 29.520997, 29.520997, 29.520997, 29.520997])
     """
     f = crease_frames(points)
     tilts = np.asarray(tilts, dtype=float)
@@ -121,6 +141,19 @@ def orthogonal_rulings(points: np.ndarray, *, alpha: float, reference: int) -> n
 
     All quads tilt by the same psi with ``tan(psi) = tan(alpha) / cos(turn_ref / 2)``, so the
     ruling at the reference vertex has reflection angle exactly ``alpha``.
+
+    Examples
+    --------
+    On a circular crease (radius 2 m) the reflection angle is ``alpha`` at every vertex:
+
+    >>> import numpy as np
+    >>> phi = np.linspace(0.75 * np.pi, 0.25 * np.pi, 5)
+    >>> arc = 2.0 * np.c_[np.cos(phi), np.sin(phi)]
+    >>> rulings = orthogonal_rulings(arc, alpha=np.radians(30.0), reference=2)
+    >>> (rulings[2].round(6) + 0.0).tolist()  # the crown's ruling: cos 30, sin 30
+    [0.0, 0.866025, 0.5]
+    >>> np.degrees(vertex_reflection_angles(arc, rulings)).round(6).tolist()
+    [30.0, 30.0, 30.0, 30.0, 30.0]
     """
     _check_alpha(alpha)
     psi = math.atan(math.tan(alpha) / math.cos(0.5 * _reference_turn(points, reference)))
@@ -148,6 +181,18 @@ def cylindrical_rulings(
     GeometryError
         The direction is parallel to the crease tangent at some vertex, or points to the other
         side of the crease there (the strip would fold over itself).
+
+    Examples
+    --------
+    The direction's sign is turned so that the rulings point into the plate (the left side):
+
+    >>> import numpy as np
+    >>> phi = np.linspace(0.75 * np.pi, 0.25 * np.pi, 5)
+    >>> arc = 2.0 * np.c_[np.cos(phi), np.sin(phi)]
+    >>> alpha = np.radians(30.0)
+    >>> rulings = cylindrical_rulings(arc, direction=[0.0, -1.0], alpha=alpha, reference=2)
+    >>> (rulings.round(6) + 0.0).tolist() == [[0.0, 0.866025, 0.5]] * 5
+    True
     """
     _check_alpha(alpha)
     f = crease_frames(points)
@@ -182,6 +227,17 @@ def conical_rulings(points: np.ndarray, *, apex, alpha: float, reference: int) -
     GeometryError
         The apex lies on the crease line at some vertex, or on different sides of the crease
         along it.
+
+    Examples
+    --------
+    With the apex at the centre of a circular crease the cone's rulings are orthogonal to it:
+
+    >>> import numpy as np
+    >>> phi = np.linspace(0.75 * np.pi, 0.25 * np.pi, 5)
+    >>> arc = 2.0 * np.c_[np.cos(phi), np.sin(phi)]
+    >>> cone = conical_rulings(arc, apex=[0.0, 0.0], alpha=np.radians(30.0), reference=2)
+    >>> bool(np.allclose(cone, orthogonal_rulings(arc, alpha=np.radians(30.0), reference=2)))
+    True
     """
     _check_alpha(alpha)
     f = crease_frames(points)
@@ -222,6 +278,21 @@ def check_alpha_field(points: np.ndarray, gamma: np.ndarray, alpha: np.ndarray) 
     ------
     DevelopabilityError
         The prescribed field is not developable, with the worst vertex and the mismatch.
+
+    Examples
+    --------
+    A constant reflection angle is developable with orthogonal rulings only:
+
+    >>> import numpy as np
+    >>> phi = np.linspace(0.75 * np.pi, 0.25 * np.pi, 5)
+    >>> arc = 2.0 * np.c_[np.cos(phi), np.sin(phi)]
+    >>> alpha = np.full(5, np.radians(30.0))
+    >>> check_alpha_field(arc, np.full(5, np.radians(90.0)), alpha) is None
+    True
+    >>> check_alpha_field(arc, np.full(5, np.radians(60.0)), alpha)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    compas_ccu.errors.DevelopabilityError: the prescribed reflection angles are not developable: ...
     """
     f = crease_frames(points)
     gamma = np.asarray(gamma, dtype=float)
@@ -279,6 +350,17 @@ def ruling_angle_rulings(
     ------
     DevelopabilityError
         The field needs a reflection angle of 90 deg or more somewhere along the crease.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> phi = np.linspace(0.75 * np.pi, 0.25 * np.pi, 5)
+    >>> arc = 2.0 * np.c_[np.cos(phi), np.sin(phi)]
+    >>> rulings, tilts = ruling_angle_rulings(
+    ...     arc, gamma=np.radians(90.0), alpha=np.radians(30.0), reference=2
+    ... )
+    >>> rulings.shape, np.degrees(tilts).round(6).tolist()
+    ((5, 3), [30.483672, 30.483672, 30.483672, 30.483672])
     """
     from scipy.optimize import brentq
 
