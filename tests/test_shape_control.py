@@ -321,9 +321,9 @@ def test_inverse_pattern_round_trips_to_the_target(crease, rulings):
         }
     )
     err = round_trip(design)
-    assert err["max_relative"] <= 1e-9
-    assert err["crease_max"] <= 1e-9 * err["span"]
-    assert err["alpha_error"] < 1e-9
+    assert err.max_relative <= 1e-9
+    assert err.crease_max <= 1e-9 * err.span
+    assert err.alpha_error < 1e-9
 
 
 def test_design_from_a_3d_target_polyline_and_its_errors():
@@ -334,7 +334,7 @@ def test_design_from_a_3d_target_polyline_and_its_errors():
     structure = CCUModel(design).deploy()
     crease = np.asarray(structure.deployed)[0, :41]
     assert np.abs(crease - target).max() < 1e-12  # the crease IS the target, in place
-    assert round_trip(design)["max_relative"] < 1e-9
+    assert round_trip(design).max_relative < 1e-9
     bent = target.copy()
     bent[20] += tilt[:, 1] * 0.01
     with pytest.raises(DesignError, match=r"a CCU crease must be planar .* target point 20"):

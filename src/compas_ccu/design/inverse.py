@@ -76,7 +76,7 @@ def design_from_crease(
     >>> d = design_from_crease(arch, alpha=30.0, width=0.3)
     >>> from compas_ccu.model import round_trip
     >>> err = round_trip(d)
-    >>> bool(err["max_relative"] < 1e-9)
+    >>> bool(err.max_relative < 1e-9)
     True
     """
 

@@ -8,6 +8,13 @@
 from __future__ import annotations
 
 from compas_ccu.model.ccu_model import CCUModel, load_model
-from compas_ccu.model.inverse import flat_design, patterns_design, round_trip
+from compas_ccu.model.inverse import RoundTrip, flat_design, patterns_design, round_trip
 
-__all__ = ["CCUModel", "load_model", "flat_design", "patterns_design", "round_trip"]
+__all__ = [
+    "CCUModel",
+    "load_model",
+    "flat_design",
+    "patterns_design",
+    "round_trip",
+    "RoundTrip",
+]

@@ -10,6 +10,8 @@ A design from a 3D target polyline is :func:`compas_ccu.design.inverse.design_fr
 
 from __future__ import annotations
 
+from dataclasses import asdict, dataclass
+
 import numpy as np
 
 from compas_ccu.design import Design
@@ -17,7 +19,7 @@ from compas_ccu.errors import DesignError
 from compas_ccu.geometry import rigid_align
 from compas_ccu.model.ccu_model import CCUModel
 
-__all__ = ["flat_design", "patterns_design", "round_trip"]
+__all__ = ["flat_design", "patterns_design", "round_trip", "RoundTrip"]
 
 
 def flat_design(design, *, name: str | None = None):
@@ -144,15 +146,53 @@ def patterns_design(design, *, name: str | None = None):
     return Design.from_metric(doc, units=design.units)
 
 
-def round_trip(design) -> dict:
+@dataclass(frozen=True)
+class RoundTrip:
+    """How far a deployed cut pattern lands from its 3D target (:func:`round_trip`).
+
+    Attributes
+    ----------
+    alpha : float
+        The design angle, degrees.
+    span : float
+        The target's span, m.
+    max : float
+        The largest distance of a plate vertex from the target's, after a rigid alignment, m.
+    max_relative : float
+        ``max`` over the span.
+    crease_max : float
+        The largest distance over the leading crease's vertices, m.
+    alpha_error : float
+        The largest difference of the leading crease's reflection angles, degrees.
+
+    Examples
+    --------
+    >>> RoundTrip(30.0, 2.0, 2e-15, 1e-15, 1e-15, 0.0).as_dict()["span"]
+    2.0
+    """
+
+    alpha: float
+    span: float
+    max: float
+    max_relative: float
+    crease_max: float
+    alpha_error: float
+
+    def as_dict(self) -> dict:
+        """``{field: value}`` (for JSON)."""
+        return asdict(self)
+
+
+def round_trip(design) -> RoundTrip:
     """Target -> cut pattern -> deploy -> target, for a deployed-state single-crease design.
 
     Returns
     -------
-    dict
+    RoundTrip
         ``max`` (m) and ``max_relative`` (to the span) distance between the deployed pattern
         design and the target at the design angle, over the crease (``crease_max``) and over
-        every plate vertex (``max``); ``alpha`` (degrees); ``span`` (m).
+        every plate vertex (``max``); ``alpha`` (degrees); ``span`` (m); ``alpha_error``
+        (degrees).
 
     Examples
     --------
@@ -163,7 +203,7 @@ def round_trip(design) -> dict:
     ...     "layout": {"type": "single", "width": 0.3},
     ... }, name="arch")
     >>> result = round_trip(arch)
-    >>> result["alpha"], result["span"], bool(result["max_relative"] < 1e-12)
+    >>> result.alpha, result.span, bool(result.max_relative < 1e-12)
     (30.0, 2.0, True)
     """
     if design.crease.state != "deployed":
@@ -176,16 +216,12 @@ def round_trip(design) -> dict:
     dist = np.linalg.norm(moved - np.asarray(target.deployed), axis=-1)
     n = pattern.metrics["segments"]
     span = float(target.metrics["span"])
-    return {
-        "alpha": design.alpha,
-        "span": span,
-        "max": float(dist.max()),
-        "max_relative": float(dist.max()) / span,
-        "crease_max": float(dist[0, : n + 1].max()),
-        "alpha_error": float(
-            np.abs(
-                np.asarray(pattern.metrics["alpha_leading"])
-                - np.asarray(target.metrics["alpha_leading"])
-            ).max()
-        ),
-    }
+    leading = np.asarray(pattern.metrics["alpha_leading"])
+    return RoundTrip(
+        alpha=design.alpha,
+        span=span,
+        max=float(dist.max()),
+        max_relative=float(dist.max()) / span,
+        crease_max=float(dist[0, : n + 1].max()),
+        alpha_error=float(np.abs(leading - np.asarray(target.metrics["alpha_leading"])).max()),
+    )
