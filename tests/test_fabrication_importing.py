@@ -110,8 +110,8 @@ def test_round_trip_cone_fabricate_import_deploy(tmp_path):
     model = load_model(EXAMPLES / "cone.toml")
     fabricate(model, tmp_path / "fab", workshop=SHELF)
     result = round_trip_error(model, tmp_path / "fab")
-    assert result["max_relative"] < 1e-9
-    assert result["plate_ids"] == [0, 1] and result["crease_id"] == 0
+    assert result.max_relative < 1e-9
+    assert result.plate_ids == [0, 1] and result.crease_id == 0
 
 
 @pytest.mark.slow
@@ -120,14 +120,14 @@ def test_round_trip_vault_every_crease_pair(tmp_path):
     crease pairs comes back to rounding (measured 1.1e-15 ... 1.6e-15 relative)."""
     model = load_model(EXAMPLES / "vault.toml")
     fabricate(model, tmp_path / "fab", workshop=SHELF)
-    errors = [round_trip_error(model, tmp_path / "fab", crease=c)["max_relative"] for c in range(9)]
+    errors = [round_trip_error(model, tmp_path / "fab", crease=c).max_relative for c in range(9)]
     assert max(errors) < 1e-9
     with pytest.raises(DesignError, match="9 creases .*one crease pair: choose one"):
         import_design(tmp_path / "fab")
     # the whole vault, all ten plates joined into one mechanism (measured 1.4e-15)
     whole = structure_round_trip_error(model, tmp_path / "fab", crease=4)
-    assert whole["plates"] == 10 and whole["max_relative"] < 1e-9
-    assert whole["report"]["attached"][:2] == ["plate_5.dxf", "plate_4.dxf"]  # upper plate leads
+    assert whole.plates == 10 and whole.max_relative < 1e-9
+    assert whole.report["attached"][:2] == ["plate_5.dxf", "plate_4.dxf"]  # upper plate leads
 
 
 def leading_crease(model, folder):
@@ -169,16 +169,16 @@ def test_round_trip_undoes_the_thickness_correction(inclined3):
     model, folder = inclined3
     crease = leading_crease(model, folder)
     whole = structure_round_trip_error(model, folder, crease=crease)
-    assert whole["plates"] == 3 and whole["max_relative"] < 1e-9
-    undone = whole["report"]["thickness_correction"]
+    assert whole.plates == 3 and whole.max_relative < 1e-9
+    undone = whole.report["thickness_correction"]
     assert undone["thickness"] == 0.008 and undone["iterations"] <= 3
     assert 7e-5 < undone["largest"] < 8e-5 and undone["change"] <= UNDO_TOLERANCE
     pair = round_trip_error(model, folder, crease=crease)
-    assert pair["max_relative"] < 1e-9
-    assert pair["report"]["thickness_correction"]["iterations"] == undone["iterations"]
+    assert pair.max_relative < 1e-9
+    assert pair.report["thickness_correction"]["iterations"] == undone["iterations"]
     drawn = structure_round_trip_error(model, folder, crease=crease, as_drawn=True)
-    assert drawn["report"]["thickness_correction"] is None
-    assert drawn["max_relative"] > 1e-5
+    assert drawn.report["thickness_correction"] is None
+    assert drawn.max_relative > 1e-5
 
 
 def test_undoing_that_does_not_converge_is_refused(inclined3, monkeypatch):
@@ -250,9 +250,9 @@ def test_round_trip_fig11a_at_8_mm_undoes_the_thickness_correction(tmp_path):
     model = load_model(catalog_path("fig11a-constant-apex"))
     fabricate(model, tmp_path / "fab", hinge_width=0.03, allow_collisions=True)
     whole = structure_round_trip_error(model, tmp_path / "fab", crease=4)
-    assert whole["plates"] == 10 and whole["max_relative"] < 1e-9
-    assert whole["report"]["thickness_correction"]["largest"] > 2.9e-4
-    assert round_trip_error(model, tmp_path / "fab", crease=4)["max_relative"] < 1e-9
+    assert whole.plates == 10 and whole.max_relative < 1e-9
+    assert whole.report["thickness_correction"]["largest"] > 2.9e-4
+    assert round_trip_error(model, tmp_path / "fab", crease=4).max_relative < 1e-9
     with pytest.raises(DesignError, match=r"RULING_SCORE #\w+ \(end ruling\): the ruling at"):
         import_design(tmp_path / "fab", crease=0)
     structure = import_structure(tmp_path / "fab", crease=4)
@@ -270,18 +270,18 @@ def test_round_trip_fig12b_at_8_mm_undoes_the_thickness_correction(tmp_path):
     fabricate(model, tmp_path / "fab", hinge_width=0.03, allow_collisions=True)
     crease = leading_crease(model, tmp_path / "fab")
     whole = structure_round_trip_error(model, tmp_path / "fab", crease=crease)
-    assert whole["plates"] == 12 and whole["max_relative"] < 1e-9
-    assert round_trip_error(model, tmp_path / "fab", crease=crease)["max_relative"] < 1e-9
+    assert whole.plates == 12 and whole.max_relative < 1e-9
+    assert round_trip_error(model, tmp_path / "fab", crease=crease).max_relative < 1e-9
     pairs = pair_creases(read_plate_folder(tmp_path / "fab"))
     plates = {p.crease_a.crease_id: {p.a.plate_id, p.b.plate_id} for p in pairs}
     near = {c for c, ids in plates.items() if ids & plates[crease]} - {crease}
     second = {c for c, ids in plates.items() if any(ids & plates[n] for n in near)}
     other = round_trip_error(model, tmp_path / "fab", crease=min(second - near - {crease}))
-    assert other["max_relative"] < 1e-9
+    assert other.max_relative < 1e-9
     # undone on a tree whose leading crease has the design's reflection angle: the leading
     # crease's or another of its parity (fig12b's creases 1, 3, 5, 7, 9), whichever converges
     # first
-    leading = other["report"]["thickness_correction"]["leading"]
+    leading = other.report["thickness_correction"]["leading"]
     assert int(leading.split()[1]) % 2 == crease % 2, (leading, crease)
 
 

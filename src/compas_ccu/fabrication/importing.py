@@ -54,6 +54,7 @@ from compas_ccu.fabrication.plate_drawings import (
     read_plate_folder,
 )
 from compas_ccu.fabrication.round_trip import (
+    RoundTripDeviation,
     round_trip_error,
     structure_error,
     structure_round_trip_error,
@@ -65,6 +66,7 @@ __all__ = [
     "import_structure",
     "structure_round_trip_error",
     "structure_error",
+    "RoundTripDeviation",
     "design_toml",
     "PlateDrawing",
     "CreaseDrawing",

@@ -10,6 +10,7 @@ matched by id through ``fabrication.json``'s ``model_ids``.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -21,10 +22,48 @@ from compas_ccu.geometry import rigid_align
 from compas_ccu.kinematics.mechanism import Mechanism
 from compas_ccu.model import CCUModel
 
-__all__ = ["round_trip_error", "structure_error", "structure_round_trip_error"]
+__all__ = [
+    "RoundTripDeviation",
+    "round_trip_error",
+    "structure_error",
+    "structure_round_trip_error",
+]
 
 
-def round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> dict:
+@dataclass
+class RoundTripDeviation:
+    """How far an imported design lands from the model whose files it was read from.
+
+    Attributes
+    ----------
+    max : float
+        The largest vertex distance after a best rigid alignment, m.
+    max_relative : float
+        ``max`` over the bounding-box diagonal of what was compared.
+    plates : int
+        The number of plates compared.
+    crease_id : int or None
+        The model's id of the imported leading crease (a crease pair's comparison).
+    plate_ids : list of int or None
+        The model's ids of its two plates, leading first (a crease pair's comparison).
+    report : dict or None
+        The import's report (:func:`import_design` / :func:`import_structure`).
+
+    Examples
+    --------
+    >>> RoundTripDeviation(max=2e-12, max_relative=1e-12, plates=2).max_relative < 1e-9
+    True
+    """
+
+    max: float
+    max_relative: float
+    plates: int
+    crease_id: int | None = None
+    plate_ids: list | None = None
+    report: dict | None = None
+
+
+def round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> RoundTripDeviation:
     """Fabricate -> import -> deploy: the imported crease pair against the model's two plates.
 
     ``folder`` holds the plate files ``ccu fabricate`` wrote for ``model``. The imported design
@@ -34,7 +73,7 @@ def round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> d
 
     Returns
     -------
-    dict
+    RoundTripDeviation
         ``max`` (m) and ``max_relative`` (to the diagonal of the compared plates' bounding box)
         vertex distance, ``crease_id``, ``plate_ids`` (leading, partner), ``report`` (of
         :func:`import_design`).
@@ -66,16 +105,19 @@ def round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> d
     moved = rigid_align(a, b)
     distance = float(np.linalg.norm(moved - b, axis=1).max())
     size = float(np.linalg.norm(np.ptp(b, axis=0)))
-    return {
-        "max": distance,
-        "max_relative": distance / size,
-        "crease_id": cid,
-        "plate_ids": [a_id, b_id],
-        "report": report,
-    }
+    return RoundTripDeviation(
+        max=distance,
+        max_relative=distance / size,
+        plates=2,
+        crease_id=cid,
+        plate_ids=[a_id, b_id],
+        report=report,
+    )
 
 
-def structure_round_trip_error(model, folder, *, crease=None, as_drawn: bool = False) -> dict:
+def structure_round_trip_error(
+    model, folder, *, crease=None, as_drawn: bool = False
+) -> RoundTripDeviation:
     """Fabricate -> import -> deploy for the whole structure (:func:`import_structure`).
 
     Both mechanisms are deployed to the model's design angle; every vertex of every plate is
@@ -83,16 +125,17 @@ def structure_round_trip_error(model, folder, *, crease=None, as_drawn: bool = F
 
     Returns
     -------
-    dict
-        ``max`` (m), ``max_relative`` (to the structure's bounding-box diagonal), ``plates``.
+    RoundTripDeviation
+        ``max`` (m), ``max_relative`` (to the structure's bounding-box diagonal), ``plates``,
+        ``report`` (of :func:`import_structure`).
     """
     imported = import_structure(folder, crease=crease, as_drawn=as_drawn)
     out = structure_error(model, folder, imported.mechanism, imported.plate_ids)
-    out["report"] = imported.report
+    out.report = imported.report
     return out
 
 
-def structure_error(model, folder, mechanism: Mechanism, plate_ids) -> dict:
+def structure_error(model, folder, mechanism: Mechanism, plate_ids) -> RoundTripDeviation:
     """An imported mechanism against the model whose plate files ``folder`` holds.
 
     Both are deployed to the model's design angle; every vertex of every plate is compared
@@ -103,7 +146,7 @@ def structure_error(model, folder, mechanism: Mechanism, plate_ids) -> dict:
 
     Returns
     -------
-    dict
+    RoundTripDeviation
         ``max`` (m), ``max_relative`` (to the structure's bounding-box diagonal), ``plates``.
     """
     alpha = math.radians(model.alpha_design)
@@ -120,4 +163,4 @@ def structure_error(model, folder, mechanism: Mechanism, plate_ids) -> dict:
     moved = rigid_align(a, b)
     distance = float(np.linalg.norm(moved - b, axis=1).max())
     size = float(np.linalg.norm(np.ptp(b, axis=0)))
-    return {"max": distance, "max_relative": distance / size, "plates": len(plate_ids)}
+    return RoundTripDeviation(max=distance, max_relative=distance / size, plates=len(plate_ids))
