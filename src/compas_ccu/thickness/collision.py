@@ -32,6 +32,12 @@ of cells of one plate and a block of rulings of the other can meet
 (:mod:`compas_ccu.thickness.candidate_search`, which says why no contact is lost); the results
 equal those of ``method="all"`` (the brute force, kept as :func:`_contacts_all`) bit for bit.
 The cells and their tests: :mod:`compas_ccu.thickness.cells`.
+
+**What a report needs** (``smallest``, as
+:func:`compas_ccu.thickness.collision_check.path_collisions` asks): per state the candidate
+search looks only as far as an upper bound of the state's smallest clearance, which a few
+probes give (:mod:`compas_ccu.thickness.report_pairs`); the report is the same bit for bit,
+the other pairs' gaps are not all measured.
 """
 
 from __future__ import annotations
