@@ -21,8 +21,9 @@ CPU time is steadier than wall time), median of the repeats after a warm-up call
 * **deploy**: ``model.mechanism.deploy(alpha)``, one state (alternating 24° and 26°);
 * **collisions / state**: ``ThickModel(model).collisions([alpha_design])``, one state;
 * **path (41 states)**: ``ThickModel.collisions()`` with its default 41 states from the flat
-  stack to the design angle (one call; the flat-folded stack and the states near it, where
-  every plate lies within the contact reach of its ~17 neighbours in the stack, cost most).
+  stack to the design angle (one call; in the flat-folded stack and the states near it every
+  plate lies within the contact reach of its ~17 neighbours in the stack, and the report's
+  check looks only as far as the state's smallest clearance, ``thickness/report_pairs.py``).
 
 The fitted exponent is the least-squares slope of log time against log plates. The load
 average (``os.getloadavg``) is printed with every row. BLAS/OpenMP are pinned to one thread

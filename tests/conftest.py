@@ -114,8 +114,9 @@ def engine(request):
     return module
 
 
-def captured_plate_contacts(thick, alphas):
-    """The arguments ``ThickModel.collisions(alphas)`` passes to ``plate_contacts``."""
+def captured_plate_contacts(thick, alphas, *, report=False):
+    """The arguments ``ThickModel.collisions(alphas)`` passes to ``plate_contacts``: without
+    ``smallest`` (the full check of every pair) unless ``report``."""
     import compas_ccu.thickness.collision_check as collision_check
 
     seen = {}
@@ -130,4 +131,7 @@ def captured_plate_contacts(thick, alphas):
         thick.collisions(alphas)
     finally:
         collision_check.plate_contacts = original
-    return seen["call"]
+    args, kwargs = seen["call"]
+    if not report:
+        kwargs = {key: value for key, value in kwargs.items() if key != "smallest"}
+    return args, kwargs

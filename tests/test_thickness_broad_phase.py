@@ -17,11 +17,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from compas_ccu.catalog import catalog_path
-from compas_ccu.model import load_model
+from compas_ccu.model import CCUModel, load_model
 from compas_ccu.thickness import ThickModel, solid_faces, vertex_offsets
 from compas_ccu.thickness.collision import _contacts_all, box_pairs, plate_contacts
 from compas_ccu.tolerances import EXACT_RELATIVE
-from conftest import EXAMPLES, captured_plate_contacts
+from conftest import EXAMPLES, captured_plate_contacts, make_design
 
 T = 0.008
 
@@ -153,3 +153,163 @@ def test_no_pair_dropped_among_random_strips(seed, plates, n, spread, reach, sta
     hinged = {(a, a + 1): np.r_[row, row] for a in range(plates - 1) if rng.random() < 0.5}
     args = (near, far, nu, faces, T)
     _assert_nothing_dropped(args, {"pairs": pairs, "hinged": hinged, "reach": reach})
+
+
+# -- what a collision report needs (compas_ccu.thickness.report_pairs) -----------------------
+
+
+def _report(contacts, marked, tolerance):
+    """The numbers a CollisionReport takes from the contact arrays: per state the largest
+    penetration, any crossing and the smallest clearance over the marked pairs; the first bad
+    (state, pair), its depth, crossing and vertex; the first smallest clearance's (state, pair)
+    and vertex."""
+    depth, clearance, crossing, where = contacts
+    masked = np.where(marked[None], clearance, np.inf)
+    out = [np.maximum(depth.max(axis=1), 0.0), crossing.any(axis=1), masked.min(axis=1)]
+    bad = (depth > tolerance) | crossing
+    if bad.any():
+        k = int(np.flatnonzero(bad.any(axis=1))[0])
+        q = int(np.flatnonzero(bad[k])[0])
+        out.append((k, q, depth[k, q], crossing[k, q], where[k, q]))
+    if np.isfinite(masked).any():
+        k, q = np.unravel_index(np.argmin(masked), masked.shape)
+        out.append((int(k), int(q), masked[k, q], where[k, q]))
+    return out
+
+
+def _assert_same_report(args, kwargs, marked):
+    """The pruned check (``smallest=marked``) against the brute force with an infinite reach
+    cut off at the reach (no box test): every number of the report bit for bit."""
+    reach = kwargs.get("reach", 0.1)
+    pruned = plate_contacts(*args, **kwargs, smallest=marked)
+    brute = _contacts_all(*args, kwargs["pairs"], kwargs.get("hinged"), np.inf, EXACT_RELATIVE)
+    gap = -brute[0]
+    far = gap > reach  # the cut-off of plate_contacts
+    brute = (
+        np.where(far, -np.inf, brute[0]),
+        np.where(far, np.inf, brute[1]),
+        brute[2],
+        np.where(far, 0, brute[3]),
+    )
+    full = plate_contacts(*args, **kwargs)
+    for tolerance in (1e-6, 0.0):
+        expected = _report(brute, marked, tolerance)
+        for got in (_report(pruned, marked, tolerance), _report(full, marked, tolerance)):
+            assert len(got) == len(expected)
+            for x, y in zip(got, expected):
+                np.testing.assert_array_equal(np.asarray(x, dtype=float), np.asarray(y, float))
+    # what it keeps, it keeps exactly: every penetration and crossing, every gap up to the
+    # smallest clearance of its state
+    np.testing.assert_array_equal(pruned[2], full[2])
+    kept = (full[0] >= 0.0) | (-full[0] <= _report(full, marked, 0.0)[2][:, None])
+    for x, y in zip(pruned, full):
+        np.testing.assert_array_equal(x[kept], y[kept])
+    return pruned, full
+
+
+REPORT_DESIGNS = {
+    **DESIGNS,
+    "cone": (EXAMPLES / "cone.toml", [0.0, 20.0, 40.0]),  # 2 plates, one crease
+    "funnel-crossing": (catalog_path("fig12c-funnel"), None),  # past its overlap limit
+}
+
+
+@pytest.mark.parametrize("name", list(REPORT_DESIGNS))
+@pytest.mark.parametrize("reach", [0.02, 0.1])
+def test_report_pairs_give_the_report_of_every_pair(name, reach):
+    """The vault, the dome, inclined and radial planes, two plates, crossings: the pruned
+    check gives the report's numbers of the full check and the brute force."""
+    path, alphas = REPORT_DESIGNS[name]
+    model = load_model(path)
+    if alphas is None:  # the plates pass through each other
+        alphas = np.linspace(77.3, 0.999 * model.alpha_limit, 6)
+    alphas = [a for a in alphas if a < model.alpha_limit]
+    thick = ThickModel(model, thickness=T)
+    args, kwargs = captured_plate_contacts(thick, alphas, report=True)
+    assert "smallest" in kwargs  # the report asks for the pruned check
+    marked = kwargs.pop("smallest")
+    pruned, full = _assert_same_report(args, {**kwargs, "reach": reach}, marked)
+    if name == "vault" and reach == 0.1:  # the stack: most pairs' gaps are not measured
+        assert np.isfinite(full[1][0]).sum() > 2 * np.isfinite(pruned[1][0]).sum()
+    if name == "funnel-crossing":
+        assert pruned[2].any()
+    fast, brute = thick.collisions(alphas), thick.collisions(alphas, method="all")
+    assert fast.summary() == brute.summary()
+
+
+def test_report_pairs_of_three_parallel_plates():
+    model = CCUModel(
+        make_design(
+            layout={"type": "parallel", "plates": 3, "spacing": 0.05}, crease={"segments": 9}
+        )
+    )
+    thick = ThickModel(model, thickness=T)
+    args, kwargs = captured_plate_contacts(thick, np.linspace(0.0, 30.0, 4), report=True)
+    marked = kwargs.pop("smallest")
+    assert marked.any() and not marked.all()
+    _assert_same_report(args, kwargs, marked)
+
+
+@settings(max_examples=40, deadline=None, database=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    plates=st.integers(2, 12),
+    n=st.integers(2, 12),
+    spread=st.sampled_from([0.0, 0.05, 0.3, 1.0]),
+    reach=st.sampled_from([0.01, 0.1, 0.5]),
+    states=st.integers(1, 3),
+    stacked=st.booleans(),
+)
+def test_report_pairs_among_random_strips(seed, plates, n, spread, reach, states, stacked):
+    """Random strips (or a random stack of parallel ones), a random chain of hinges, a random
+    set of marked pairs: the report's numbers of the pruned check are the brute force's."""
+    rng = np.random.default_rng(seed)
+    near, far = [], []
+    for _ in range(states):
+        if stacked:  # the flat stack: one strip, copies at random heights along its normal
+            base = _random_strip(rng, n, spread)
+            normal = np.cross(base[0][-1] - base[0][0], base[1][0] - base[0][0])
+            normal /= np.linalg.norm(normal)
+            lift = np.sort(rng.uniform(0.0, 0.1, plates))[:, None, None] * normal
+            strips = [(base[0] + h, base[1] + h) for h in lift]
+        else:
+            strips = [_random_strip(rng, n, spread) for _ in range(plates)]
+        near.append(np.stack([s[0] for s in strips]))
+        far.append(np.stack([s[1] for s in strips]))
+    near, far = np.stack(near), np.stack(far)
+    nu = vertex_offsets(near, far)
+    zero = np.zeros(near.shape[:-1])
+    faces = solid_faces(near, far, nu, T, zero, zero)
+    m = n + 1
+    first, second = np.divmod(np.arange(plates * plates), plates)
+    pairs = np.c_[first, second][first != second]
+    row = np.zeros(2 * m, dtype=bool)
+    row[:m] = True
+    hinged = {(a, a + 1): np.r_[row, row] for a in range(plates - 1) if rng.random() < 0.5}
+    marked = rng.random(len(pairs)) < 0.7
+    args = (near, far, nu, faces, T)
+    _assert_same_report(args, {"pairs": pairs, "hinged": hinged, "reach": reach}, marked)
+
+
+def test_report_pairs_give_the_depth_of_a_crossing_pair():
+    """A flat strip, a flat one 2 mm over it and a third plate whose first rulings pass through
+    both (their ends beside the strips) while its last ones lie 4-5 cm over them: the crossing
+    pairs are the first bad ones, and their depth is that of the full check although their
+    vertices lie far beyond the smallest clearance (the state is checked again in full)."""
+    s = np.linspace(0.0, 1.0, 17)
+    flat = np.c_[s, np.zeros_like(s), np.zeros_like(s)]
+    x = 0.3 + 0.04 * np.arange(17.0)
+    through = np.arange(17) < 8
+    odd = np.c_[x, np.where(through, -0.3, 0.05), np.where(through, -0.2, 0.05)]
+    odd_far = np.c_[x, np.where(through, 0.6, 0.25), np.where(through, 0.2, 0.06)]
+    lift = [0.0, 0.0, 0.01]
+    near = np.stack([flat, odd, flat + lift])[None]
+    far = np.stack([flat + [0.0, 0.3, 0.0], odd_far, flat + [0.0, 0.3, 0.01]])[None]
+    nu = vertex_offsets(near, far)
+    zero = np.zeros(near.shape[:-1])
+    faces = solid_faces(near, far, nu, T, zero, zero)
+    pairs = [(a, b) for a in range(3) for b in range(3) if a != b]
+    marked = np.ones(len(pairs), dtype=bool)
+    args = (near, far, nu, faces, T)
+    pruned, full = _assert_same_report(args, {"pairs": pairs, "reach": 0.5}, marked)
+    assert pruned[2][0, 0] and -0.06 < pruned[0][0, 0] < -0.03

@@ -102,7 +102,9 @@ class Blocks(NamedTuple):
     skip: np.ndarray  # (H + 1, I, 4 RULINGS) bool: hinge vertices left out, per hinge
 
 
-def plate_blocks(mid_near, mid_far, offsets, faces, table: PairTable, tol, height) -> Blocks:
+def plate_blocks(
+    mid_near, mid_far, offsets, faces, table: PairTable, tol, height, cells=None
+) -> Blocks:
     """Blocks, boxes and trees of the candidate search (module docstring).
 
     Parameters
@@ -112,13 +114,17 @@ def plate_blocks(mid_near, mid_far, offsets, faces, table: PairTable, tol, heigh
     table : PairTable
     tol : float
         Lateral tolerance, m.
-    height : float
-        Largest distance from a cell's mid plane that counts (``t/2 + reach``), m.
+    height : float or (k, 1, 1, 1) float
+        Largest distance from a cell's mid plane that counts (``t/2 + reach``; per state, a
+        collision report's, :mod:`compas_ccu.thickness.report_pairs`), m.
+    cells : tuple, optional
+        :func:`compas_ccu.thickness.cells.plate_cells` of the plates, if already computed.
     """
     k, p, m = mid_near.shape[:3]
     n = m - 1
     # cells and their five planes (mid plane, then the lateral ones), every state and plate
-    cells = plate_cells(mid_near, mid_far, offsets)
+    if cells is None:
+        cells = plate_cells(mid_near, mid_far, offsets)
     centre, normal, planes = cells[0], cells[1], cells[2:]
     normals = np.stack([normal] + [nrm for _, nrm in planes], axis=-2)  # (k, p, n, 5, 3)
     plane_offsets = np.stack(

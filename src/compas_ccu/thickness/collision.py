@@ -32,6 +32,12 @@ of cells of one plate and a block of rulings of the other can meet
 (:mod:`compas_ccu.thickness.candidate_search`, which says why no contact is lost); the results
 equal those of ``method="all"`` (the brute force, kept as :func:`_contacts_all`) bit for bit.
 The cells and their tests: :mod:`compas_ccu.thickness.cells`.
+
+**What a report needs** (``smallest``, as
+:func:`compas_ccu.thickness.collision_check.path_collisions` asks): per state the candidate
+search looks only as far as an upper bound of the state's smallest clearance, which a few
+probes give (:mod:`compas_ccu.thickness.report_pairs`); the report is the same bit for bit,
+the other pairs' gaps are not all measured.
 """
 
 from __future__ import annotations
@@ -57,6 +63,7 @@ from compas_ccu.thickness.candidate_search import (
     plate_blocks,
 )
 from compas_ccu.thickness.cells import in_footprint, plane_heights, plate_cells, point_gaps
+from compas_ccu.thickness.report_pairs import report_heights
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -140,6 +147,7 @@ def plate_contacts(
     reach=0.1,
     tol=EXACT_RELATIVE,
     method="cells",
+    smallest=None,
 ):
     """Worst contact of every ordered plate pair in every state.
 
@@ -170,6 +178,13 @@ def plate_contacts(
         meet (:mod:`.candidate_search`), O(n) per pair; "all": every vertex against every cell
         of every pair whose boxes overlap, O(n^2) per pair (the reference). Both give the same
         results, bit for bit.
+    smallest : (P,) bool, optional
+        Only what a collision report needs (:mod:`.report_pairs`; ``method="cells"`` only):
+        every pair that can penetrate or cross is tested, and of the pairs marked here only
+        those that can hold the smallest clearance of their state; the others report no
+        contact. The largest depth, any crossing, the smallest clearance over the marked pairs
+        per state and the first pair and vertex of each are those of the full check, bit for
+        bit. None (default): every pair.
 
     Returns
     -------
@@ -197,7 +212,11 @@ def plate_contacts(
         if not len(pair):
             continue
         chunk = (mid_near[states], mid_far[states], offsets[states], faces[states])
-        blocks = plate_blocks(*chunk, table, tol, half + reach)
+        height, cells = half + reach, None
+        if smallest is not None:  # only what a report needs: a height per state
+            cells = plate_cells(*chunk[:3])
+            height = report_heights(cells, chunk[3], table, state, pair, smallest, half, reach)
+        blocks = plate_blocks(*chunk, table, tol, height, cells)
         qq, cell_id, ruling_id = block_pairs(blocks, table, state, pair)
         found = [
             exact_tests(blocks, table, qq[part], cell_id[part], ruling_id[part], half, reach, tol)
@@ -206,6 +225,12 @@ def plate_contacts(
         if found:
             out = (x[states] for x in (depth, clearance, crossing, where))
             _smallest(found, *out)
+    redo = np.flatnonzero(crossing.any(axis=1)) if smallest is not None else []
+    if len(redo):  # a crossing pair's depth counts whatever its gap: these states in full
+        again = (x[redo] for x in (mid_near, mid_far, offsets, faces))
+        full = plate_contacts(*again, thickness, pairs=table.pairs, hinged=hinged, reach=reach)
+        for whole, part in zip((depth, clearance, crossing, where), full):
+            whole[redo] = part
     return depth, clearance, crossing, where
 
 

@@ -154,6 +154,7 @@ def path_collisions(thick, alphas, tolerance: float, method: str) -> CollisionRe
         pairs=pairs,
         hinged=rows,
         method=method,
+        smallest=~neighbours,
     )
     penetration = np.maximum(depth.max(axis=1), 0.0)
     others = clear[:, ~neighbours] if (~neighbours).any() else np.full((len(alphas), 1), np.inf)
