@@ -252,3 +252,26 @@ def test_the_default_nesting_gives_no_warning_where_a_nester_is_installed(tmp_pa
     search = summary["nesting_search"]
     assert (search["solver"], search["generations"], search["packings"]) == ("compas_nest", 3, 2)
     assert len(plan.sheets) == 2  # the cone's 8 parts (shelves: 4 sheets)
+
+
+def test_the_studio_says_the_warning_of_an_export(tmp_path):
+    """The export runs in another process: the studio reads the warning from the
+    fabrication.json it wrote and says it in the export's line, in the warning colour."""
+    import types
+    from concurrent.futures import Future
+
+    pytest.importorskip("viser")
+    from compas_ccu.studio.app import Studio
+
+    folder = tmp_path / "fabrication"
+    folder.mkdir()
+    (folder / "fabrication.json").write_text(json.dumps({"workshop": {"warnings": [NO_NESTER]}}))
+    said = []
+    studio = types.SimpleNamespace(_say=lambda text, status: said.append((text, status)))
+    future = Future()
+    future.set_result((1, {"fabrication": folder}))
+    Studio._exported(studio, future)
+    assert said == [(f"exported fabrication to {folder}; warning: {NO_NESTER}", "warn")]
+    (folder / "fabrication.json").write_text(json.dumps({"workshop": {"warnings": []}}))
+    Studio._exported(studio, future)
+    assert said[-1] == (f"exported fabrication to {folder}", "ok")

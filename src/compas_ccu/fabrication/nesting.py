@@ -44,9 +44,10 @@ __all__ = [
 ]
 
 #: The true-shape nesters ``nesting = "auto"`` tries, the first installed one used. compas_nest
-#: comes first: measured on the vault, the cone and the 22-plate dome it used as few sheets as
-#: spyrrow or fewer (5, 2, 16 against 5, 2, 18) in 1/10 to 1/200 of the time, and it has wheels
-#: for Python 3.9 (Rhino 8), where spyrrow has none.
+#: comes first: measured (docs/fabrication.md) on the vault, the cone, the dome preset and the
+#: 22-plate dome it used 5, 2, 10 and 16 sheets against spyrrow's 5, 2, 9 and 19, in 1/20 to
+#: 1/60 of the time (the vault: 3.2 s against 57 s), with a 5 - 54 % longer textile roll; and it
+#: has wheels for Python 3.9 (Rhino 8), where spyrrow has none.
 AUTO_ORDER = ("compas_nest", "spyrrow")
 
 #: What each nester needs installed.
