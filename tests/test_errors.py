@@ -42,13 +42,14 @@ def test_every_missing_extra_says_it_the_same_way(monkeypatch):
     from compas_ccu.cli import explore, optimize
     from compas_ccu.cli.common import need_extra
     from compas_ccu.curves import candidates
-    from compas_ccu.fabrication import packing
+    from compas_ccu.fabrication import nfp_packing, packing
 
     _everything_missing(monkeypatch)
     args = Namespace(in_process=False, dashboard=True, scheduler=None, workers=None)
     calls = {
         "reading DXF files": lambda: candidates.need_module("ezdxf", "fab", "DXF files"),
         "nesting the parts onto sheets": packing.solver_version,
+        "nesting the parts onto sheets with compas_nest": nfp_packing.nester_version,
         "'ccu fabricate'": lambda: need_extra("fabricate", "fab", ("ezdxf", "trimesh")),
         "'ccu explore'": lambda: explore._check(args),
         "'ccu optimize'": lambda: optimize._check(args),

@@ -180,7 +180,10 @@ def test_every_component_has_code_metadata_and_a_small_icon():
     assert sorted(p.name for p in COMPONENTS.iterdir() if p.is_dir()) == sorted(NAMES)
     for name in NAMES:
         folder = COMPONENTS / name
-        assert (folder / "code.py").read_text().splitlines()[0] == "# r: compas_ccu"
+        first = (folder / "code.py").read_text().splitlines()[0]
+        assert first.startswith("# r: compas_ccu") and (first == "# r: compas_ccu") == (
+            name != "CCU_Fabricate"
+        )
         icon = (folder / "icon.png").read_bytes()
         assert icon[:8] == b"\x89PNG\r\n\x1a\n" and len(icon) < 2048
         meta = json.loads((folder / "metadata.json").read_text())
@@ -278,3 +281,72 @@ def test_a_component_error_becomes_a_runtime_message(host):
     assert out[:2] == (None, None)
     assert component.messages == [("Error", out[2])]
     assert "straight" in out[2]
+
+
+def test_a_missing_nester_is_a_runtime_warning_not_a_python_warning(host, tmp_path, monkeypatch):
+    """Without compas_nest and spyrrow the shelves nest the parts: the component says so as a
+    runtime message (and in info), and no Python warning reaches Grasshopper's output."""
+    import warnings
+
+    from compas_ccu.errors import CCUWarning
+    from compas_ccu.fabrication import nesting
+
+    monkeypatch.setattr(nesting, "_installed", lambda nester: False)
+    fab, component, _ = _component("CCU_Fabricate", host)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        files, info = fab.RunScript(str(EXAMPLES / "cone.toml"), str(tmp_path / "f"), None, True)
+    assert not [w for w in caught if issubclass(w.category, CCUWarning)]
+    assert files and Path(files[-1]).name == "fabrication.json"
+    text = (
+        "no true-shape nester is installed (compas_nest or spyrrow: pip install "
+        "'compas_ccu[fab]'): the parts are nested by shelves of bounding boxes, which wastes "
+        "sheets"
+    )
+    assert component.messages == [("Warning", text)]
+    assert info.splitlines()[1] == f"warning: {text}"
+    manifest = json.loads(Path(files[-1]).read_text())
+    assert manifest["workshop"]["warnings"] == [text]
+    assert manifest["workshop"]["nesting"] == "shelf"
+
+
+#: Every component's instance GUID, fixed in its metadata.json: COMPAS' componentizer gives a
+#: component without one a new GUID at every build, and Grasshopper then treats the rebuilt
+#: component as another one.
+INSTANCE_GUIDS = {
+    "CCU_Checks": "8c3ce686-6c07-5522-805b-355946869550",
+    "CCU_CutPatterns": "55c31d8b-c63c-5894-8407-e98859e3d908",
+    "CCU_Deploy": "3e26eae6-4638-5660-b9f8-27fd391497c0",
+    "CCU_Design": "b8523c7c-9223-58a6-8ec0-82390e03c922",
+    "CCU_Fabricate": "5fde1f48-a1d0-516f-9aed-141f7fc27890",
+}
+
+
+def test_every_component_has_a_fixed_instance_guid():
+    import uuid
+
+    for name in NAMES:
+        meta = json.loads((COMPONENTS / name / "metadata.json").read_text())
+        assert str(uuid.UUID(meta["instanceGuid"])) == meta["instanceGuid"] == INSTANCE_GUIDS[name]
+    assert len(set(INSTANCE_GUIDS.values())) == len(NAMES)
+
+
+def test_the_fabricate_requirements_line_installs_what_fabricate_imports():
+    """Its `# r:` line: compas_ccu and the modules `fabricate` needs beyond the core (the fab
+    and viz extras' writers), and compas_nest at the version the fab extra pins (the nester
+    with wheels for Rhino's Python 3.9)."""
+    tomllib = pytest.importorskip("tomllib")
+    from packaging.requirements import Requirement
+
+    from compas_ccu.fabrication.fabricate import REQUIRED_MODULES
+
+    first = (COMPONENTS / "CCU_Fabricate" / "code.py").read_text().splitlines()[0]
+    listed = {Requirement(r.strip()).name.replace("-", "_"): Requirement(r.strip()) for r in
+              first[len("# r: "):].split(",")}  # fmt: skip
+    assert set(REQUIRED_MODULES) - {"shapely"} | {"compas_ccu", "compas_nest"} == set(listed)
+    project = tomllib.loads((EXAMPLES.parent / "pyproject.toml").read_text())
+    extras = project["project"]["optional-dependencies"]
+    pinned = {Requirement(r).name: Requirement(r) for r in extras["fab"] + extras["viz"]}
+    assert str(listed["compas_nest"].specifier) == str(pinned["compas-nest"].specifier) == "==0.1.0"
+    for module in ("ezdxf", "rhino3dm", "trimesh", "matplotlib"):
+        assert listed[module].specifier == pinned[module].specifier, module

@@ -214,8 +214,9 @@ COMMANDS = (
             option(
                 "--nesting",
                 default=None,
-                choices=("spyrrow", "shelf"),
-                help="true-shape nesting (spyrrow) or bounding boxes in rows (shelf, fast)",
+                choices=("auto", "compas_nest", "spyrrow", "shelf"),
+                help="true-shape nesting (auto: compas_nest, else spyrrow, else shelves with a "
+                "warning) or bounding boxes in rows (shelf, fast)",
             ),
             option(
                 "--nesting-seed",

@@ -20,8 +20,8 @@ _UNITS = {
         "sheets": "m", "kerf": "m", "tool_diameter": "m", "bridge": "m", "margin": "m",
         "splice_width": "m", "splice_thickness": "m", "fasteners_per_splice": "1",
         "roll_width": "m", "nesting_time": "s", "nesting_seed": "1", "nesting_steps": "1",
-        "sheet_price": "currency", "textile_price": "currency/m", "glue_price": "currency/m",
-        "fastener_price": "currency",
+        "nesting_generations": "1", "sheet_price": "currency", "textile_price": "currency/m",
+        "glue_price": "currency/m", "fastener_price": "currency",
     },
 }  # fmt: skip
 
@@ -121,36 +121,49 @@ FABRICATION_SECTIONS: dict = {
         ),
         "nesting": Key(
             "str",
-            "'spyrrow': true-shape nesting with spyrrow (sparrow); 'shelf': the parts' "
-            "bounding boxes in rows (fast, wasteful; the fallback without spyrrow).",
-            default="spyrrow",
-            choices=("spyrrow", "shelf"),
+            "'auto': the first true-shape nester installed, compas_nest then spyrrow, else "
+            "the shelves with a warning; 'compas_nest': compas_nest's no-fit polygons and "
+            "genetic search, onto the sheets directly (wheels for Python 3.9 too); 'spyrrow': "
+            "spyrrow's strip packing (sparrow; Python >= 3.10), the strip cut into sheets; "
+            "'shelf': the parts' bounding boxes in rows (fast, wasteful). A nester named but "
+            "not installed is replaced by the other one, or the shelves, with a warning.",
+            default="auto",
+            choices=("auto", "compas_nest", "spyrrow", "shelf"),
         ),
         "nesting_time": Key(
             "float",
             "Safety limit of one packing, s: a packing that has not searched its "
-            "nesting_steps by then is refused (never cut short: the files do not depend on "
-            "the machine's speed or load).",
+            "nesting_steps (or nesting_generations) by then is refused (never cut short: "
+            "the files do not depend on the machine's speed or load).",
             default=600.0,
             check=lambda v: 0.0 < v <= 86400.0,
             check_doc="> 0 and <= 86400",
         ),
         "nesting_seed": Key(
             "int",
-            "Random seed of the nesting search (spyrrow): the same seed and steps give the "
-            "same nesting; another seed searches other layouts.",
+            "Random seed of the nesting search (compas_nest, spyrrow): the same seed and "
+            "steps (generations) give the same nesting; another seed searches other layouts.",
             default=0,
             check=lambda v: 0 <= v <= 2**32 - 1,
             check_doc="0 ... 4294967295",
         ),
         "nesting_steps": Key(
             "int",
-            "Steps the nesting search takes per packing (sparrow's separations; a packing "
+            "Steps spyrrow's search takes per packing (sparrow's separations; a packing "
             "stops sooner at its second failed step): more steps, shorter strips and "
             "more time.",
             default=500,
             check=lambda v: 1 <= v <= 100_000,
             check_doc="1 ... 100000",
+        ),
+        "nesting_generations": Key(
+            "int",
+            "Generations of compas_nest's genetic search per packing (each places 10 orders "
+            "of the parts, on one thread, from nesting_seed): more generations, sometimes "
+            "fewer sheets, more time.",
+            default=3,
+            check=lambda v: 1 <= v <= 1000,
+            check_doc="1 ... 1000",
         ),
         "currency": Key("str", "Currency of the prices below (text).", default="EUR"),
         "sheet_price": Key(

@@ -1,16 +1,30 @@
-"""Nesting the parts onto the sheets and the hinge strips onto the textile roll: strip packing
-with spyrrow (:mod:`compas_ccu.fabrication.packing`, bounded by steps, never by seconds), sheets
-merged where their parts fit fewer, shelves as the fallback.
+"""Nesting the parts onto the sheets and the hinge strips onto the textile roll, by the nester
+the options name and is installed (:func:`nesting_choice`): compas_nest packs onto the sheets
+directly (:mod:`compas_ccu.fabrication.nfp_packing`, bounded by generations); spyrrow strip-packs
+(:mod:`compas_ccu.fabrication.packing`, bounded by steps), the strip cut into sheets and sheets
+merged where their parts fit fewer; shelves of bounding boxes are the last fallback. No search
+is bounded by seconds.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
+import warnings
+from dataclasses import replace
 
 import numpy as np
 
-from compas_ccu.errors import GeometryError
+from compas_ccu.errors import CCUWarning, GeometryError
 from compas_ccu.fabrication.dxf_document import MM
+from compas_ccu.fabrication.nfp_packing import PART_TOLERANCE as NFP_PART_TOLERANCE
+from compas_ccu.fabrication.nfp_packing import (
+    POPULATION,
+    ROLL_TOLERANCE,
+    SheetPacking,
+    nester_version,
+    sheet_pack,
+)
 from compas_ccu.fabrication.packing import PATIENCE, SOLVER, solver_version, strip_pack
 from compas_ccu.fabrication.plan import WorkshopOptions
 from compas_ccu.fabrication.splices import (
@@ -19,6 +33,8 @@ from compas_ccu.fabrication.splices import (
 )
 
 __all__ = [
+    "AUTO_ORDER",
+    "nesting_choice",
     "MERGE_PATIENCE",
     "ROLL_IMPROVEMENTS",
     "nest_parts",
@@ -26,6 +42,74 @@ __all__ = [
     "nest_roll",
     "nesting_search",
 ]
+
+#: The true-shape nesters ``nesting = "auto"`` tries, the first installed one used. compas_nest
+#: comes first: measured (docs/fabrication.md) on the vault, the cone, the dome preset and the
+#: 22-plate dome it used 5, 2, 10 and 16 sheets against spyrrow's 5, 2, 9 and 19, in 1/20 to
+#: 1/60 of the time (the vault: 3.2 s against 57 s), with a 5 - 54 % longer textile roll; and it
+#: has wheels for Python 3.9 (Rhino 8), where spyrrow has none.
+AUTO_ORDER = ("compas_nest", "spyrrow")
+
+#: What each nester needs installed.
+_INSTALL = {
+    "compas_nest": "pip install 'compas_ccu[fab]'",
+    "spyrrow": "pip install 'compas_ccu[fab]'; it has no wheel for Python 3.9",
+}
+
+
+def _installed(nester: str) -> bool:
+    return importlib.util.find_spec(nester) is not None
+
+
+def nesting_choice(requested: str) -> tuple:
+    """The nesting to use for ``[fabrication] nesting = requested`` and the warning to give.
+
+    ``"auto"`` is the first installed nester of :data:`AUTO_ORDER`; a nester named but not
+    installed is replaced by the first installed one, with a warning; without any, the parts
+    are nested by shelves of bounding boxes, with a warning (it wastes sheets). ``"shelf"`` is
+    itself.
+
+    Returns
+    -------
+    tuple
+        ``(nesting, warning)``: ``"compas_nest"``, ``"spyrrow"`` or ``"shelf"``, and the
+        warning's text or None.
+
+    Examples
+    --------
+    >>> nesting_choice("shelf")
+    ('shelf', None)
+    """
+    if requested == "shelf" or (requested != "auto" and _installed(requested)):
+        return requested, None
+    if requested not in ("auto", *AUTO_ORDER):
+        raise ValueError(f"nesting must be auto, compas_nest, spyrrow or shelf, got {requested!r}")
+    found = next((n for n in AUTO_ORDER if _installed(n)), None)
+    if requested == "auto" and found is not None:
+        return found, None
+    missing = (
+        f"{requested} is not installed ({_INSTALL[requested]})"
+        if requested != "auto"
+        else "no true-shape nester is installed (compas_nest or spyrrow: "
+        "pip install 'compas_ccu[fab]')"
+    )
+    if found is not None:
+        return found, f"{missing}: the parts are nested with {found} instead"
+    return "shelf", (
+        f"{missing}: the parts are nested by shelves of bounding boxes, which wastes sheets"
+    )
+
+
+def _resolved(options: WorkshopOptions) -> WorkshopOptions:
+    """``options`` with ``nesting = "auto"`` replaced by the nester it chooses (a warning when
+    that is the shelves)."""
+    if options.nesting != "auto":
+        return options
+    nesting, warning = nesting_choice("auto")
+    if warning is not None:
+        warnings.warn(warning, CCUWarning, stacklevel=3)
+    return replace(options, nesting=nesting)
+
 
 #: Failed packing steps that end a merge attempt (the question "do these parts fit on one
 #: sheet?"): the first failure answers no.
@@ -95,6 +179,44 @@ def _window_sheets(shapes, orientations, length, width, options, log) -> list:
     return out
 
 
+def _nfp_pack(shapes, orientations, options, log, **kwargs) -> SheetPacking:
+    """:func:`~compas_ccu.fabrication.nfp_packing.sheet_pack` with the options' seed,
+    generations and time limit; ``log`` collects the packing."""
+    packing = sheet_pack(
+        shapes,
+        orientations,
+        gap=options.spacing * MM,
+        seed=options.nesting_seed,
+        generations=options.nesting_generations,
+        time_limit=options.nesting_time,
+        **kwargs,
+    )
+    if log is not None:
+        log.append(packing)
+    return packing
+
+
+def _nfp_sheets(shapes, orientations, length, width, options, log) -> list:
+    """Every part packed onto sheets by compas_nest: one ``name -> (rotation, translation,
+    points)`` per sheet (mm, the sheet's origin at its usable area's corner). Parts the engine
+    leaves unplaced are packed again onto more sheets; one it cannot place on an empty sheet
+    (its curve tolerance grows the outline a little) gets a sheet of its own by shelves (it
+    fits: :func:`~compas_ccu.fabrication.splices.fitting_size`)."""
+    out, left = [], sorted(shapes)
+    while left:
+        rest = {m: shapes[m] for m in left}
+        packing = _nfp_pack(rest, {m: orientations[m] for m in left}, options, log,
+                            length=length, width=width)  # fmt: skip
+        for sheet in packing.sheets:
+            out.append({m: (rot, t, _moved(shapes[m], rot, t)) for m, (rot, t) in sheet.items()})
+        left = list(packing.unplaced)
+        if left and not packing.sheets:  # none placed: the largest alone, by shelves
+            m = max(left, key=lambda n: (_area(shapes[n]), n))
+            out.append(_shelf_sheet({m: shapes[m]}, orientations, length, width, 0.0))
+            left.remove(m)
+    return out
+
+
 def _area(pts: np.ndarray) -> float:
     x, y = pts[:, 0], pts[:, 1]
     return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
@@ -142,6 +264,7 @@ def nest_parts(parts: list, options: WorkshopOptions, *, log=None) -> list:
         Per sheet: ``size`` [length, width] m, ``thickness`` m, ``parts`` (names),
         ``utilisation``.
     """
+    options = _resolved(options)
     groups: dict = {}
     for p in parts:
         k = fitting_size(p.outline, options, p.grain)
@@ -159,13 +282,15 @@ def nest_parts(parts: list, options: WorkshopOptions, *, log=None) -> list:
         centres.update({p.name: p.outline.mean(axis=0) for p in groups[group]})
         shapes = {m: (p.outline - centres[m]) * MM for m, p in left.items()}
         orient = {m: part_orientations(options, p.grain) for m, p in left.items()}
-        if options.nesting != "shelf":  # one strip of every part, cut into sheet lengths
+        if options.nesting == "spyrrow":  # one strip of every part, cut into sheet lengths
             windows = _window_sheets(shapes, orient, length, width, options, log)
+        elif options.nesting == "compas_nest":  # every part onto sheets at once
+            windows = _nfp_sheets(shapes, orient, length, width, options, log)
         while left:
             if options.nesting == "shelf":
                 rest = {m: shapes[m] for m in left}
                 on = _shelf_sheet(rest, orient, length, width, options.spacing * MM)
-            else:  # spyrrow places every part of the strip: the windows hold them all
+            else:  # the nester places every part: the windows hold them all
                 on = windows.pop(0) if windows else {}
             if not on:  # pragma: no cover - every part fits a sheet alone (fitting_size)
                 raise GeometryError(f"no part of {sorted(left)} could be placed on a sheet")
@@ -180,7 +305,7 @@ def nest_parts(parts: list, options: WorkshopOptions, *, log=None) -> list:
                 p.sheet, p.rotation, p.translation = index, float(rot), tuple(shift.tolist())
                 names.append(m)
             sheets.append({"size": list(options.sheets[k]), "thickness": thickness, "parts": names})
-        if options.nesting != "shelf":
+        if options.nesting == "spyrrow":
             _merge_sheets(sheets, parts, centres, options, k, thickness, length, width, log)
     for index, sheet in enumerate(sheets):
         for p in parts:
@@ -270,6 +395,7 @@ def nest_roll(strips, options: WorkshopOptions, *, log=None) -> dict:
     """The hinge strips strip-packed on the textile roll, each along the roll (0 or 180 deg
     after turning its chord along it): ``width``, ``length`` (m used), ``strips`` (per crease:
     length of its centre line, m). ``log`` (a list) collects the packing."""
+    options = _resolved(options)
     if not strips:
         return {"width": options.roll_width, "length": 0.0, "strips": {}}
     shapes, orient, lengths = {}, {}, {}
@@ -297,8 +423,11 @@ def nest_roll(strips, options: WorkshopOptions, *, log=None) -> dict:
             "length": used / MM + 2.0 * options.margin,
             "strips": lengths,
         }
-    _, used = _strip_pack(shapes, orient, height, options.spacing * MM, options, log,
-                          improvements=ROLL_IMPROVEMENTS)  # fmt: skip
+    if options.nesting == "compas_nest":
+        used = _nfp_roll(shapes, orient, height, options, log)
+    else:
+        _, used = _strip_pack(shapes, orient, height, options.spacing * MM, options, log,
+                              improvements=ROLL_IMPROVEMENTS)  # fmt: skip
     return {
         "width": options.roll_width,
         "length": used / MM + 2.0 * options.margin,
@@ -306,11 +435,45 @@ def nest_roll(strips, options: WorkshopOptions, *, log=None) -> dict:
     }
 
 
+def _nfp_roll(shapes, orientations, height, options, log) -> float:
+    """The length of roll (mm) compas_nest packs the hinge strips into: one sheet as long as
+    the strips laid end to end (with room for the engine's own offset, about 8 x its curve
+    tolerance on every side, measured), of which the strips use the part up to the last one's
+    end."""
+    gap = options.spacing * MM
+    room = sum(float(np.ptp(s[:, 0])) + gap + 40.0 * ROLL_TOLERANCE for s in shapes.values())
+    packing = _nfp_pack(shapes, orientations, options, log, length=room, width=height, sheets=1,
+                        tolerance=ROLL_TOLERANCE)  # fmt: skip
+    if packing.unplaced:
+        raise GeometryError(
+            f"compas_nest could not place the hinge strips {', '.join(packing.unplaced)} on "
+            f"the roll ({options.roll_width:g} m less margins); nesting = 'spyrrow' or "
+            "'shelf' places them"
+        )
+    pts = [_moved(shapes[m], *packing.sheets[0][m]) for m in shapes]
+    return max(float(p[:, 0].max()) for p in pts) - min(float(p[:, 0].min()) for p in pts)
+
+
 def nesting_search(options: WorkshopOptions, packings: list) -> dict:
     """What the nesting searched (``fabrication.json`` ``workshop.nesting_search``): the solver
     and its version, the seed, the steps per packing, the time limit (a safety limit only), the
     packings and the steps they searched. The shelf packing searches nothing (only ``solver``
-    is set)."""
+    is set); compas_nest records its generations, population and curve tolerances and the part
+    orders it placed (``layouts_searched``) instead of steps."""
+    options = _resolved(options)
+    if options.nesting == "compas_nest":
+        return {
+            "solver": "compas_nest",
+            "version": nester_version(),
+            "seed": int(options.nesting_seed),
+            "generations": int(options.nesting_generations),
+            "population": POPULATION,
+            "part_tolerance": NFP_PART_TOLERANCE,
+            "roll_tolerance": ROLL_TOLERANCE,
+            "time_limit": float(options.nesting_time),
+            "packings": len(packings),
+            "layouts_searched": int(sum(p.layouts for p in packings)),
+        }
     if options.nesting == "shelf":
         return {"solver": "shelf", "version": None, "seed": None, "steps": None,
                 "roll_improvements": None, "time_limit": None, "packings": 0,

@@ -39,10 +39,11 @@ class WorkshopOptions:
     fasteners_per_splice: int = 8
     roll_width: float = 1.4
     score_rulings: bool = False
-    nesting: str = "spyrrow"
+    nesting: str = "auto"
     nesting_time: float = 600.0
     nesting_seed: int = 0
     nesting_steps: int = 500
+    nesting_generations: int = 3
     currency: str = "EUR"
     sheet_price: float = 60.0
     textile_price: float = 12.0
@@ -170,6 +171,10 @@ class WorkshopPlan:
         What the nesting searched (:func:`nesting_search`): solver, version, seed, steps.
     splices : list of compas_ccu.thickness.splices.Splice
         The splice plates (:func:`~compas_ccu.fabrication.splices.splice_records`).
+    warnings : list of str
+        What the user must know about the plan: the nester asked for is not installed and
+        another one, or the shelves, nested the parts
+        (:func:`~compas_ccu.fabrication.nesting.nesting_choice`).
     """
 
     options: WorkshopOptions
@@ -184,6 +189,7 @@ class WorkshopPlan:
     model_plate_ids: list | None = None
     nesting_search: dict | None = None
     splices: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
 
     @property
     def utilisation(self) -> float:
@@ -204,6 +210,7 @@ class WorkshopPlan:
             "score_rulings": o.score_rulings,
             "nesting": o.nesting,
             "nesting_search": self.nesting_search,
+            "warnings": list(self.warnings),
             "sheet_count": len(self.sheets),
             "utilisation": self.utilisation,
             "sheets": self.sheets,

@@ -10,11 +10,11 @@ design's ``[fabrication]`` section (:class:`WorkshopOptions`) into a :class:`Wor
    plates so that the splice plates do not pile up in the stack
    (:mod:`compas_ccu.fabrication.splices`), and every cut gets two splice plates (one on each
    face) with their fasteners;
-2. every part (plate parts and splice plates) is nested onto sheets with spyrrow (the Python
-   bindings of sparrow, a true-shape strip-packing solver): per sheet, the remaining parts are
-   strip-packed into the sheet's usable width, the parts that lie wholly within its usable
-   length stay on it, and smaller parts are tried in the space left; the hinge strips are
-   strip-packed onto the textile roll the same way (the roll's used length);
+2. every part (plate parts and splice plates) is nested onto sheets by a true-shape nester
+   (:mod:`compas_ccu.fabrication.nesting`: compas_nest onto the sheets directly, or spyrrow's
+   strip packing cut into sheets; shelves of bounding boxes, with a warning, when neither is
+   installed); the hinge strips are packed onto the textile roll the same way (the roll's
+   used length);
 3. the bill of materials (areas, masses, sheets, textile, glue line, fasteners, cost) and the
    assembly steps in stack order (:mod:`compas_ccu.fabrication.assembly`).
 
@@ -24,7 +24,6 @@ and degrees here, millimetres in the DXF files.
 
 from __future__ import annotations
 
-import importlib.util
 import warnings
 from dataclasses import replace
 
@@ -34,6 +33,7 @@ from compas_ccu.fabrication.bom import bill_of_materials, write_bom_csv
 from compas_ccu.fabrication.nesting import (
     nest_parts,
     nest_roll,
+    nesting_choice,
     nesting_search,
 )
 from compas_ccu.fabrication.parts import make_parts, splice_bending
@@ -99,14 +99,10 @@ def plan_workshop(
         A part fits no sheet (e.g. a plate wider than every sheet), or a hinge strip is wider
         than the roll.
     """
-    if options.nesting == "spyrrow" and importlib.util.find_spec("spyrrow") is None:
-        warnings.warn(
-            "spyrrow is not installed (pip install 'compas_ccu[fab]'; it has no wheel for "
-            "Python 3.9): the parts are nested by shelves of bounding boxes, which wastes sheets",
-            CCUWarning,
-            stacklevel=2,
-        )
-        options = replace(options, nesting="shelf")
+    nesting, warning = nesting_choice(options.nesting)  # the nester installed, or shelves
+    if warning is not None:
+        warnings.warn(warning, CCUWarning, stacklevel=2)
+    options = replace(options, nesting=nesting)
     parts, splits = make_parts(data, options)
     log: list = []
     sheets = nest_parts(parts, options, log=log)
@@ -121,6 +117,7 @@ def plan_workshop(
         model_plate_ids=data.metadata.get("model_plate_ids"),
         nesting_search=nesting_search(options, log),
         splices=splice_records(data, splits, options),
+        warnings=[] if warning is None else [warning],
     )
     plan.bom = bill_of_materials(data, parts, sheets, roll, options, density)
     plan.assembly = assembly_steps(data, splits, pairing)

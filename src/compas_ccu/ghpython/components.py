@@ -11,6 +11,7 @@ geometry going out.
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 from typing import NamedTuple
 
@@ -18,7 +19,7 @@ import numpy as np
 from compas.geometry import Line, Polyline, Scale
 
 from compas_ccu.design import Design, load_design
-from compas_ccu.errors import CCUError, OptionError
+from compas_ccu.errors import CCUError, CCUWarning, OptionError
 from compas_ccu.fabrication import fabrication_data
 from compas_ccu.fabrication.dxf import PLATE_LAYERS
 from compas_ccu.fabrication.fabricate import fabricate
@@ -404,17 +405,21 @@ def cut_patterns_component(
 
 
 class FabricateResult(NamedTuple):
-    """Outputs of the Fabricate component."""
+    """Outputs of the Fabricate component, and the warnings its ``code.py`` turns into
+    runtime messages (a nester missing: the shelves nested the parts)."""
 
     files: list
     info: str
+    warnings: tuple = ()
 
 
 def fabricate_component(model, folder, *, run: bool = False, **options) -> FabricateResult:
     """The Fabricate component: write the fabrication files into ``folder`` when ``run``.
 
     ``options``: ``thickness``, ``material``, ``grain``, ``hinge_width``, ``allow_collisions``
-    (:func:`compas_ccu.fabrication.fabricate.fabricate`).
+    (:func:`compas_ccu.fabrication.fabricate.fabricate`). compas_ccu's warnings are not
+    shown as Python warnings but returned (``warnings``): the component shows each as a
+    runtime message, and ``info`` lists them.
     """
     if not run:
         return FabricateResult([], "set run to True to write the files")
@@ -422,6 +427,15 @@ def fabricate_component(model, folder, *, run: bool = False, **options) -> Fabri
         raise OptionError("connect a folder to write the fabrication files into")
     model = as_model(model)
     out = Path(str(folder).strip())
-    manifest = fabricate(model, out, **options)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        manifest = fabricate(model, out, **options)
+    notes = [str(n) for n in (manifest.get("workshop") or {}).get("warnings") or []]
+    for w in caught:
+        if not issubclass(w.category, CCUWarning):  # others as Python shows them
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        elif str(w.message) not in notes:
+            notes.append(str(w.message))
     files = [str(out / f) for f in manifest["files"]] if "files" in manifest else []
-    return FabricateResult(files, f"wrote {len(files)} files into {out}")
+    info = "\n".join([f"wrote {len(files)} files into {out}", *(f"warning: {n}" for n in notes)])
+    return FabricateResult(files, info, tuple(notes))

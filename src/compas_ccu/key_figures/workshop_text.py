@@ -12,9 +12,10 @@ __all__ = [
 def workshop_rows(manifest: dict) -> list:
     """Rows on the workshop of a ``fabrication.json`` (``ccu fabricate``; the report).
 
-    Sheets and their utilisation, the split plates, the splice plates in the stack (stack
-    height with them, highest pile, mass, from which angle they clear the neighbouring plates),
-    the splices' bending check (marked as failed above 1), the bill of materials' totals, the
+    Sheets and their utilisation, the split plates, the nesting and its warnings (a nester
+    missing: marked ``** ... **``), the splice plates in the stack (stack height with them,
+    highest pile, mass, from which angle they clear the neighbouring plates), the splices'
+    bending check (marked as failed above 1), the bill of materials' totals, the
     cost estimate and the assembly.
 
     Examples
@@ -44,6 +45,7 @@ def workshop_rows(manifest: dict) -> list:
         ),
     ]
     rows += _nesting_rows(w.get("nesting_search"))
+    rows += [("warning", f"** {text} **") for text in w.get("warnings") or []]
     rows += _splice_rows(manifest.get("splices") or {}, w.get("splice_bending"))
     rows += _bom_rows(b, manifest["assembly"])
     return rows
@@ -76,7 +78,18 @@ def _sheets_text(w: dict) -> str:
 
 
 def _nesting_rows(search) -> list:
-    """The nesting search: solver, seed and steps, or the rows of bounding boxes."""
+    """The nesting search: solver, seed and generations (compas_nest) or steps (spyrrow), or
+    the rows of bounding boxes."""
+    if search and search.get("generations") is not None:  # compas_nest
+        return [
+            (
+                "nesting",
+                f"{search['solver']} {search['version']}, seed {search['seed']}, "
+                f"{search['generations']} generations of {search['population']} layouts per "
+                f"packing ({search['packings']} packings; the same seed and generations give "
+                "the same sheets)",
+            )
+        ]
     if search and search.get("seed") is not None:
         return [
             (

@@ -15,6 +15,7 @@ import threading
 import time
 
 from compas_ccu.errors import CCUError
+from compas_ccu.studio.export import export_warnings
 
 __all__ = ["StudioEvents", "PLAY_FPS", "PLAY_SECONDS"]
 
@@ -144,4 +145,6 @@ class StudioEvents:
             self._say(f"export failed: {exc}", "fail")
             return
         self.last_export = (pid, written)
-        self._say("exported " + ", ".join(f"{k} to {v}" for k, v in written.items()), "ok")
+        text = "exported " + ", ".join(f"{k} to {v}" for k, v in written.items())
+        notes = export_warnings(written)  # e.g. no nester installed: shelves nested the parts
+        self._say("; ".join([text, *(f"warning: {n}" for n in notes)]), "warn" if notes else "ok")

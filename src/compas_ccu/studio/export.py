@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import json
 import multiprocessing
 import os
 import tempfile
@@ -23,7 +24,14 @@ from compas_ccu.model import CCUModel
 from compas_ccu.outputs import staged_folder
 from compas_ccu.viz.report import write_report
 
-__all__ = ["EXPORTS", "export", "export_job", "ExportProcess", "BackgroundProcess"]
+__all__ = [
+    "EXPORTS",
+    "export",
+    "export_job",
+    "export_warnings",
+    "ExportProcess",
+    "BackgroundProcess",
+]
 
 #: What the studio exports, each into its own subfolder of ``OUT/<design name>/``.
 EXPORTS = ("structure", "fabrication", "report")
@@ -76,6 +84,31 @@ def export(model, out, *, alpha: float, what=EXPORTS, design_text: str | None = 
             )
         written["report"] = root / "report"
     return written
+
+
+def export_warnings(written: dict) -> list:
+    """The warnings of an export (the export process's own warnings do not reach the studio):
+    those its fabrication recorded (``fabrication.json`` ``workshop.warnings``: a nester
+    missing, the parts nested by shelves).
+
+    Parameters
+    ----------
+    written : dict
+        :func:`export`'s export name -> folder.
+
+    Returns
+    -------
+    list of str
+    """
+    folder = written.get("fabrication")
+    if folder is None:
+        return []
+    try:
+        manifest = json.loads((Path(folder) / "fabrication.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return []
+    notes = (manifest.get("workshop") or {}).get("warnings") or []
+    return [str(n) for n in notes]
 
 
 def export_job(document: dict, *, name: str, base, out, alpha: float, what, design_text,

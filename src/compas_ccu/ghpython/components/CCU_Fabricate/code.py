@@ -1,4 +1,4 @@
-# r: compas_ccu
+# r: compas_ccu, ezdxf>=1.3, rhino3dm>=8.4, trimesh>=4, matplotlib>=3.7, compas_nest==0.1.0
 """CCU Fabricate: write the workshop files (DXF, 3dm, OBJ / glTF, FOLD, sheets) into a folder."""
 
 import Grasshopper
@@ -17,4 +17,8 @@ class CCUFabricate(Grasshopper.Kernel.GH_ScriptInstance):
                 Grasshopper.Kernel.GH_RuntimeMessageLevel.Error, str(exc)
             )
             return None, str(exc)
+        for text in result.warnings:  # e.g. no nester installed: the shelves nested the parts
+            ghenv.Component.AddRuntimeMessage(  # noqa: F821
+                Grasshopper.Kernel.GH_RuntimeMessageLevel.Warning, text
+            )
         return result.files, result.info
