@@ -36,6 +36,7 @@ import numpy as np
 
 from compas_ccu.thickness.broad_phase import PairTable
 from compas_ccu.thickness.cells import in_footprint, plane_heights
+from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["PROBES", "STRIDE", "probe_bounds", "report_heights"]
 
@@ -98,5 +99,5 @@ def report_heights(cells, faces, table: PairTable, state, pair, marked, half, re
     """
     bound = probe_bounds(cells, faces, table, state, pair, marked, half)
     height = half + np.clip(bound, 0.0, reach)
-    height = np.where(np.isfinite(bound), height * (1.0 + 1e-9), half + reach)
+    height = np.where(np.isfinite(bound), height * (1.0 + EXACT_RELATIVE), half + reach)
     return height[:, None, None, None]
