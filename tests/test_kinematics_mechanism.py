@@ -116,3 +116,16 @@ def test_fit_planes_of_a_set_with_a_nan_leaves_the_others_alone():
         assert normal[i].tobytes() == clean[1][i].tobytes()
         assert origin[i].tobytes() == clean[0][i].tobytes()
         assert deviation[i] == clean[2][i]
+
+
+def test_the_generations_crease_selections_are_kept_whatever_else_is_read():
+    """A long chain has more generations than the bound on other kept selections: its own stay."""
+    from compas_ccu.model import load_model
+
+    mech = load_model("examples/vault.toml").mechanism
+    own = [np.array([mech.plates[i].crease for i in g]) for g in mech.generations[1:]]
+    before = [mech.crease_selection(creases) for creases in own]
+    for i in range(len(mech.creases)):
+        for j in range(len(mech.creases)):
+            mech.crease_selection([i, j])  # 81 sets read from outside: more than are kept
+    assert all(mech.crease_selection(c) is b for c, b in zip(own, before))

@@ -317,6 +317,12 @@ class Mechanism:
         self._found_order = np.concatenate(
             [b.creases for b in self._batches] + [self._closing]
         ).astype(np.intp)
+        # the crease sets of the generations and of the closing creases, kept for good (a
+        # 200-plate chain has ~100 generations); other sets read from outside, up to a bound
+        self._kept = {}
+        for creases in [b.creases for b in self._batches] + [self._closing]:
+            creases = np.asarray(creases, dtype=np.intp)
+            self._kept[_selection_key(creases)] = CreaseSelection(self, creases.copy())
         self._selections = {}
 
     def _placement_batches(self):
@@ -371,8 +377,8 @@ class Mechanism:
     def crease_selection(self, creases) -> CreaseSelection:
         """The :class:`CreaseSelection` of crease indices ``creases`` (g,), made once and kept."""
         creases = np.asarray(creases, dtype=np.intp)
-        key = (creases.shape, creases.tobytes())
-        pick = self._selections.get(key)
+        key = _selection_key(creases)
+        pick = self._kept.get(key) or self._selections.get(key)
         if pick is None:
             if len(self._selections) >= _SELECTIONS_KEPT:
                 self._selections.clear()
@@ -516,5 +522,9 @@ class _Batch(NamedTuple):
 
 
 _DEFAULT_PLANES = CreasePlanes()
-#: crease selections a mechanism keeps (its generations and the few sets read from outside)
+#: crease selections a mechanism keeps besides those of its generations (sets read from outside)
 _SELECTIONS_KEPT = 64
+
+
+def _selection_key(creases: np.ndarray) -> tuple:
+    return creases.shape, creases.tobytes()
