@@ -46,10 +46,12 @@ os.environ["MKL_NUM_THREADS"] = "1"
 import argparse  # noqa: E402
 import copy  # noqa: E402
 import gc  # noqa: E402
+import itertools  # noqa: E402
 import json  # noqa: E402
 import statistics  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
+from functools import partial  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -121,10 +123,8 @@ def bench(segments: int, target: float) -> list:
     problem = RelaxationProblem(len(mech.plates), mech.segments, ref, links, (0,), 1.0)
     alpha = np.radians(TARGET_DEG)
     other = np.radians(TARGET_DEG - 2.0)  # the closed form alternates, so nothing is kept
-    deploy = cpu_times(
-        lambda it=iter(range(10**9)): mech.deploy(alpha if next(it) % 2 else other),
-        target=target,
-    )
+    angles = itertools.cycle((alpha, other))
+    deploy = cpu_times(lambda: mech.deploy(next(angles)), target=target)
     exact = mech.deploy(alpha)
     exact_nodes = problem.start(exact.near[0], exact.far[0])
     worst = float(np.abs(problem.quad_residuals(exact_nodes)).max())
@@ -135,10 +135,10 @@ def bench(segments: int, target: float) -> list:
         near, far = start.near[0].copy(), start.far[0].copy()
         near[0], far[0] = exact.near[0, 0], exact.far[0, 0]  # the actuation: the leading plate
         base = problem.start(near, far)
-        gn = cpu_times(lambda: gauss_newton(problem, base, worst), target=target, min_repeats=3)
+        gn = cpu_times(partial(gauss_newton, problem, base, worst), target=target, min_repeats=3)
         pos, iterations, reached = gauss_newton(problem, base, worst)
         gn_near, gn_far = problem.plates(pos)
-        lm = cpu_times(lambda: relax(near, far, ref, links), target=target, min_repeats=3)
+        lm = cpu_times(partial(relax, near, far, ref, links), target=target, min_repeats=3)
         relaxed = relax(near, far, ref, links)
         deploy_ms = 1e3 * statistics.median(deploy)
         gn_ms = 1e3 * statistics.median(gn)
