@@ -317,6 +317,12 @@ class Mechanism:
         self._found_order = np.concatenate(
             [b.creases for b in self._batches] + [self._closing]
         ).astype(np.intp)
+        # where every crease is found once, the planes are put in crease order by one take (none
+        # when they are found in that order) instead of zeros and a scatter
+        self._found_inverse = self._found_take = None
+        if np.array_equal(np.sort(self._found_order), np.arange(len(self.creases))):
+            self._found_inverse = np.argsort(self._found_order)
+            self._found_take = not np.array_equal(self._found_order, np.arange(len(self.creases)))
         # the crease sets of the generations and of the closing creases, kept for good (a
         # 200-plate chain has ~100 generations); other sets read from outside, up to a bound
         self._kept = {}
@@ -343,7 +349,9 @@ class Mechanism:
             from_far = np.array([p.boundary == "far" for p in links], dtype=bool)
             ccf = np.array([p.relation == "ccf" for p in links], dtype=bool)
             lengths = np.stack([self._ruling_lengths[i] for i in members])
-            run = members[-1] - members[0] + 1 == len(members)  # consecutive plates: a slice
+            steps = np.diff(members)
+            even = len(members) == 1 or (steps[0] > 0 and (steps == steps[0]).all())
+            step = int(steps[0]) if len(members) > 1 else 1  # evenly spaced plates: a slice
             batches.append(
                 _Batch(
                     plates=members,
@@ -352,7 +360,7 @@ class Mechanism:
                     from_far=from_far,
                     ccf=ccf,
                     lengths=lengths,
-                    target=slice(members[0], members[-1] + 1) if run else members,
+                    target=slice(int(members[0]), int(members[-1]) + 1, step) if even else members,
                     side=bool(from_far[0]) if (from_far == from_far[0]).all() else None,
                     flip=bool(ccf[0]) if (ccf == ccf[0]).all() else None,
                     scale=lengths[None, :, :, None],
@@ -465,6 +473,17 @@ class Mechanism:
             rays[:, batch.target] = mirrored
         if len(self._closing):  # creases that attach no plate (closing a loop)
             found.append(planes.planes(self, self._closing, near, far))
+        return MechanismStates(near, far, *self._found_planes(found, k), lead.tilts)
+
+    def _found_planes(self, found: list, k: int):
+        """Origins, normals (k, c, 3) and planarity (k, c) in crease order from the planes of
+        :meth:`place` in the order they were found (``found``: (k, g, ...) parts)."""
+        if found and self._found_inverse is not None:
+            joined = [np.concatenate(part, axis=1) for part in zip(*found)]
+            if self._found_take:
+                joined = [part[:, self._found_inverse] for part in joined]
+            return joined
+        c = len(self.creases)
         origins = np.zeros((k, c, 3))
         normals = np.zeros((k, c, 3))
         planarity = np.zeros((k, c))
@@ -473,7 +492,7 @@ class Mechanism:
             origins[:, at], normals[:, at], planarity[:, at] = (
                 np.concatenate(part, axis=1) for part in zip(*found)
             )
-        return MechanismStates(near, far, origins, normals, planarity, lead.tilts)
+        return origins, normals, planarity
 
     def crease_planes(self, near: np.ndarray, far: np.ndarray):
         """Planes of every crease of placed plates ``near, far`` (k, p, n + 1, 3).
@@ -515,7 +534,7 @@ class _Batch(NamedTuple):
     from_far: np.ndarray  # (g,) bool: on the parent's far boundary
     ccf: np.ndarray  # (g,) bool: folded continuation
     lengths: np.ndarray  # (g, n + 1) ruling lengths
-    target: object  # the plates as a slice where they are consecutive, else ``plates``
+    target: object  # the plates as a slice where they are evenly spaced, else ``plates``
     side: bool | None  # all on the parent's far (True) / near (False) boundary, None: mixed
     flip: bool | None  # all folded continuations (True) / mirror partners (False), None: mixed
     scale: np.ndarray  # (1, g, n + 1, 1) the ruling lengths, broadcast over states and xyz
