@@ -13,7 +13,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo docs explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli bench-fit bench-plates clean
+.PHONY: setup blas browser demo docs explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli bench-fit bench-plates bench-generic clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -197,6 +197,10 @@ bench-interference: setup
 # deployment and collision check against the plate count, 10 ... 200 plates (docs/benchmarks.md)
 bench-plates: setup
 	$(BIN)/python benchmarks/bench_plates.py
+
+# the closed form against a banded Gauss-Newton solver of the same mechanism (docs/benchmarks.md)
+bench-generic: setup
+	$(BIN)/python benchmarks/bench_generic.py
 
 # the CPU time of ccu --help / --version (a fresh process each, median of 15; docs/benchmarks.md)
 bench-cli: setup

@@ -205,3 +205,30 @@ def test_isometry_and_planarity_hold_for_random_strips(seed, n, fraction):
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     assert np.abs(np.einsum("ij,ij->i", q[1:] - p[:-1], normal)).max() < 1e-12 * size
     assert np.abs(p[:, 2]).max() == 0.0
+
+
+@pytest.mark.parametrize("n, seed", [(2, 0), (3, 1), (17, 2), (64, 3)])
+def test_one_angle_takes_the_array_paths_iterates_bit_for_bit(n, seed):
+    """s0_for_alpha of one angle (Newton on floats) is the array path's result, bit for bit,
+    whatever form the angle comes in, for every reference vertex kind (first, interior, last)."""
+    near, far = wavy_strip(n, seed)
+    intr = strip_intrinsics(near, far)
+    rng = np.random.default_rng(seed)
+    for reference in sorted({0, 1, n // 2, n - 1, n}):
+        strip = LeadingStrip(intr, reference=reference)
+        limit = strip.alpha_limit
+        alphas = [0.0, 1e-12, limit, limit * (1.0 - 1e-15), *np.linspace(0.0, limit, 9)]
+        alphas += list(rng.uniform(0.0, limit, 12))
+        for alpha in alphas:
+            expected = strip.s0_for_alpha(np.array([alpha, alpha]))[:1]  # the array path
+            for form in (alpha, np.float64(alpha), np.array(alpha), np.array([alpha])):
+                got = strip.s0_for_alpha(form)
+                assert got.shape == (1,) and got.tobytes() == expected.tobytes(), (reference, alpha)
+
+
+def test_one_segment_strip_inverts_an_angle():
+    near, far = wavy_strip(1, 0)
+    strip = LeadingStrip(strip_intrinsics(near, far), reference=1)
+    s0 = strip.s0_for_alpha(0.4)
+    assert s0.shape == (1,)
+    assert strip.reference_alpha(s0)[0] == pytest.approx(0.4, abs=1e-14)

@@ -80,3 +80,67 @@ def test_inclined_plane_crease_planarity_is_measured_along_the_path():
     assert sector_error > 1e-6
     got = strip_intrinsics(st.near[3, 1], st.far[3, 1])
     assert np.nanmax(np.abs(got.sector_forward - child_intr.sector_forward)) < 1e-12
+
+
+def test_crease_rows_of_any_selection_are_the_masked_rows():
+    """Mechanism.crease_rows / crease_boundaries through the kept CreaseSelection: plate a's
+    crease row (and its other row), creases on near and far boundaries mixed or not."""
+    from compas_ccu.model import load_model
+
+    mech = load_model("examples/vault.toml").mechanism
+    st = mech.deploy(np.radians([12.0, 27.0]))
+    everything = np.arange(len(mech.creases))
+    for creases in (everything, everything[::-1], np.array([0, 4]), np.array([4]), np.array([2])):
+        on_far = mech.crease_far[creases][None, :, None, None]
+        a = mech.crease_plate_a[creases]
+        row = np.where(on_far, st.far[:, a], st.near[:, a])
+        other = np.where(on_far, st.near[:, a], st.far[:, a])
+        for _ in range(2):  # made, then kept
+            np.testing.assert_array_equal(mech.crease_rows(creases, st.near, st.far), row)
+            got_row, got_other = mech.crease_boundaries(creases, st.near, st.far)
+            np.testing.assert_array_equal(got_row, row)
+            np.testing.assert_array_equal(got_other, other)
+    assert mech.crease_selection([0, 4]) is mech.crease_selection(np.array([0, 4]))
+
+
+def test_fit_planes_of_a_set_with_a_nan_leaves_the_others_alone():
+    rng = np.random.default_rng(1)
+    pts = rng.uniform(-1.0, 1.0, (3, 20, 3)) * [1.0, 1.0, 1e-3]
+    orient = np.array([0.0, 0.0, 1.0])
+    clean = fit_planes(pts, orient)
+    bad = pts.copy()
+    bad[1, 5, 0] = np.nan
+    origin, normal, deviation = fit_planes(bad, orient)
+    assert np.isnan(normal[1]).all() and np.isnan(deviation[1])
+    for i in (0, 2):
+        assert normal[i].tobytes() == clean[1][i].tobytes()
+        assert origin[i].tobytes() == clean[0][i].tobytes()
+        assert deviation[i] == clean[2][i]
+
+
+def test_the_generations_crease_selections_are_kept_whatever_else_is_read():
+    """A long chain has more generations than the bound on other kept selections: its own stay."""
+    from compas_ccu.model import load_model
+
+    mech = load_model("examples/vault.toml").mechanism
+    own = [np.array([mech.plates[i].crease for i in g]) for g in mech.generations[1:]]
+    before = [mech.crease_selection(creases) for creases in own]
+    for i in range(len(mech.creases)):
+        for j in range(len(mech.creases)):
+            mech.crease_selection([i, j])  # 81 sets read from outside: more than are kept
+    assert all(mech.crease_selection(c) is b for c, b in zip(own, before))
+
+
+def test_planes_put_in_crease_order_by_a_take_are_those_of_the_scatter():
+    """The vault finds its creases out of order (0, 4, 1, 5, ...) and places plates 1, 5 / 2, 6
+    ... as strided slices: the same bytes as zeros, a scatter and index arrays."""
+    from compas_ccu.model import load_model
+
+    mech = load_model("examples/vault.toml").mechanism
+    assert mech._found_take and isinstance(mech._batches[1].target, slice)
+    fast = mech.place(np.array([0.1, 0.3]))
+    mech._found_inverse = None  # the general path: zeros and a scatter
+    mech._batches = [b._replace(target=b.plates) for b in mech._batches]
+    slow = mech.place(np.array([0.1, 0.3]))
+    for a, b in zip(fast, slow):
+        assert a.shape == b.shape and a.tobytes() == b.tobytes()

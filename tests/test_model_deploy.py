@@ -447,3 +447,12 @@ def test_the_fold_of_the_cone_is_the_analytic_one_edge_by_edge(cone_model, alpha
     assert exact / 2.0 - alpha == pytest.approx(
         {10.0: 0.00135, 25.0: 0.00358, 40.0: 0.00644}[alpha], abs=1e-5
     )
+
+
+def test_bounding_box_is_the_extent_of_the_world_vertices():
+    from compas_ccu.model import load_model
+
+    model = load_model("examples/vault.toml")
+    for structure in model.path([5.0, 22.0]):
+        box = structure.metrics["bounding_box"]
+        assert box == np.ptp(structure.deployed.reshape(-1, 3), axis=0).tolist()

@@ -99,19 +99,25 @@ def fit_planes(points: np.ndarray, orient: np.ndarray):
     lead, m = points.shape[:-2], points.shape[-2]
     points = points.reshape(-1, m, 3)  # one stack of point sets: the same operations per set
     if orient.ndim > 1:
-        orient = np.broadcast_to(orient, (*lead, 3)).reshape(-1, 3)
-    origin = points.mean(axis=1)
+        if orient.shape[:-1] != lead:
+            orient = np.broadcast_to(orient, (*lead, 3))
+        orient = orient.reshape(-1, 3)
+    origin = np.add.reduce(points, axis=1)  # points.mean(axis=1): its sum, then its division
+    origin /= m
     centred = points - origin[:, None, :]
     # the last right singular vector of the centred points, not the eigenvector of their
     # covariance: squaring the points squares the condition, and an almost straight crease row
     # (sagitta 1e-3 of its length) would turn its plane by 1e-10 rad instead of 1e-13
-    finite = np.isfinite(centred).all(axis=(1, 2))
-    safe = np.where(finite[:, None, None], centred, 0.0)
-    _, _, vt = np.linalg.svd(safe, full_matrices=m < 3)
-    normal = np.where(finite[:, None], vt[:, -1, :], np.nan)
+    if np.isfinite(centred).all():  # the usual case, without the masking below
+        normal = np.linalg.svd(centred, full_matrices=m < 3)[2][:, -1, :].copy()
+    else:
+        finite = np.isfinite(centred).all(axis=(1, 2))
+        safe = np.where(finite[:, None, None], centred, 0.0)
+        _, _, vt = np.linalg.svd(safe, full_matrices=m < 3)
+        normal = np.where(finite[:, None], vt[:, -1, :], np.nan)
     towards = normal @ orient if orient.ndim == 1 else dot(normal, orient)
-    normal *= np.where(towards < 0.0, -1.0, 1.0)[:, None]
-    deviation = np.abs(np.einsum("kni,ki->kn", centred, normal)).max(axis=1)
+    np.negative(normal, out=normal, where=(towards < 0.0)[:, None])  # oriented like ``orient``
+    deviation = np.maximum.reduce(np.abs(np.einsum("kni,ki->kn", centred, normal)), axis=1)
     return origin.reshape(*lead, 3), normal.reshape(*lead, 3), deviation.reshape(lead)
 
 

@@ -131,6 +131,17 @@ class LeadingStrip:
         # (K1): sin(psi_j) = s0 * c_j
         ratio = self._sin_back[1:-1] / self._sin_fwd[1:-1]
         self.tilt_factors = np.concatenate([[1.0], np.cumprod(ratio)])
+        # the (K2) constants, and those of the rulings: ruling i < n in quad i, ruling n in quad
+        # n - 1 (the placement's extra column n repeats segment n - 1 for it)
+        self._turn_terms = (
+            self._sin_back[1:-1],
+            -self._cos_back[1:-1],
+            self._sin_fwd[1:-1],
+            self._cos_fwd[1:-1],
+        )
+        self._ruling_cos = np.append(self._cos_fwd[:-1], -self._cos_back[-1])
+        self._ruling_sin = np.append(self._sin_fwd[:-1], self._sin_back[-1])
+        self._factors_ext = np.append(self.tilt_factors, self.tilt_factors[-1])
         j = int(np.argmax(self.tilt_factors))
         self.limit_segment = j
         self.s0_max = 1.0 / self.tilt_factors[j]
@@ -142,6 +153,7 @@ class LeadingStrip:
             anchor_angle = float(self._tangent_angle(theta[None, :], flat[None, :])[0])
         self.anchor_angle = float(anchor_angle)
         self._alpha_limit = None
+        self._one = _ScalarAlpha(self) if n > 1 else None
 
     # -- the closed form --------------------------------------------------------------------
     def tilts(self, s0) -> np.ndarray:
@@ -154,8 +166,9 @@ class LeadingStrip:
         if sin_psi is None:
             sin_psi = np.clip(s0[:, None] * self.tilt_factors[None, :], -1.0, 1.0)
             cos_psi = np.sqrt(1.0 - sin_psi**2)
-        left = np.arctan2(self._sin_back[1:-1] * cos_psi[:, :-1], -self._cos_back[1:-1])
-        right = np.arctan2(self._sin_fwd[1:-1] * cos_psi[:, 1:], self._cos_fwd[1:-1])
+        sin_back, minus_cos_back, sin_fwd, cos_fwd = self._turn_terms
+        left = np.arctan2(sin_back * cos_psi[:, :-1], minus_cos_back)
+        right = np.arctan2(sin_fwd * cos_psi[:, 1:], cos_fwd)
         return left - right
 
     def _tangent_angle(self, theta: np.ndarray, turns: np.ndarray) -> np.ndarray:
@@ -182,31 +195,30 @@ class LeadingStrip:
         LeadingPlacement
         """
         s0 = np.atleast_1d(np.asarray(s0, dtype=float))
-        sin_psi = np.clip(s0[:, None] * self.tilt_factors[None, :], -1.0, 1.0)
+        n = self.n
+        # n + 1 columns: segments 0 ... n - 1, and segment n - 1 again for the last ruling
+        sin_psi = np.clip(s0[:, None] * self._factors_ext[None, :], -1.0, 1.0)
         cos_psi = np.sqrt(1.0 - sin_psi**2)
-        turns = self._turns(s0, sin_psi, cos_psi)
+        turns = self._turns(s0, sin_psi[:, :n], cos_psi[:, :n])
         k = len(s0)
-        theta = np.zeros((k, self.n))
-        np.cumsum(turns, axis=1, out=theta[:, 1:])
-        theta += (self.anchor_angle - self._tangent_angle(theta, turns))[:, None]
+        theta = np.zeros((k, n + 1))
+        np.cumsum(turns, axis=1, out=theta[:, 1:n])
+        theta[:, :n] += (self.anchor_angle - self._tangent_angle(theta[:, :n], turns))[:, None]
+        theta[:, n] = theta[:, n - 1]
         cos_t, sin_t = np.cos(theta), np.sin(theta)
         h = self.intrinsics.edge_lengths
-        near = np.zeros((k, self.n + 1, 3))
-        np.cumsum(h * cos_t, axis=1, out=near[:, 1:, 0])
-        np.cumsum(h * sin_t, axis=1, out=near[:, 1:, 1])
+        near = np.zeros((k, n + 1, 3))
+        np.cumsum(h * cos_t[:, :n], axis=1, out=near[:, 1:, 0])
+        np.cumsum(h * sin_t[:, :n], axis=1, out=near[:, 1:, 1])
         near[:, :, :2] += (self.anchor_point - near[:, self.reference, :2])[:, None, :]
-        # ruling i < n in quad i, ruling n in quad n - 1
-        rulings = np.empty((k, self.n + 1, 3))
-        cb, sb = self._cos_fwd[:-1], self._sin_fwd[:-1]
-        rulings[:, :-1, 0] = cb * cos_t - sb * cos_psi * sin_t
-        rulings[:, :-1, 1] = cb * sin_t + sb * cos_psi * cos_t
-        rulings[:, :-1, 2] = sb * sin_psi
-        ca, sa = -self._cos_back[-1], self._sin_back[-1]
-        rulings[:, -1, 0] = ca * cos_t[:, -1] - sa * cos_psi[:, -1] * sin_t[:, -1]
-        rulings[:, -1, 1] = ca * sin_t[:, -1] + sa * cos_psi[:, -1] * cos_t[:, -1]
-        rulings[:, -1, 2] = sa * sin_psi[:, -1]
+        # ruling i in the frame of quad min(i, n - 1) (docstring), from the vertex into the plate
+        cb, sb = self._ruling_cos, self._ruling_sin
+        rulings = np.empty((k, n + 1, 3))
+        rulings[:, :, 0] = cb * cos_t - sb * cos_psi * sin_t
+        rulings[:, :, 1] = cb * sin_t + sb * cos_psi * cos_t
+        rulings[:, :, 2] = sb * sin_psi
         far = near + self.intrinsics.ruling_lengths[None, :, None] * rulings
-        return LeadingPlacement(near, rulings, far, np.arcsin(sin_psi))
+        return LeadingPlacement(near, rulings, far, np.arcsin(sin_psi[:, :n]))
 
     # -- naming the actuation by alpha at the reference vertex ------------------------------------
     def reference_alpha(self, s0) -> np.ndarray:
@@ -277,6 +289,10 @@ class LeadingStrip:
         DeploymentLimitError
             An angle is negative or beyond the deployment limit.
         """
+        one = _one_angle(alpha) if self._one is not None else None
+        if one is not None and 0.0 <= one <= self.alpha_limit * (1.0 + ZERO_LENGTH):
+            # one reachable angle (the redeploy of a slider): the same iteration in floats
+            return np.array([self._one.invert(min(one, self.alpha_limit))])
         alpha = np.atleast_1d(np.asarray(alpha, dtype=float))
         if not np.all(np.isfinite(alpha)):
             raise GeometryError(f"alpha must be finite, got {alpha.tolist()}")
@@ -328,3 +344,100 @@ class LeadingStrip:
     def place_alpha(self, alpha) -> LeadingPlacement:
         """Place the strip at reference reflection angles ``alpha`` (radians, scalar or (k,))."""
         return self.place(self.s0_for_alpha(alpha))
+
+
+def _one_angle(alpha) -> float | None:
+    """``alpha`` as a float if it is one finite number (a scalar or a 1-element 0-d/1-d array,
+    which :meth:`LeadingStrip.s0_for_alpha` returns as a (1,) array), else None."""
+    if isinstance(alpha, np.ndarray):
+        if alpha.size != 1 or alpha.ndim > 1 or alpha.dtype.kind not in "fiub":
+            return None
+        value = float(alpha.reshape(-1)[0])
+    elif isinstance(alpha, (float, int, np.floating, np.integer)):
+        value = float(alpha)
+    else:
+        return None
+    return value if math.isfinite(value) else None
+
+
+def _clip(x: float, lo: float, hi: float) -> float:
+    """``numpy.clip`` of one float: ``x`` unless it lies outside ``[lo, hi]`` (NaN stays)."""
+    return hi if x > hi else (lo if x < lo else x)
+
+
+class _ScalarAlpha:
+    """:meth:`LeadingStrip.reference_alpha` and :meth:`LeadingStrip._invert` for one angle.
+
+    The same floating-point operations in the same order, bit for bit: the products, sums,
+    clips and square roots (correctly rounded in IEEE arithmetic) on Python floats, the
+    arctangents, sines and cosines by NumPy on small arrays (NumPy's ``arctan2`` may differ from
+    the C library's in the last bit), so the result is the array path's to the last bit
+    (tests/test_kinematics_leading.py compares them). Each Newton step evaluates the angle at
+    the iterate and at its probe together: four NumPy calls instead of some forty.
+    """
+
+    def __init__(self, strip: LeadingStrip):
+        k, n = strip.reference, strip.n
+        i = n - 1 if k == n else (k if k > 0 else 1)  # the vertex whose half turn is used
+        j = n - 1 if k == n else k  # the segment whose tilt is used (i - 1 or i)
+        self.strip = strip
+        self.factor_prev = float(strip.tilt_factors[i - 1])
+        self.factor = float(strip.tilt_factors[i])
+        self.own_prev = j == i - 1
+        self.turn_y = (float(strip._sin_back[i]), float(strip._sin_fwd[i]))
+        self.turn_x = [float(-strip._cos_back[i]), float(strip._cos_fwd[i])] * 2
+        at = strip._sin_back[n] if k == n else strip._sin_fwd[k]
+        cos_at = strip._cos_back[n] if k == n else strip._cos_fwd[k]
+        self.s_end, self.c_end = float(at), float(cos_at)
+
+    def alphas(self, s: float, probe: float) -> list:
+        """``reference_alpha`` at ``s`` and at ``probe``: two floats."""
+        y_back, y_fwd = self.turn_y
+        tilts, turn = [], []
+        for value in (s, probe):
+            sp_prev = _clip(value * self.factor_prev, -1.0, 1.0)
+            cp_prev = math.sqrt(1.0 - sp_prev * sp_prev)
+            sp = _clip(value * self.factor, -1.0, 1.0)
+            cp = math.sqrt(1.0 - sp * sp)
+            tilts.append((sp_prev, cp_prev) if self.own_prev else (sp, cp))
+            turn += (y_back * cp_prev, y_fwd * cp)
+        a = np.arctan2(turn, self.turn_x).tolist()
+        half = [0.5 * (a[0] - a[1]), 0.5 * (a[2] - a[3])]
+        sin_h, cos_h = np.sin(half).tolist(), np.cos(half).tolist()
+        se, ce = self.s_end, self.c_end
+        y = [se * sp for sp, _ in tilts]
+        x = [ce * sh + se * cp * ch for (_, cp), sh, ch in zip(tilts, sin_h, cos_h)]
+        return np.arctan2(y, x).tolist()
+
+    def invert(self, alpha: float) -> float:
+        """:meth:`LeadingStrip._invert` of one angle (the same iterates, bit for bit)."""
+        strip = self.strip
+        s_max = float(strip.s0_max)
+        guess_factor = strip.tilt_factors[min(strip.reference, strip.n - 1)]
+        s = _clip(float(np.sin(alpha) / guess_factor), 0.0, s_max)
+        lo, hi = 0.0, s_max
+        tol = 1e-15
+        ds = 1e-7 * s_max
+        for _ in range(60):
+            probe = s + ds if s + ds <= s_max else s - ds
+            at_s, at_probe = self.alphas(s, probe)
+            f = at_s - alpha
+            if abs(f) <= tol:
+                break
+            if f < 0.0:
+                lo = s
+            if f > 0.0:
+                hi = s
+            slope = _divide(at_probe - alpha - f, probe - s)
+            step = s - _divide(f, slope)
+            s = step if lo <= step <= hi and math.isfinite(step) else 0.5 * (lo + hi)
+        return s
+
+
+def _divide(a: float, b: float) -> float:
+    """``a / b`` with NumPy's (IEEE) result for ``b = 0``: a signed infinity or NaN."""
+    if b != 0.0 or math.isnan(b):
+        return a / b
+    if a == 0.0 or math.isnan(a):
+        return math.nan
+    return math.copysign(math.inf, a) * math.copysign(1.0, b)

@@ -30,7 +30,14 @@ from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import StripIntrinsics
 
-__all__ = ["PlateLink", "CreaseLink", "CreasePlanes", "Mechanism", "MechanismStates"]
+__all__ = [
+    "PlateLink",
+    "CreaseLink",
+    "CreasePlanes",
+    "CreaseSelection",
+    "Mechanism",
+    "MechanismStates",
+]
 
 
 @dataclass(frozen=True)
@@ -123,6 +130,53 @@ class MechanismStates(NamedTuple):
     tilts: np.ndarray
 
 
+class CreaseSelection:
+    """What a set of creases reads from the placed plates, worked out once per mechanism.
+
+    :meth:`Mechanism.crease_selection` makes (and keeps) one per set of crease indices, so a
+    placement does not redo the index work for every generation of plates in every call.
+
+    Attributes
+    ----------
+    creases : (g,) int
+        The crease indices.
+    positions : (g,) int
+        Their places in the set this one was taken from (``arange(g)`` for a whole set).
+    plates : (g,) int
+        Plate ``a`` of every crease.
+    side : bool or None
+        True when every crease is its plate ``a``'s far boundary, False when every one is the
+        near boundary, None when they differ (then ``on_far`` says which, shape (1, g, 1, 1)).
+    normals : (g, 3) float
+        Design normals that orient the fitted planes.
+    fixed, free : CreaseSelection or None
+        The fixed (leading plane) and the free creases of the set; both None when no crease of
+        the set is fixed.
+    """
+
+    def __init__(self, mechanism: Mechanism, creases: np.ndarray, positions=None, split=True):
+        self.creases = creases
+        self.positions = np.arange(len(creases)) if positions is None else positions
+        self.plates = mechanism.crease_plate_a[creases]
+        on_far = mechanism.crease_far[creases]
+        self.side = bool(on_far[0]) if len(on_far) and (on_far == on_far[0]).all() else None
+        if not len(on_far):
+            self.side = True
+        self.on_far = on_far[None, :, None, None]
+        self.normals = mechanism.crease_normals[creases]
+        self._normals_one = self.normals[None]  # (1, g, 3): the shape of one state's planes
+        fixed = mechanism.crease_fixed[creases]
+        self.fixed = self.free = None
+        if split and fixed.any():
+            at, free_at = np.flatnonzero(fixed), np.flatnonzero(~fixed)
+            self.fixed = CreaseSelection(mechanism, creases[at], at, split=False)
+            self.free = CreaseSelection(mechanism, creases[free_at], free_at, split=False)
+
+    def orient(self, states: int) -> np.ndarray:
+        """The design normals for ``states`` states of planes: (g, 3), or (1, g, 3) for one."""
+        return self._normals_one if states == 1 else self.normals
+
+
 class CreasePlanes:
     """The plane each crease is mirrored in while the mechanism is placed (the default strategy).
 
@@ -172,21 +226,22 @@ class CreasePlanes:
         planarity : (k, g) float
             Largest distance of a crease vertex from its plane.
         """
-        creases = np.asarray(creases, dtype=np.intp)
-        row = mechanism.crease_rows(creases, near, far)  # (k, g, n + 1, 3)
-        fixed = mechanism.crease_fixed[creases]
-        if not fixed.any():  # best-fit planes only (every crease but the leading one)
-            return fit_planes(row, mechanism.crease_normals[creases])
-        k, g = row.shape[:2]
+        pick = mechanism.crease_selection(creases)
+        k = near.shape[0]
+        if pick.free is None:  # best-fit planes only (every crease but the leading one)
+            return fit_planes(mechanism.selected_rows(pick, near, far), pick.orient(k))
+        g = len(pick.creases)
         origins = np.zeros((k, g, 3))
         normals = np.zeros((k, g, 3))
         planarity = np.zeros((k, g))
-        normals[:, fixed] = (0.0, 0.0, 1.0)  # the leading plane, local z = 0
-        planarity[:, fixed] = np.abs(row[:, fixed][..., 2]).max(axis=-1)
-        free = ~fixed
-        if free.any():
-            fit = fit_planes(row[:, free], mechanism.crease_normals[creases[free]])
-            origins[:, free], normals[:, free], planarity[:, free] = fit
+        fixed, free = pick.fixed, pick.free
+        normals[:, fixed.positions] = (0.0, 0.0, 1.0)  # the leading plane, local z = 0
+        row = mechanism.selected_rows(fixed, near, far)
+        planarity[:, fixed.positions] = np.abs(row[..., 2]).max(axis=-1)
+        if len(free.positions):
+            at = free.positions
+            fit = fit_planes(mechanism.selected_rows(free, near, far), free.orient(k))
+            origins[:, at], normals[:, at], planarity[:, at] = fit
         return origins, normals, planarity
 
     def plane(self, mechanism: Mechanism, crease: int, near: np.ndarray, far: np.ndarray):
@@ -255,6 +310,26 @@ class Mechanism:
         for c in self.creases:
             boundary_rows(None, None, c.boundary_a)  # a known boundary name
         self.generations, self._batches = self._placement_batches()
+        placed = np.zeros(len(self.creases), dtype=bool)
+        for batch in self._batches:
+            placed[batch.creases] = True
+        self._closing = np.flatnonzero(~placed)  # creases that attach no plate (close a loop)
+        self._found_order = np.concatenate(
+            [b.creases for b in self._batches] + [self._closing]
+        ).astype(np.intp)
+        # where every crease is found once, the planes are put in crease order by one take (none
+        # when they are found in that order) instead of zeros and a scatter
+        self._found_inverse = self._found_take = None
+        if np.array_equal(np.sort(self._found_order), np.arange(len(self.creases))):
+            self._found_inverse = np.argsort(self._found_order)
+            self._found_take = not np.array_equal(self._found_order, np.arange(len(self.creases)))
+        # the crease sets of the generations and of the closing creases, kept for good (a
+        # 200-plate chain has ~100 generations); other sets read from outside, up to a bound
+        self._kept = {}
+        for creases in [b.creases for b in self._batches] + [self._closing]:
+            creases = np.asarray(creases, dtype=np.intp)
+            self._kept[_selection_key(creases)] = CreaseSelection(self, creases.copy())
+        self._selections = {}
 
     def _placement_batches(self):
         """The generations of plates and, per generation, the index arrays of its placement."""
@@ -271,14 +346,24 @@ class Mechanism:
             for plate in links:
                 boundary_rows(None, None, plate.boundary)  # a known boundary name
             generations.append(members)
+            from_far = np.array([p.boundary == "far" for p in links], dtype=bool)
+            ccf = np.array([p.relation == "ccf" for p in links], dtype=bool)
+            lengths = np.stack([self._ruling_lengths[i] for i in members])
+            steps = np.diff(members)
+            even = len(members) == 1 or (steps[0] > 0 and (steps == steps[0]).all())
+            step = int(steps[0]) if len(members) > 1 else 1  # evenly spaced plates: a slice
             batches.append(
                 _Batch(
                     plates=members,
                     parents=np.array([p.parent for p in links], dtype=np.intp),
                     creases=np.array([p.crease for p in links], dtype=np.intp),
-                    from_far=np.array([p.boundary == "far" for p in links], dtype=bool),
-                    ccf=np.array([p.relation == "ccf" for p in links], dtype=bool),
-                    lengths=np.stack([self._ruling_lengths[i] for i in members]),
+                    from_far=from_far,
+                    ccf=ccf,
+                    lengths=lengths,
+                    target=slice(int(members[0]), int(members[-1]) + 1, step) if even else members,
+                    side=bool(from_far[0]) if (from_far == from_far[0]).all() else None,
+                    flip=bool(ccf[0]) if (ccf == ccf[0]).all() else None,
+                    scale=lengths[None, :, :, None],
                 )
             )
         return generations, batches
@@ -295,10 +380,31 @@ class Mechanism:
         creases : (g,) int
         near, far : (k, p, n + 1, 3) float
         """
-        plates = self.crease_plate_a[creases]
-        return np.where(
-            self.crease_far[creases][None, :, None, None], far[:, plates], near[:, plates]
-        )
+        return self.selected_rows(self.crease_selection(creases), near, far)
+
+    def crease_selection(self, creases) -> CreaseSelection:
+        """The :class:`CreaseSelection` of crease indices ``creases`` (g,), made once and kept."""
+        creases = np.asarray(creases, dtype=np.intp)
+        key = _selection_key(creases)
+        pick = self._kept.get(key) or self._selections.get(key)
+        if pick is None:
+            if len(self._selections) >= _SELECTIONS_KEPT:
+                self._selections.clear()
+            pick = self._selections[key] = CreaseSelection(self, creases.copy())
+        return pick
+
+    @staticmethod
+    def selected_rows(pick: CreaseSelection, near: np.ndarray, far: np.ndarray) -> np.ndarray:
+        """Plate ``a``'s crease row of every crease of ``pick``: (k, g, n + 1, 3).
+
+        Parameters
+        ----------
+        pick : CreaseSelection
+        near, far : (k, p, n + 1, 3) float
+        """
+        if pick.side is None:
+            return np.where(pick.on_far, far[:, pick.plates], near[:, pick.plates])
+        return (far if pick.side else near)[:, pick.plates]
 
     def crease_boundaries(self, creases: np.ndarray, near: np.ndarray, far: np.ndarray):
         """Plate ``a``'s crease row and its other row at ``creases`` (g,): (k, g, n + 1, 3) each.
@@ -308,10 +414,11 @@ class Mechanism:
         creases : (g,) int
         near, far : (k, p, n + 1, 3) float
         """
-        plates = self.crease_plate_a[creases]
-        on_far = self.crease_far[creases][None, :, None, None]
-        near_a, far_a = near[:, plates], far[:, plates]
-        return np.where(on_far, far_a, near_a), np.where(on_far, near_a, far_a)
+        pick = self.crease_selection(creases)
+        near_a, far_a = near[:, pick.plates], far[:, pick.plates]
+        if pick.side is None:
+            return np.where(pick.on_far, far_a, near_a), np.where(pick.on_far, near_a, far_a)
+        return (far_a, near_a) if pick.side else (near_a, far_a)
 
     def place(self, s0, *, planes: CreasePlanes | None = None) -> MechanismStates:
         """Place every plate for values of the degree of freedom ``s0`` (see LeadingStrip).
@@ -338,35 +445,54 @@ class Mechanism:
         # round-off a short ruling (crease planes that almost meet) would magnify
         rays = np.empty((k, p, m, 3))
         rays[:, 0] = lead.rulings
+        planes.begin(k, c, m)
+        found = []  # the planes of every generation's creases, stored once at the end
+        for batch in self._batches:
+            found.append(planes.planes(self, batch.creases, near, far))
+            origin, normal, _ = found[-1]
+            # the parents' crease rows and their rulings away from them; where all plates of
+            # the generation hang on the same boundary (or fold alike) without the masks
+            if batch.side is None:
+                on_far = batch.from_far[None, :, None, None]
+                hinge = np.where(on_far, far[:, batch.parents], near[:, batch.parents])
+                ray = rays[:, batch.parents]
+                away = np.where(on_far, -ray, ray)
+            else:
+                hinge = (far if batch.side else near)[:, batch.parents]  # (k, g, n + 1, 3)
+                away = -rays[:, batch.parents] if batch.side else rays[:, batch.parents]
+            normal = normal[:, :, None]
+            mirrored = away - 2.0 * dot(away, normal)[..., None] * normal
+            if batch.flip is None:
+                mirrored = np.where(batch.ccf[None, :, None, None], -mirrored, mirrored)
+            elif batch.flip:
+                mirrored = -mirrored
+            if planes.mirror_rows:
+                hinge = reflect_points(hinge, origin, normal[:, :, 0])
+            near[:, batch.target] = hinge
+            far[:, batch.target] = hinge + batch.scale * mirrored
+            rays[:, batch.target] = mirrored
+        if len(self._closing):  # creases that attach no plate (closing a loop)
+            found.append(planes.planes(self, self._closing, near, far))
+        return MechanismStates(near, far, *self._found_planes(found, k), lead.tilts)
+
+    def _found_planes(self, found: list, k: int):
+        """Origins, normals (k, c, 3) and planarity (k, c) in crease order from the planes of
+        :meth:`place` in the order they were found (``found``: (k, g, ...) parts)."""
+        if found and self._found_inverse is not None:
+            joined = [np.concatenate(part, axis=1) for part in zip(*found)]
+            if self._found_take:
+                joined = [part[:, self._found_inverse] for part in joined]
+            return joined
+        c = len(self.creases)
         origins = np.zeros((k, c, 3))
         normals = np.zeros((k, c, 3))
         planarity = np.zeros((k, c))
-        placed = np.zeros(c, dtype=bool)
-        planes.begin(k, c, m)
-        for batch in self._batches:
-            origin, normal, planarity[:, batch.creases] = planes.planes(
-                self, batch.creases, near, far
+        if found:
+            at = self._found_order
+            origins[:, at], normals[:, at], planarity[:, at] = (
+                np.concatenate(part, axis=1) for part in zip(*found)
             )
-            origins[:, batch.creases], normals[:, batch.creases] = origin, normal
-            on_far = batch.from_far[None, :, None, None]
-            parent_near, parent_far = near[:, batch.parents], far[:, batch.parents]
-            hinge = np.where(on_far, parent_far, parent_near)  # (k, g, n + 1, 3)
-            ray = rays[:, batch.parents]
-            away = np.where(on_far, -ray, ray)
-            normal = normal[:, :, None]
-            mirrored = away - 2.0 * dot(away, normal)[..., None] * normal
-            mirrored = np.where(batch.ccf[None, :, None, None], -mirrored, mirrored)
-            if planes.mirror_rows:
-                hinge = reflect_points(hinge, origin, normal[:, :, 0])
-            near[:, batch.plates] = hinge
-            far[:, batch.plates] = hinge + batch.lengths[None, :, :, None] * mirrored
-            rays[:, batch.plates] = mirrored
-            placed[batch.creases] = True
-        closing = np.flatnonzero(~placed)  # creases that attach no plate (closing a loop)
-        if len(closing):
-            origin, normal, planarity[:, closing] = planes.planes(self, closing, near, far)
-            origins[:, closing], normals[:, closing] = origin, normal
-        return MechanismStates(near, far, origins, normals, planarity, lead.tilts)
+        return origins, normals, planarity
 
     def crease_planes(self, near: np.ndarray, far: np.ndarray):
         """Planes of every crease of placed plates ``near, far`` (k, p, n + 1, 3).
@@ -408,6 +534,16 @@ class _Batch(NamedTuple):
     from_far: np.ndarray  # (g,) bool: on the parent's far boundary
     ccf: np.ndarray  # (g,) bool: folded continuation
     lengths: np.ndarray  # (g, n + 1) ruling lengths
+    target: object  # the plates as a slice where they are evenly spaced, else ``plates``
+    side: bool | None  # all on the parent's far (True) / near (False) boundary, None: mixed
+    flip: bool | None  # all folded continuations (True) / mirror partners (False), None: mixed
+    scale: np.ndarray  # (1, g, n + 1, 1) the ruling lengths, broadcast over states and xyz
 
 
 _DEFAULT_PLANES = CreasePlanes()
+#: crease selections a mechanism keeps besides those of its generations (sets read from outside)
+_SELECTIONS_KEPT = 64
+
+
+def _selection_key(creases: np.ndarray) -> tuple:
+    return creases.shape, creases.tobytes()

@@ -27,7 +27,10 @@ RELATION_CHUNK = 65_536
 
 
 def _bounding_box(deployed: np.ndarray) -> list:
-    return np.ptp(deployed.reshape(-1, 3), axis=0).tolist()
+    # np.ptp(points, axis=0) of the (N, 3) points, by rows x, y, z: a reduction along a short
+    # inner axis is ~15 times slower than along a long one, and max / min are exact either way
+    xyz = np.ascontiguousarray(deployed.reshape(-1, 3).T)
+    return (np.maximum.reduce(xyz, axis=1) - np.minimum.reduce(xyz, axis=1)).tolist()
 
 
 class StateRecords:
