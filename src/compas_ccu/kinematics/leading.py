@@ -416,7 +416,7 @@ class _ScalarAlpha:
         guess_factor = strip.tilt_factors[min(strip.reference, strip.n - 1)]
         s = _clip(float(np.sin(alpha) / guess_factor), 0.0, s_max)
         lo, hi = 0.0, s_max
-        tol = 1e-15
+        tol = MACHINE
         ds = 1e-7 * s_max
         for _ in range(60):
             probe = s + ds if s + ds <= s_max else s - ds
