@@ -208,7 +208,9 @@ def test_a_signal_during_the_commit_waits_for_it(tmp_path, monkeypatch):
     commit = outputs._commit
 
     def interrupted_commit(stage, out):
-        os.kill(os.getpid(), signal.SIGINT)  # held until the files are in
+        # raise_signal: to this (the main) thread, handled before it returns; os.kill on the
+        # process may reach another thread (pytest-xdist's) that a busy machine runs late
+        signal.raise_signal(signal.SIGINT)  # held until the files are in
         return commit(stage, out)
 
     monkeypatch.setattr(outputs, "_commit", interrupted_commit)
@@ -232,7 +234,7 @@ def test_signals_held_delivers_the_first_signal_after_the_block():
     ran = []
     with pytest.raises(KeyboardInterrupt):
         with outputs.signals_held():
-            os.kill(os.getpid(), signal.SIGINT)
+            signal.raise_signal(signal.SIGINT)  # to this thread (see above)
             ran.append("after the signal")
     assert ran == ["after the signal"]
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
