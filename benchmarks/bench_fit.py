@@ -10,7 +10,12 @@ Run from the repository root (``make bench-fit``)::
    10 % outliers, moved), registered and every point measured.
 
 CPU seconds (``time.process_time``), one run each; BLAS/OpenMP pinned to one thread. ``--quick``
-uses 10^5 scan points and a 10,000-point target.
+uses 10^5 scan points and a 10,000-point target. The issue's budget (issue 30) is 30 s of CPU on
+one core for each; the line says whether it holds.
+
+Recorded in docs/benchmarks.md: the 10^6-point registration took 71.8-85.7 s of CPU before the
+speed-up (fit-speed) and 17.7-18.3 s after, the same α, RMS and noise; the 50,000-point fit
+13.1-13.7 s before and 4.1-4.2 s after, the same results.
 """
 
 import os
@@ -37,6 +42,8 @@ from compas_ccu.fit.rigid import apply, matrix, rotation  # noqa: E402
 from compas_ccu.model import CCUModel, load_model  # noqa: E402
 
 VAULT = "examples/vault.toml"
+#: CPU seconds each fit may take (issue 30).
+BUDGET = 30.0
 
 
 def plate_points(model, alpha, count, seed):
@@ -59,6 +66,7 @@ def bench_fit(points):
     r = fit_design(base, target, free)
     cpu = time.process_time() - t
     print(f"fit_design, {points} target points: {cpu:.1f} s CPU, {r.evaluations} models")
+    print(f"  {'within' if cpu <= BUDGET else 'OVER'} the {BUDGET:.0f} s budget")
     for key, value in r.parameters.items():
         print(f"  {key} = {value:.5f}")
     print(
@@ -81,6 +89,7 @@ def bench_register(count):
     r = register(model, scan, per_plate=True)
     cpu = time.process_time() - t
     print(f"register, {len(scan)} scan points: {cpu:.1f} s CPU, {r.evaluations} evaluations")
+    print(f"  {'within' if cpu <= BUDGET else 'OVER'} the {BUDGET:.0f} s budget")
     print(
         f"  alpha {r.alpha:.3f} deg (27), inlier RMS {1000 * r.rms:.2f} mm, noise "
         f"{1000 * r.noise:.2f} mm, outliers {r.outliers}, coverage {100 * r.coverage:.1f} %"

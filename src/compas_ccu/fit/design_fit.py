@@ -243,6 +243,48 @@ def fit_design(
     """
     free = free_keys(free)
     document = base.metric_document()
+    start = _start_values(base, free)
+    name = name or f"{base.name}-fit"
+    target = target.with_normals()
+    tsize = target.size
+    _check_reach(document, free, start, base, tsize)
+
+    rng = np.random.default_rng(seed)
+    sub = np.sort(rng.choice(len(target), size=min(int(points), len(target)), replace=False))
+    ttree = cKDTree(target.points)
+    # the target's point spacing: tangential offsets within it are not distance (the median
+    # nearest-neighbour distance in the fit; the 99th percentile, random samples leave gaps,
+    # for the Hausdorff distance)
+    spacing, gaps = target_spacing(target.points, ttree)
+    f_scale = float(f_scale) if f_scale is not None else tsize / 200.0
+    fixed = (target.points[sub], rng, int(points))
+    residuals = _Residuals(document, free, start, base, name, target, ttree, spacing, *fixed)
+    res = _solve(residuals, free, max_evaluations, f_scale)
+    bounds = ([f.lower for f in free], [f.upper for f in free])
+    values = np.clip(residuals.x0 + res.x * residuals.scale, *bounds)
+    design = _design(document, free, values, base, name)
+    d, back, plates = _measured_fit(design, target, ttree, gaps)
+    return DesignFit(
+        design=design,
+        parameters={f.key: float(v_) for f, v_ in zip(free, values)},
+        start=start,
+        rms=float(np.sqrt(np.mean(d.distance**2))),
+        max=float(d.distance.max()),
+        hausdorff=float(max(d.distance.max(), np.abs(back).max())),
+        plates=plates,
+        evaluations=int(residuals.count),
+        status=int(res.status),
+        message=str(res.message),
+        bounds={f.key: [f.lower, f.upper] for f in free},
+        signed=d.signed,
+        plate_row=d.plate,
+    )
+
+
+def _start_values(base: Design, free) -> dict:
+    """``{key: value}`` of the free keys in the base design; DesignError if the base does not
+    set one or sets it to something else than a number, OptionError if it lies outside its
+    bounds."""
     start = {}
     for f in free:
         value = base.values[f.section][f.name]
@@ -256,43 +298,46 @@ def fit_design(
                 f"{f.lower:g}:{f.upper:g}"
             )
         start[f.key] = float(value)
-    name = name or f"{base.name}-fit"
-    target = target.with_normals()
-    tsize = target.size
-    _check_reach(document, free, start, base, tsize)
+    return start
 
-    rng = np.random.default_rng(seed)
-    sub = np.sort(rng.choice(len(target), size=min(int(points), len(target)), replace=False))
-    tpts = target.points[sub]
-    ttree = cKDTree(target.points)
-    # the target's point spacing: tangential offsets within it are not distance (the median
-    # nearest-neighbour distance in the fit; the 99th percentile, random samples leave gaps,
-    # for the Hausdorff distance)
-    spacing, gaps = target_spacing(target.points, ttree)
-    f_scale = float(f_scale) if f_scale is not None else tsize / 200.0
 
-    model0, v0 = _plates(_design(document, free, start.values(), base, name))
-    tri0, _ = plate_triangles(v0, model0.faces)
-    spacing0 = model0.size / 100.0
-    plan = PlateSurface(tri0, np.zeros(len(tri0), dtype=np.int64), spacing=spacing0).plan
-    nplate = min(int(points), len(tri0) * len(_BARY))
-    pick = np.sort(rng.choice(len(tri0) * len(_BARY), size=nplate, replace=False))
-    count = 0
-    x0 = np.array(list(start.values()))
-    scale = np.array([max(f.upper - f.lower, EXACT_RELATIVE) for f in free])
+class _Residuals:
+    """The residuals of :func:`fit_design` at the free values ``x0 + u * scale`` (``u`` the
+    solver's variables, scaled to the bounds): the target points' distance to the deployed
+    plates, then the fixed plate points' distance to the target (module docstring).
 
-    def residuals(u):
-        nonlocal count
-        count += 1
-        values = x0 + u * scale
+    ``tpts`` are the target points of the first term; the plate points of the second (at most
+    ``points`` of the barycentric points of every triangle) are drawn from ``rng`` (after the
+    target subset: the seed gives both). Every evaluation samples the plates on the lattice
+    plan of the start's triangles; ``count`` counts the evaluations."""
+
+    def __init__(
+        self, document, free, start, base, name, target, ttree, spacing, tpts, rng, points
+    ):
+        self.document, self.free, self.base, self.name = document, free, base, name
+        self.target, self.ttree, self.spacing, self.tpts = target, ttree, spacing, tpts
+        model0, v0 = _plates(_design(document, free, start.values(), base, name))
+        tri0, _ = plate_triangles(v0, model0.faces)
+        self.spacing0 = model0.size / 100.0
+        zeros = np.zeros(len(tri0), dtype=np.int64)
+        self.plan = PlateSurface(tri0, zeros, spacing=self.spacing0).plan
+        self.nplate = min(points, len(tri0) * len(_BARY))
+        self.pick = np.sort(rng.choice(len(tri0) * len(_BARY), size=self.nplate, replace=False))
+        self.x0 = np.array(list(start.values()))
+        self.scale = np.array([max(f.upper - f.lower, EXACT_RELATIVE) for f in free])
+        self.count = 0
+
+    def __call__(self, u):
+        self.count += 1
+        values = self.x0 + u * self.scale
         try:
-            model, v = _plates(_design(document, free, values, base, name))
+            model, v = _plates(_design(self.document, self.free, values, self.base, self.name))
         except CCUError:
-            return np.full(len(tpts) + nplate, FAILED_RESIDUAL)
-        surf = PlateSurface.from_vertices(v, model.faces, spacing=spacing0, plan=plan)
+            return np.full(len(self.tpts) + self.nplate, FAILED_RESIDUAL)
+        surf = PlateSurface.from_vertices(v, model.faces, spacing=self.spacing0, plan=self.plan)
         # unsigned (the sign flips where the nearest plate changes side; for Gauss-Newton
         # |s| and s are the same)
-        r1 = surf.query(tpts, candidates=8, max_candidates=64).distance
+        r1 = surf.query(self.tpts, candidates=8, max_candidates=64).distance
         tri = surf.triangles
         a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
         pts = (
@@ -300,10 +345,15 @@ def fit_design(
             + _BARY[None, :, :1] * (b - a)[:, None]
             + _BARY[None, :, 1:] * (c - a)[:, None]
         )
-        pts = pts.reshape(-1, 3)[pick]
-        r2 = target_distance(pts, target, ttree, spacing)
+        pts = pts.reshape(-1, 3)[self.pick]
+        r2 = target_distance(pts, self.target, self.ttree, self.spacing)
         return np.concatenate([r1, r2])
 
+
+def _solve(residuals: _Residuals, free, max_evaluations: int, f_scale: float):
+    """``least_squares`` (trf, the bounds, soft-l1) from the base design; FitError if it did
+    not converge within ``max_evaluations``."""
+    x0, scale = residuals.x0, residuals.scale
     lower = np.array([(f.lower - s) / w for f, s, w in zip(free, x0, scale)])
     upper = np.array([(f.upper - s) / w for f, s, w in zip(free, x0, scale)])
     res = least_squares(
@@ -323,8 +373,12 @@ def fit_design(
             f"({res.message.rstrip('.')}; RMS {1000 * math.sqrt(np.mean(res.fun**2)):.1f} mm): "
             "raise max_evaluations or narrow the bounds"
         )
-    values = np.clip(x0 + res.x * scale, [f.lower for f in free], [f.upper for f in free])
-    design = _design(document, free, values, base, name)
+    return res
+
+
+def _measured_fit(design: Design, target, ttree, gaps: float):
+    """Every target point's distance to the fitted design's plates, the plates' samples'
+    distance to the target (the Hausdorff distance's other side) and every plate's record."""
     model, v = _plates(design)
     surf = PlateSurface.from_vertices(v, model.faces, spacing=model.size / 150.0)
     d = surf.query(target.points)
@@ -344,21 +398,7 @@ def fit_design(
         }
         for i, pid in enumerate(ids)
     )
-    return DesignFit(
-        design=design,
-        parameters={f.key: float(v_) for f, v_ in zip(free, values)},
-        start=start,
-        rms=float(np.sqrt(np.mean(d.distance**2))),
-        max=float(d.distance.max()),
-        hausdorff=float(max(d.distance.max(), np.abs(back).max())),
-        plates=plates,
-        evaluations=int(count),
-        status=int(res.status),
-        message=str(res.message),
-        bounds={f.key: [f.lower, f.upper] for f in free},
-        signed=d.signed,
-        plate_row=d.plate,
-    )
+    return d, back, plates
 
 
 def target_distance(pts, target, tree, spacing):

@@ -8,7 +8,7 @@ import numpy as np
 
 from compas_ccu.tolerances import DIVISION_FLOOR
 
-__all__ = ["rotation", "matrix", "apply", "invert", "kabsch", "axis_rotations"]
+__all__ = ["rotation", "rotations", "matrix", "apply", "invert", "kabsch", "axis_rotations"]
 
 
 def rotation(r) -> np.ndarray:
@@ -20,6 +20,20 @@ def rotation(r) -> np.ndarray:
     k = r / angle
     kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
     return np.eye(3) + np.sin(angle) * kx + (1.0 - np.cos(angle)) * (kx @ kx)
+
+
+def rotations(r) -> np.ndarray:
+    """(b, 3, 3) rotations of the rotation vectors ``r`` (b, 3) (:func:`rotation` of each)."""
+    r = np.asarray(r, dtype=np.float64).reshape(-1, 3)
+    angle = np.linalg.norm(r, axis=1)
+    turn = angle >= DIVISION_FLOOR
+    k = r / np.where(turn, angle, 1.0)[:, None]
+    kx = np.zeros((len(r), 3, 3))
+    kx[:, 0, 1], kx[:, 0, 2], kx[:, 1, 2] = -k[:, 2], k[:, 1], -k[:, 0]
+    kx[:, 1, 0], kx[:, 2, 0], kx[:, 2, 1] = k[:, 2], -k[:, 1], k[:, 0]
+    sin = np.where(turn, np.sin(angle), 0.0)[:, None, None]
+    cos = np.where(turn, 1.0 - np.cos(angle), 0.0)[:, None, None]
+    return np.eye(3) + sin * kx + cos * (kx @ kx)
 
 
 def matrix(rot, t) -> np.ndarray:
