@@ -258,7 +258,7 @@ def test_ccu_import_writes_the_whole_structure(tmp_path, capsys, path, plates, o
     loaded = load_model(out)  # its checks pass (isometry, crossing rulings, overlap)
     assert loaded.design.layout.type == "patterns" and loaded.plates.count == plates
     error = structure_error(model, folder, loaded.mechanism, loaded.geometry.plate_ids)
-    assert error["plates"] == plates and error["max_relative"] < 1e-9
+    assert error.plates == plates and error.max_relative < 1e-9
     imported = import_structure(folder)  # the API's mechanism is the file's
     assert imported.plate_ids == loaded.geometry.plate_ids  # the files' (workshop) ids
     alpha = math.radians(model.alpha_design)
@@ -300,7 +300,7 @@ def test_ccu_import_of_the_22_plate_dome(dome22, tmp_path, capsys):
     assert "the thickness correction of 4 mm plates undone" in said
     loaded = load_model(out)
     error = structure_error(model, folder, loaded.mechanism, loaded.geometry.plate_ids)
-    assert error["plates"] == 22 and error["max_relative"] < 1e-9
+    assert error.plates == 22 and error.max_relative < 1e-9
 
 
 def test_an_undoing_that_does_not_converge_is_refused_with_the_way_out(dome22, monkeypatch):
