@@ -100,8 +100,9 @@ class CCUModel(Data):
         self.size = float(np.linalg.norm(np.ptp(corners.reshape(-1, 3), axis=0)))
         self._flat = None
         self._kinds = None
-        self._overlap_alpha = None
         self._certificate = None
+        #: Measured path limits, kept between models of the same geometry (adopt_limits)
+        self.limits = {}
         self._faces = None
         self._check_design()
 
@@ -298,9 +299,9 @@ class CCUModel(Data):
     @property
     def overlap_alpha(self) -> float:
         """Largest reference alpha (degrees) before a crease overlaps itself (or the limit)."""
-        if self._overlap_alpha is None:
-            self._overlap_alpha = math.degrees(overlap_limit(self.mechanism))
-        return self._overlap_alpha
+        if self.limits.get("overlap_alpha") is None:
+            self.limits["overlap_alpha"] = math.degrees(overlap_limit(self.mechanism))
+        return self.limits["overlap_alpha"]
 
     @property
     def certificate(self) -> PathCertificate:
