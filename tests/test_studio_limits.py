@@ -263,3 +263,32 @@ def test_a_new_model_of_the_same_shape_updates_the_buffers_of_the_scene(session)
     assert session.edit("crease", "segments", 32) is None  # a new shape: rebuilt
     draw(3)
     assert len(fake.added) > nodes and all(h.removed for h in fake.added[:nodes])
+
+
+def test_two_threads_asking_for_a_limit_measure_it_once(monkeypatch):
+    import copy
+    import pickle
+    import threading
+
+    calls = []
+
+    def slow(mechanism, **options):
+        calls.append(threading.get_ident())
+        return overlap_limit(mechanism, **options)
+
+    monkeypatch.setattr(ccu_model, "overlap_limit", slow)
+    model = load_model(EXAMPLES / "vault.toml")
+    found = []
+    threads = [
+        threading.Thread(target=lambda: found.append(model.collision_free_alpha)) for _ in range(3)
+    ]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(calls) == 1 and len(set(found)) == 1
+    # a copied or pickled model keeps the values, with locks of its own
+    for other in (copy.deepcopy(model), pickle.loads(pickle.dumps(model.limits))):
+        limits = other.limits if hasattr(other, "limits") else other
+        assert limits["collision_free_alpha"] == found[0]
+        assert limits.measure("overlap_alpha", lambda: None) == model.overlap_alpha

@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import threading
 
 import numpy as np
 
@@ -24,6 +25,7 @@ __all__ = [
     "check_interference",
     "geometry_key",
     "adopt_limits",
+    "PathLimits",
     "NON_GEOMETRY_SECTIONS",
 ]
 
@@ -109,6 +111,31 @@ def path_certificate(model) -> PathCertificate:
     )
 
 
+class PathLimits(dict):
+    """The path limits measured on a model (:attr:`CCUModel.limits`), each measured once even
+    when two threads ask for it together (the studio's view and checks workers do)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._guard = threading.Lock()
+        self._locks: dict = {}
+
+    def __reduce__(self):  # copied or pickled with its values, new locks
+        return (type(self), (dict(self),))
+
+    def measure(self, key, function):
+        """The value under ``key``, measured by ``function()`` if it is not there yet (a
+        second thread asking meanwhile waits for the first one's value)."""
+        if key in self:
+            return self[key]
+        with self._guard:
+            lock = self._locks.setdefault(key, threading.Lock())
+        with lock:
+            if key not in self:
+                self[key] = function()
+        return self[key]
+
+
 def collision_free_alpha(model) -> float:
     """Largest reference alpha (degrees) of ``model`` reached from the flat stack without a
     crease overlapping itself or two plates crossing (the deployment limit if neither);
@@ -122,12 +149,13 @@ def collision_free_alpha(model) -> float:
     >>> round(collision_free_alpha(load_model("examples/cone.toml")), 4)
     75.5126
     """
-    if model.limits.get("collision_free_alpha") is None:
+
+    def measure():
         overlap = math.radians(model.overlap_alpha)
         found = model.certificate.certify(overlap)
-        clear = math.degrees(min(overlap, found.clear if found is not None else overlap))
-        model.limits["collision_free_alpha"] = clear
-    return model.limits["collision_free_alpha"]
+        return math.degrees(min(overlap, found.clear if found is not None else overlap))
+
+    return model.limits.measure("collision_free_alpha", measure)
 
 
 def geometry_key(model) -> str:
@@ -158,7 +186,7 @@ def adopt_limits(model, previous) -> bool:
         return False
     for name, value in list(model.limits.items()):
         previous.limits.setdefault(name, value)
-    model.limits = previous.limits
+    model.limits = previous.limits  # one PathLimits: what either measures, both have
     return True
 
 

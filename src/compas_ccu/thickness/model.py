@@ -425,9 +425,10 @@ class ThickModel(Data):
         # once per model and thickness (the model's limits, kept between models of the same
         # geometry: compas_ccu.model.self_intersection.adopt_limits)
         key = ("thick_first_collision", self.thickness, float(upto), states, bisections)
-        if key not in self.model.limits:
-            self.model.limits[key] = scan_first_collision(self, upto, states, bisections)
-        return copy.deepcopy(self.model.limits[key])
+        found = self.model.limits.measure(
+            key, lambda: scan_first_collision(self, upto, states, bisections)
+        )
+        return copy.deepcopy(found)
 
     def bending(self, alphas=None) -> BendingCheck:
         """Bending utilisation (:func:`compas_ccu.thickness.bending.bending_check`).
