@@ -13,7 +13,7 @@ OUT      ?= out
 WORKERS  ?= 2
 CHROMIUM ?= $(shell command -v chromium 2>/dev/null)
 
-.PHONY: setup blas browser demo docs explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-cli bench-fit bench-fit-targets bench-plates bench-generic clean
+.PHONY: setup blas browser demo docs explore optimize studio test test-fast fuzz lint bench bench-fea bench-validate bench-thickness bench-fabricate bench-explore bench-optimize bench-relax bench-interference bench-studio bench-studio-gpu bench-studio-checks bench-cli bench-fit bench-fit-targets bench-plates bench-generic clean
 
 $(BIN)/ccu: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -166,6 +166,12 @@ bench: setup
 # the studio's latency in a real browser (docs/benchmarks.md)
 bench-studio: setup browser
 	$(BIN)/python benchmarks/bench_studio.py
+
+bench-studio-gpu: setup browser
+	$(BIN)/python benchmarks/bench_studio.py --gpu
+
+bench-studio-checks: setup
+	$(BIN)/python benchmarks/bench_studio_checks.py
 
 bench-fea: setup
 	$(BIN)/python benchmarks/bench_fea.py

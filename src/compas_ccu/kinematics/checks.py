@@ -78,7 +78,7 @@ def self_intersecting(points: np.ndarray, origins: np.ndarray, normals: np.ndarr
 
     A polyline whose total absolute turning is at most pi cannot intersect itself, which settles
     almost every state at the cost of one vectorised pass; the others are projected onto their
-    plane and tested with GEOS (shapely), O(m log m).
+    plane and tested with GEOS (shapely), O(m log m), all in one vectorised call.
 
     Parameters
     ----------
@@ -107,12 +107,15 @@ def self_intersecting(points: np.ndarray, origins: np.ndarray, normals: np.ndarr
         return out
     import shapely
 
-    for k in suspects:
-        n = normals[k]
-        x = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
-        x /= np.linalg.norm(x)
-        y = np.cross(n, x)
-        rel = points[k] - origins[k]
-        line = shapely.linestrings(np.c_[rel @ x, rel @ y])
-        out[k] = not shapely.is_simple(line)
+    # every suspect projected onto its plane and tested in one vectorised GEOS call
+    n = normals[suspects]
+    helper = np.where(
+        (np.abs(n[:, 0]) < 0.9)[:, None], np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    )
+    x = np.cross(n, helper)
+    x /= np.linalg.norm(x, axis=1)[:, None]
+    y = np.cross(n, x)
+    rel = points[suspects] - origins[suspects][:, None]
+    xy = np.stack([np.einsum("kmi,ki->km", rel, x), np.einsum("kmi,ki->km", rel, y)], axis=-1)
+    out[suspects] = ~shapely.is_simple(shapely.linestrings(xy))
     return out

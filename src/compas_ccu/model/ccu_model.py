@@ -33,6 +33,7 @@ from compas_ccu.model.checks import check_design, check_path, check_size
 from compas_ccu.model.records import path_structures, state_structure
 from compas_ccu.model.relaxed import relaxed_structure
 from compas_ccu.model.self_intersection import (
+    PathLimits,
     check_interference,
     check_overlap,
     collision_free_alpha,
@@ -100,8 +101,9 @@ class CCUModel(Data):
         self.size = float(np.linalg.norm(np.ptp(corners.reshape(-1, 3), axis=0)))
         self._flat = None
         self._kinds = None
-        self._overlap_alpha = None
         self._certificate = None
+        #: Measured path limits, kept between models of the same geometry (adopt_limits)
+        self.limits = PathLimits()
         self._faces = None
         self._check_design()
 
@@ -298,9 +300,9 @@ class CCUModel(Data):
     @property
     def overlap_alpha(self) -> float:
         """Largest reference alpha (degrees) before a crease overlaps itself (or the limit)."""
-        if self._overlap_alpha is None:
-            self._overlap_alpha = math.degrees(overlap_limit(self.mechanism))
-        return self._overlap_alpha
+        return self.limits.measure(
+            "overlap_alpha", lambda: math.degrees(overlap_limit(self.mechanism))
+        )
 
     @property
     def certificate(self) -> PathCertificate:

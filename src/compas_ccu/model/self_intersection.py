@@ -2,11 +2,15 @@
 plane, and two plates (zero thickness) crossing on the way from the flat stack
 (:class:`~compas_ccu.kinematics.interference.PathCertificate`). :class:`CCUModel`'s
 ``check_overlap``, ``certificate``, ``collision_free_alpha`` and ``check_interference`` are
-these functions."""
+these functions; :func:`geometry_key` and :func:`adopt_limits` let a model rebuilt from a design
+whose geometry did not change (a new material, load or name) reuse the limits of the last one."""
 
 from __future__ import annotations
 
+import hashlib
+import json
 import math
+import threading
 
 import numpy as np
 
@@ -14,7 +18,29 @@ from compas_ccu.errors import SelfIntersectionError
 from compas_ccu.kinematics.interference import PathCertificate, describe
 from compas_ccu.kinematics.plates import stack_rows
 
-__all__ = ["check_overlap", "path_certificate", "collision_free_alpha", "check_interference"]
+__all__ = [
+    "check_overlap",
+    "path_certificate",
+    "collision_free_alpha",
+    "check_interference",
+    "geometry_key",
+    "adopt_limits",
+    "PathLimits",
+    "NON_GEOMETRY_SECTIONS",
+]
+
+#: Design sections that do not change the placed zero-thickness geometry (the plate thickness,
+#: which the thick plates' limits depend on, is keyed apart: :func:`thick_key`).
+NON_GEOMETRY_SECTIONS = (
+    "design",
+    "plates",
+    "design_code",
+    "materials",
+    "loads",
+    "supports",
+    "hinges",
+    "fabrication",
+)
 
 
 def check_overlap(model, states, alphas) -> None:
@@ -85,9 +111,35 @@ def path_certificate(model) -> PathCertificate:
     )
 
 
+class PathLimits(dict):
+    """The path limits measured on a model (:attr:`CCUModel.limits`), each measured once even
+    when two threads ask for it together (the studio's view and checks workers do)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._guard = threading.Lock()
+        self._locks: dict = {}
+
+    def __reduce__(self):  # copied or pickled with its values, new locks
+        return (type(self), (dict(self),))
+
+    def measure(self, key, function):
+        """The value under ``key``, measured by ``function()`` if it is not there yet (a
+        second thread asking meanwhile waits for the first one's value)."""
+        if key in self:
+            return self[key]
+        with self._guard:
+            lock = self._locks.setdefault(key, threading.Lock())
+        with lock:
+            if key not in self:
+                self[key] = function()
+        return self[key]
+
+
 def collision_free_alpha(model) -> float:
     """Largest reference alpha (degrees) of ``model`` reached from the flat stack without a
-    crease overlapping itself or two plates crossing (the deployment limit if neither).
+    crease overlapping itself or two plates crossing (the deployment limit if neither);
+    computed once per model (and kept by :func:`adopt_limits`).
 
     Examples
     --------
@@ -97,9 +149,45 @@ def collision_free_alpha(model) -> float:
     >>> round(collision_free_alpha(load_model("examples/cone.toml")), 4)
     75.5126
     """
-    overlap = math.radians(model.overlap_alpha)
-    found = model.certificate.certify(overlap)
-    return math.degrees(min(overlap, found.clear if found is not None else overlap))
+
+    def measure():
+        overlap = math.radians(model.overlap_alpha)
+        found = model.certificate.certify(overlap)
+        return math.degrees(min(overlap, found.clear if found is not None else overlap))
+
+    return model.limits.measure("collision_free_alpha", measure)
+
+
+def geometry_key(model) -> str:
+    """A digest of what places ``model``'s plates: every design section but
+    :data:`NON_GEOMETRY_SECTIONS`, and the built crease boundaries at the design state (so a
+    curve file whose content changed under the same name changes the key too)."""
+    values = model.design.values
+    shape = {k: v for k, v in values.items() if k not in NON_GEOMETRY_SECTIONS}
+    digest = hashlib.sha1(json.dumps(shape, sort_keys=True, default=repr).encode())
+    g = model.geometry
+    for array in (g.design_near, g.design_far):
+        digest.update(np.ascontiguousarray(array, dtype=float).tobytes())
+    return digest.hexdigest()
+
+
+def adopt_limits(model, previous) -> bool:
+    """Let ``model`` share the path limits of ``previous`` (a model, or None) when their
+    geometry is the same (:func:`geometry_key`): the overlap angle, the collision-free angle and
+    the thick plates' first collisions (keyed by thickness), those measured already and those
+    either model measures from now on (one dict, :attr:`CCUModel.limits`).
+
+    Returns
+    -------
+    bool
+        Whether the geometry was the same (and the limits are shared).
+    """
+    if previous is None or geometry_key(previous) != geometry_key(model):
+        return False
+    for name, value in list(model.limits.items()):
+        previous.limits.setdefault(name, value)
+    model.limits = previous.limits  # one PathLimits: what either measures, both have
+    return True
 
 
 def check_interference(model, alphas) -> None:

@@ -120,29 +120,43 @@ class StudioScene:
         self.scene = scene
         self._handles: dict = {}
         self._shape = None
+        self._key = None
+        self._stale: set = set()  # the nodes of a model not redrawn since it changed
+        self.added = 0  #: scene nodes added so far (a new model of the same shape adds none)
 
     def draw(self, view: ViewState, model, key, layers: dict) -> None:
-        """Draw ``view`` of ``model``; ``key`` identifies the model (a new key rebuilds).
+        """Draw ``view`` of ``model``; ``key`` identifies the model.
 
-        ``layers`` maps the :data:`TOGGLES` keys to whether they are shown.
+        A new model of the same shape (plates, vertices and triangles per plate: an edit of a
+        dimension, a material, a load) updates the vertex buffers of the nodes already in the
+        scene; only a new shape rebuilds them. ``layers`` maps the :data:`TOGGLES` keys to
+        whether they are shown.
         """
         p, v = view.vertices.shape[:2]
-        shape = (key, p, v, view.triangles.shape)
+        shape = (p, v, view.triangles.shape)
         if shape != self._shape:
             self.clear()
             self._shape = shape
+        if key != self._key:
+            self._key = key
             self._ground = float(model.vertices([model.alpha_design])[0][..., 2].min())
+            self._stale = {"faces", "/ccu/flat", "/ccu/patterns", "/ccu/grid"}
+        faces = "faces" in self._stale
+        self._stale.discard("faces")
         h = self._handles
         for i in range(p):
             name = f"/ccu/plates/{i}"
             color = tuple(int(x) for x in view.plate_colors[i])
             if name not in h:
-                h[name] = self.scene.add_mesh_simple(
+                h[name] = self._add(
+                    self.scene.add_mesh_simple,
                     name, _f32(view.vertices[i]), view.triangles[i].astype(np.uint32),
                     color=color, side="double", cast_shadow=False, receive_shadow=False,
                 )  # fmt: skip
             else:
                 h[name].vertices = _f32(view.vertices[i])
+                if faces:
+                    h[name].faces = view.triangles[i].astype(np.uint32)
                 if tuple(h[name].color) != color:
                     h[name].color = color
         creases = view.creases.reshape(-1, 2, 3)
@@ -151,7 +165,7 @@ class StudioScene:
         rulings = view.rulings.reshape(-1, 2, 3)
         tone = np.broadcast_to(np.array(_rgb(C.RULING_COLOR), np.uint8), rulings.shape)
         self._lines("/ccu/rulings", rulings, tone, layers["rulings"], RULING_WIDTH)
-        self._solids(view, layers["solids"])
+        self._solids(view, layers["solids"], faces)
         self._colored(view, layers["solids"])
         self._flat_stack(model, view, layers["flat"])
         self._patterns(model, view, layers["patterns"])
@@ -163,13 +177,33 @@ class StudioScene:
         self._handles = {}
         self._shape = None
 
+    def _add(self, add, name, *args, **options):
+        self.added += 1
+        return add(name, *args, **options)
+
+    def _mesh(self, name, verts, tris, visible, **options) -> None:
+        """Node ``name`` shows the mesh ``verts``, ``tris`` (its buffers updated in place when
+        it is in the scene with as many vertices and triangles, else added anew)."""
+        h = self._handles
+        self._stale.discard(name)
+        if name in h and (h[name].vertices.shape, h[name].faces.shape) == (verts.shape, tris.shape):
+            h[name].vertices = _f32(verts)
+            h[name].faces = tris.astype(np.uint32)
+        else:
+            if name in h:
+                h.pop(name).remove()
+            h[name] = self._add(
+                self.scene.add_mesh_simple, name, _f32(verts), tris.astype(np.uint32), **options
+            )
+        h[name].visible = visible
+
     def _lines(self, name, points, colors, visible, width) -> None:
         h = self._handles
         if name in h and h[name].points.shape != points.shape:
             h.pop(name).remove()
         if name not in h:
-            h[name] = self.scene.add_line_segments(
-                name, _f32(points), _linear(colors),
+            h[name] = self._add(
+                self.scene.add_line_segments, name, _f32(points), _linear(colors),
                 thickness=width, thickness_units="screen",
             )  # fmt: skip
         elif visible:
@@ -177,15 +211,19 @@ class StudioScene:
             h[name].colors = _linear(colors)
         h[name].visible = visible
 
-    def _solids(self, view, visible) -> None:
+    def _solids(self, view, visible, faces=False) -> None:
         h = self._handles
+        if faces:  # a new model: its solids get new buffers when next shown
+            self._stale.update(n for n in h if n.startswith("/ccu/solids/"))
         for i, (verts, tris) in enumerate(view.solids if visible else []):
             name = f"/ccu/solids/{i}"
-            if name in h:
+            if name in h and name in self._stale:
+                self._mesh(name, verts, np.asarray(tris), True)
+            elif name in h:
                 h[name].vertices = _f32(verts)
             else:
-                h[name] = self.scene.add_mesh_simple(
-                    name, _f32(verts), np.asarray(tris, np.uint32),
+                h[name] = self._add(
+                    self.scene.add_mesh_simple, name, _f32(verts), np.asarray(tris, np.uint32),
                     color=tuple(int(x) for x in view.plate_colors[i]),
                 )  # fmt: skip
         for name, handle in h.items():
@@ -207,25 +245,26 @@ class StudioScene:
             if name in h:
                 h[name].glb_data = data
             else:
-                h[name] = self.scene.add_glb(name, data, cast_shadow=False, receive_shadow=False)
+                h[name] = self._add(
+                    self.scene.add_glb, name, data, cast_shadow=False, receive_shadow=False
+                )
         if name in h:
             h[name].visible = visible
 
     def _flat_stack(self, model, view, visible) -> None:
-        h = self._handles
-        if visible and "/ccu/flat" not in h:
+        h, name = self._handles, "/ccu/flat"
+        if visible and (name not in h or name in self._stale):
             verts, tris = _stacked(model.vertices([0.0])[0], view.triangles)
-            h["/ccu/flat"] = self.scene.add_mesh_simple(
-                "/ccu/flat", _f32(verts), tris.astype(np.uint32),
-                color=(120, 120, 120), opacity=0.35, side="double",
-            )  # fmt: skip
+            self._mesh(
+                name, verts, tris, visible, color=(120, 120, 120), opacity=0.35, side="double"
+            )
         if "/ccu/flat" in h:
             h["/ccu/flat"].visible = visible
 
     def _patterns(self, model, view, visible) -> None:
         """The cut patterns on the ground beside the structure, laid out in rows."""
         h = self._handles
-        if visible and "/ccu/patterns" not in h:
+        if visible and ("/ccu/patterns" not in h or "/ccu/patterns" in self._stale):
             flat = model.flat()
             xy = flat[..., :2] + pattern_layout(flat)[:, None]
             v = view.vertices.reshape(-1, 3)
@@ -233,24 +272,34 @@ class StudioScene:
             shift = np.array([hi[0] + 0.2 * (hi[0] - lo[0]), lo[1]]) - xy.reshape(-1, 2).min(0)
             xyz = np.concatenate([xy + shift, np.full(xy.shape[:-1] + (1,), self._ground)], -1)
             verts, tris = _stacked(xyz, view.triangles)
-            h["/ccu/patterns"] = self.scene.add_mesh_simple(
-                "/ccu/patterns", _f32(verts), tris.astype(np.uint32),
-                color=_rgb(C.PLATE_TONES[0]), side="double",
-            )  # fmt: skip
+            self._mesh(
+                "/ccu/patterns", verts, tris, visible, color=_rgb(C.PLATE_TONES[0]), side="double"
+            )
         if "/ccu/patterns" in h:
             h["/ccu/patterns"].visible = visible
 
     def _grid(self, view, visible) -> None:
         h = self._handles
-        if "/ccu/grid" not in h:
+        if "/ccu/grid" not in h or "/ccu/grid" in self._stale:
+            self._stale.discard("/ccu/grid")
             v = view.vertices.reshape(-1, 3)
             lo, hi = v.min(axis=0), v.max(axis=0)
             size = float(max(hi - lo))
             cell = 0.5 * 10.0 ** np.floor(np.log10(max(size, 1e-6)))  # 0.5 m cells at 1-10 m
-            h["/ccu/grid"] = self.scene.add_grid(
-                "/ccu/grid", width=4 * size, height=4 * size,
-                cell_size=cell, section_size=2 * cell,
-                cell_color=(228, 228, 228), section_color=(190, 190, 190),
-                position=(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), self._ground),
-            )  # fmt: skip
+            props = dict(
+                width=4 * size, height=4 * size, cell_size=float(cell), section_size=2 * float(cell)
+            )
+            position = (0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), self._ground)
+            if "/ccu/grid" in h:  # a new model: the grid's properties, no new node
+                grid = h["/ccu/grid"]
+                for name, value in props.items():
+                    if getattr(grid, name) != value:
+                        setattr(grid, name, value)
+                if tuple(grid.position) != position:
+                    grid.position = position
+            else:
+                h["/ccu/grid"] = self._add(
+                    self.scene.add_grid, "/ccu/grid", **props,
+                    cell_color=(228, 228, 228), section_color=(190, 190, 190), position=position,
+                )  # fmt: skip
         h["/ccu/grid"].visible = visible

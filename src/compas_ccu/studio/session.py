@@ -32,6 +32,7 @@ from compas_ccu.catalog import catalog_entries, catalog_path
 from compas_ccu.design import Design
 from compas_ccu.errors import OptionError
 from compas_ccu.model import CCUModel
+from compas_ccu.model.self_intersection import adopt_limits
 from compas_ccu.studio.controls import UNSET
 from compas_ccu.studio.documents import (
     Problem,
@@ -318,6 +319,8 @@ class StudioSession(SessionRecovery):
         return model, None
 
     def _set_model(self, model, document: dict) -> None:
+        # a new material, load or name: the path limits of the last model still hold
+        adopt_limits(model, self.model)
         self.model = model
         self.model_document = clone_document(document)
         self.generation += 1

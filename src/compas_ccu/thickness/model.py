@@ -19,6 +19,7 @@ here too) and the summary :mod:`compas_ccu.thickness.summary`.
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import asdict, dataclass, field
 
@@ -408,7 +409,8 @@ class ThickModel(Data):
         largest alpha the zero-thickness plates reach without crossing, or the deployment
         limit, :attr:`compas_ccu.model.CCUModel.collision_free_alpha`), then ``bisections``
         bisections between the last clear and the first colliding state, so the angle is known
-        to ``upto / (states - 1) / 2 ** bisections``.
+        to ``upto / (states - 1) / 2 ** bisections``. Measured once per model, thickness and
+        arguments.
 
         Returns
         -------
@@ -418,7 +420,15 @@ class ThickModel(Data):
         first : dict or None
             The collision (``alpha``, ``plates``, ``depth``, ``crossing``, ``point``), or None.
         """
-        return scan_first_collision(self, upto, states, bisections)
+        if upto is None:
+            upto = min(self.model.alpha_limit, self.model.collision_free_alpha)
+        # once per model and thickness (the model's limits, kept between models of the same
+        # geometry: compas_ccu.model.self_intersection.adopt_limits)
+        key = ("thick_first_collision", self.thickness, float(upto), states, bisections)
+        found = self.model.limits.measure(
+            key, lambda: scan_first_collision(self, upto, states, bisections)
+        )
+        return copy.deepcopy(found)
 
     def bending(self, alphas=None) -> BendingCheck:
         """Bending utilisation (:func:`compas_ccu.thickness.bending.bending_check`).
