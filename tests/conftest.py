@@ -135,3 +135,19 @@ def captured_plate_contacts(thick, alphas, *, report=False):
     if not report:
         kwargs = {key: value for key, value in kwargs.items() if key != "smallest"}
     return args, kwargs
+
+
+#: docstring examples that fabricate a design with the default true-shape nesting (seconds
+#: each): slow, their behaviour has fast tests (tests/test_fabrication_importing.py: the cone's
+#: round trip)
+SLOW_DOCTESTS = {
+    "compas_ccu.fabrication.importing.import_design",
+    "compas_ccu.fabrication.importing.import_structure",
+}
+
+
+def pytest_collection_modifyitems(config, items):
+    """Mark the docstring examples of :data:`SLOW_DOCTESTS` slow (a doctest takes no marks)."""
+    for item in items:
+        if item.name in SLOW_DOCTESTS:
+            item.add_marker(pytest.mark.slow)
