@@ -141,8 +141,8 @@ def captured_plate_contacts(thick, alphas, *, report=False):
 #: each): slow, their behaviour has fast tests (tests/test_fabrication_importing.py: the cone's
 #: round trip)
 SLOW_DOCTESTS = {
-    "compas_ccu.fabrication.importing.import_design",
-    "compas_ccu.fabrication.importing.import_structure",
+    "compas_ccu.fabrication.import_documents.import_design",
+    "compas_ccu.fabrication.import_documents.import_structure",
 }
 
 
@@ -151,3 +151,11 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if item.name in SLOW_DOCTESTS:
             item.add_marker(pytest.mark.slow)
+
+
+def pytest_terminal_summary(terminalreporter, config):
+    """End the run with pytest-randomly's seed (its header line is hidden by ``-q``): a failure
+    that depends on the order is reproduced with that seed (``make test-fast SEED=N``)."""
+    seed = config.getoption("randomly_seed", None)
+    if isinstance(seed, int) and config.pluginmanager.hasplugin("randomly"):
+        terminalreporter.write_line(f"test order: --randomly-seed={seed}")
