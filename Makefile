@@ -148,7 +148,6 @@ tools/validators/node_modules/.installed: tools/validators/package.json tools/va
 fuzz: setup
 	$(BIN)/python tools/fuzz.py --designs $(or $(DESIGNS),5000) --json $(OUT)/fuzz.json
 
-# the quick loop while editing: ruff and every test not marked slow, on 2 processes
 # the fast tests once more with NumPy's widest SIMD paths on this CPU disabled (narrower paths round
 # exp, sin and reductions differently, as another CPU would): a test pinning one CPU's last digits fails here
 .PHONY: test-simd
@@ -156,9 +155,12 @@ test-simd: setup
 	NPY_DISABLE_CPU_FEATURES="$$($(BIN)/python tools/simd_features.py)" \
 	  $(BIN)/python -m pytest -q -p no:cacheprovider -m "not slow" -n 2
 
+# the quick loop while editing: ruff and every test not marked slow, on 2 processes, in random
+# order (pytest-randomly, from the dev extra; the run ends with its seed): that order again with
+# `make test-fast SEED=N`
 test-fast: setup
 	$(BIN)/ruff check src tests benchmarks tools scripts
-	$(BIN)/python -m pytest -q -m "not slow" -n 2
+	$(BIN)/python -m pytest -q -m "not slow" -n 2 -p randomly $(if $(SEED),--randomly-seed=$(SEED))
 
 bench: setup
 	$(BIN)/python benchmarks/bench_deploy.py

@@ -135,3 +135,27 @@ def captured_plate_contacts(thick, alphas, *, report=False):
     if not report:
         kwargs = {key: value for key, value in kwargs.items() if key != "smallest"}
     return args, kwargs
+
+
+#: docstring examples that fabricate a design with the default true-shape nesting (seconds
+#: each): slow, their behaviour has fast tests (tests/test_fabrication_importing.py: the cone's
+#: round trip)
+SLOW_DOCTESTS = {
+    "compas_ccu.fabrication.import_documents.import_design",
+    "compas_ccu.fabrication.import_documents.import_structure",
+}
+
+
+def pytest_collection_modifyitems(config, items):
+    """Mark the docstring examples of :data:`SLOW_DOCTESTS` slow (a doctest takes no marks)."""
+    for item in items:
+        if item.name in SLOW_DOCTESTS:
+            item.add_marker(pytest.mark.slow)
+
+
+def pytest_terminal_summary(terminalreporter, config):
+    """End the run with pytest-randomly's seed (its header line is hidden by ``-q``): a failure
+    that depends on the order is reproduced with that seed (``make test-fast SEED=N``)."""
+    seed = config.getoption("randomly_seed", None)
+    if isinstance(seed, int) and config.pluginmanager.hasplugin("randomly"):
+        terminalreporter.write_line(f"test order: --randomly-seed={seed}")

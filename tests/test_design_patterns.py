@@ -275,19 +275,34 @@ def test_ccu_import_writes_the_whole_structure(tmp_path, capsys, path, plates, o
     assert text.count("[[layout.patterns]]") == plates - 1
 
 
-@pytest.fixture(scope="module")
-def dome22(tmp_path_factory):
-    """The dome preset with 22 plates (radial, 15 deg apart) fabricated: its folder."""
+def _dome(tmp_path_factory, plates: int):
+    """The dome preset with ``plates`` plates (radial) fabricated: its model and folder."""
     from compas_ccu.design.presets import preset_text
 
-    root = tmp_path_factory.mktemp("dome22")
-    path = root / "dome22.toml"
-    path.write_text(preset_text("dome").replace("plates = 12 ", "plates = 22 "), encoding="utf-8")
+    root = tmp_path_factory.mktemp(f"dome{plates}")
+    path = root / f"dome{plates}.toml"
+    text = preset_text("dome").replace("plates = 12 ", f"plates = {plates} ")
+    path.write_text(text, encoding="utf-8")
     model = load_model(path)
     fabricate(model, root / "fab", workshop=SHELF, allow_collisions=True)
     return model, root / "fab"
 
 
+@pytest.fixture(scope="module")
+def dome22(tmp_path_factory):
+    """The dome preset with 22 plates (radial, 15 deg apart) fabricated: its folder."""
+    return _dome(tmp_path_factory, 22)
+
+
+@pytest.fixture(scope="module", params=[6, pytest.param(22, marks=pytest.mark.slow)])
+def dome_plates(tmp_path_factory, request):
+    """A 6-plate dome (the quick loop) and the 22-plate one (the full suite), fabricated."""
+    if request.param == 22:
+        return request.getfixturevalue("dome22")
+    return _dome(tmp_path_factory, request.param)
+
+
+@pytest.mark.slow  # 22 plates: about 10 s; the undoing's fast test is fig12b's round trip above
 def test_ccu_import_of_the_22_plate_dome(dome22, tmp_path, capsys):
     """Many plates, radial: the undoing of the 4 mm correction stops at the rounding floor
     (planar steps change by 3e-12 to 6e-12 m; it needed a tolerance relative to the plates'
@@ -303,14 +318,14 @@ def test_ccu_import_of_the_22_plate_dome(dome22, tmp_path, capsys):
     assert error.plates == 22 and error.max_relative < 1e-9
 
 
-def test_an_undoing_that_does_not_converge_is_refused_with_the_way_out(dome22, monkeypatch):
+def test_an_undoing_that_does_not_converge_is_refused_with_the_way_out(dome_plates, monkeypatch):
     """No tolerance can be met: the leading crease fails, every other crease diverges (until
     a pattern degenerates, a GeometryError that escaped before); the error says what to do."""
     import compas_ccu.fabrication.import_thickness as importing
 
     monkeypatch.setattr(importing, "UNDO_RELATIVE", 0.0)
     monkeypatch.setattr(importing, "UNDO_TOLERANCE", 0.0)
-    _, folder = dome22
+    _, folder = dome_plates
     with pytest.raises(DesignError) as info:
         import_structure(folder)
     text = str(info.value)

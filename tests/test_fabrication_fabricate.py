@@ -20,6 +20,7 @@ from compas_ccu.fabrication.dxf import read_plate_dxf  # noqa: E402
 from compas_ccu.fabrication.fabricate import fabricate  # noqa: E402
 from compas_ccu.fabrication.fold import read_fold  # noqa: E402
 from compas_ccu.fabrication.rhino import read_3dm_summary  # noqa: E402
+from compas_ccu.fabrication.workshop import WorkshopOptions  # noqa: E402
 from compas_ccu.thickness import ThickModel  # noqa: E402
 from compas_ccu.thickness.model import collision_text  # noqa: E402
 
@@ -27,12 +28,19 @@ VAULT = str(EXAMPLES / "vault.toml")
 OVERBENT = str(EXAMPLES / "overbent.toml")
 
 
-@pytest.fixture(scope="module")
-def fabricated(tmp_path_factory):
+#: the nesting of the sheets: shelf packing in the quick loop; spyrrow's true-shape search (the
+#: default, about a minute for the vault) in the full suite only (its own fast tests:
+#: test_fabrication_packing, test_nesting_keeps_parts_on_the_sheets_and_apart)
+NESTINGS = ["shelf", pytest.param("spyrrow", marks=pytest.mark.slow)]
+
+
+@pytest.fixture(scope="module", params=NESTINGS)
+def fabricated(tmp_path_factory, request):
     """The vault as shipped: 6 mm plates cut whole from 1525 x 3050 mm sheets, every check
     passes (exit 0 without --allow-exceeded)."""
     out = tmp_path_factory.mktemp("fab")
-    assert main(["fabricate", VAULT, "--out", str(out), "--quiet"]) == 0
+    nesting = [] if request.param == "spyrrow" else ["--nesting", request.param]
+    assert main(["fabricate", VAULT, "--out", str(out), "--quiet", *nesting]) == 0
     return out, json.loads((out / "fabrication.json").read_text())
 
 
@@ -229,9 +237,11 @@ def test_nothing_is_written_before_every_check_passed(vault_model, tmp_path, opt
     assert not out.exists()  # not even the folder
 
 
-def test_two_plates_write_strict_json_without_a_clearance(cone_model, tmp_path):
+@pytest.mark.parametrize("nesting", NESTINGS)
+def test_two_plates_write_strict_json_without_a_clearance(cone_model, tmp_path, nesting):
     """The cone's two plates share their one crease: no plate pair to measure a clearance on."""
-    manifest = fabricate(cone_model, tmp_path)
+    workshop = WorkshopOptions.from_section(cone_model.design.fabrication, nesting=nesting)
+    manifest = fabricate(cone_model, tmp_path, workshop=workshop)
     text = (tmp_path / "fabrication.json").read_text()
     assert "Infinity" not in text and "NaN" not in text
     data = _strict_json(text)
@@ -329,7 +339,6 @@ def test_fabricating_again_into_a_folder_removes_only_its_own_stale_files(tmp_pa
     """A 22-plate dome then a 12-plate one into the same folder: plate_12 .. plate_21.dxf
     (and the extra sheets) were left, and ``ccu import`` read them as part of the structure."""
     from compas_ccu.design.presets import preset_text
-    from compas_ccu.fabrication.workshop import WorkshopOptions
     from compas_ccu.model import load_model
 
     shelf = WorkshopOptions(nesting="shelf")

@@ -17,6 +17,7 @@ from compas.geometry import Line, Polyline
 import compas_ccu.ghpython as gh
 from compas_ccu.design import Design
 from compas_ccu.errors import DesignError, GeometryError, OptionError
+from compas_ccu.fabrication.workshop import WorkshopOptions
 from compas_ccu.ghpython import convert
 from compas_ccu.model import CCUModel
 from conftest import EXAMPLES
@@ -157,7 +158,12 @@ def test_cut_patterns_refuse_a_zero_gap(cone_model):
 def test_fabricate_writes_only_when_run(tmp_path, cone_model):
     idle = gh.fabricate_component(cone_model, tmp_path / "fab")
     assert idle.files == [] and not (tmp_path / "fab").exists()
-    result = gh.fabricate_component(cone_model, tmp_path / "fab", run=True, thickness=0.004)
+    # shelf nesting (spyrrow's search is the fabrication tests' job): the component only passes
+    # its options on to fabricate
+    shelf = WorkshopOptions(nesting="shelf")
+    result = gh.fabricate_component(
+        cone_model, tmp_path / "fab", run=True, thickness=0.004, workshop=shelf
+    )
     # 2 plates, the sheets (the cone's plates are split and nested), sheets.json, bom.csv and 9
     # more files
     sheets = [f for f in result.files if Path(f).parent.name == "sheets"]
