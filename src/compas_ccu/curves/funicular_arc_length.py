@@ -3,7 +3,8 @@
 :class:`ArcLengthTable` integrates the speed ``ds/dx = sqrt(1 + y'^2)`` by adaptive 16-point
 Gauss-Legendre quadrature on each smooth piece (cells are bisected until each is integrated to
 about 1e-14 of the length) and inverts the arc length by safeguarded Newton iterations on
-``x`` to 1e-14 relative (:class:`~compas_ccu.curves.funicular.FunicularProfile`).
+``x`` to 1e-14 relative (:class:`~compas_ccu.curves.funicular.FunicularProfile`). The rule and
+its tolerances are shared with :class:`~compas_ccu.curves.spline.SplineProfile`.
 """
 
 from __future__ import annotations
@@ -14,19 +15,39 @@ import numpy as np
 
 from compas_ccu.tolerances import ROUND_OFF
 
-__all__ = ["ArcLengthTable", "cell_of"]
+__all__ = [
+    "ArcLengthTable",
+    "cell_of",
+    "gauss_legendre_rule",
+    "GAUSS_ORDER",
+    "MAX_BISECTIONS",
+    "QUADRATURE_TOLERANCE",
+    "NEWTON_TOLERANCE",
+    "NEWTON_MAX_ITERATIONS",
+]
 
-_GAUSS_ORDER = 16
-_MAX_BISECTIONS = 40
-_QUADRATURE_TOLERANCE = ROUND_OFF
-_NEWTON_TOLERANCE = ROUND_OFF
-_NEWTON_MAX_ITERATIONS = 60
+#: The arc-length quadrature and its Newton inverse, shared by the funicular and the spline
+#: profiles: Gauss-Legendre points per cell, bisections of a cell at most, the cells' and the
+#: inversion's tolerance (relative to the length) and Newton's iterations at most.
+
+GAUSS_ORDER = 16
+MAX_BISECTIONS = 40
+QUADRATURE_TOLERANCE = ROUND_OFF
+NEWTON_TOLERANCE = ROUND_OFF
+NEWTON_MAX_ITERATIONS = 60
 
 
 @functools.lru_cache(maxsize=1)
-def _gauss_legendre_rule() -> tuple:
-    """Nodes and weights of the Gauss-Legendre rule on [-1, 1], ``(_GAUSS_ORDER,)`` each."""
-    return np.polynomial.legendre.leggauss(_GAUSS_ORDER)
+def gauss_legendre_rule() -> tuple:
+    """Nodes and weights of the Gauss-Legendre rule on [-1, 1], ``(GAUSS_ORDER,)`` each.
+
+    Examples
+    --------
+    >>> nodes, weights = gauss_legendre_rule()
+    >>> nodes.shape, round(float(weights.sum()), 12)
+    ((16,), 2.0)
+    """
+    return np.polynomial.legendre.leggauss(GAUSS_ORDER)
 
 
 def cell_of(values: np.ndarray, edges: np.ndarray) -> np.ndarray:
@@ -46,7 +67,7 @@ class ArcLengthTable:
 
     Vectorised over all cells of one level: starting from the smooth pieces, a cell is
     accepted (as its two halves) when the integral of the speed over the whole cell agrees
-    with the sum over its halves to ``_QUADRATURE_TOLERANCE * length``; otherwise both halves
+    with the sum over its halves to ``QUADRATURE_TOLERANCE * length``; otherwise both halves
     are bisected further. The breaks of the pieces are cell breaks: their arc lengths are
     table entries.
 
@@ -86,15 +107,15 @@ class ArcLengthTable:
         self._speed = speed
         lower, upper = breaks[:-1], breaks[1:]
         piece = np.arange(len(lower))
-        tolerance = _QUADRATURE_TOLERANCE * self._gauss_legendre(lower, upper, piece).sum()
+        tolerance = QUADRATURE_TOLERANCE * self._gauss_legendre(lower, upper, piece).sum()
         accepted_lower, accepted_lengths, accepted_piece = [], [], []
-        for depth in range(_MAX_BISECTIONS + 1):
+        for depth in range(MAX_BISECTIONS + 1):
             middle = 0.5 * (lower + upper)
             whole = self._gauss_legendre(lower, upper, piece)
             left = self._gauss_legendre(lower, middle, piece)
             right = self._gauss_legendre(middle, upper, piece)
             done = np.abs(left + right - whole) <= tolerance
-            if depth == _MAX_BISECTIONS:
+            if depth == MAX_BISECTIONS:
                 done[:] = True
             accepted_lower += [lower[done], middle[done]]
             accepted_lengths += [left[done], right[done]]
@@ -114,7 +135,7 @@ class ArcLengthTable:
 
     def _gauss_legendre(self, lower: np.ndarray, upper: np.ndarray, piece: np.ndarray):
         """Integral of the speed over ``[lower, upper]`` on ``piece`` (elementwise)."""
-        gauss_nodes, gauss_weights = _gauss_legendre_rule()
+        gauss_nodes, gauss_weights = gauss_legendre_rule()
         half = 0.5 * (upper - lower)
         nodes = (0.5 * (upper + lower))[..., None] + half[..., None] * gauss_nodes
         return half * (self._speed(nodes, np.asarray(piece)[..., None]) @ gauss_weights)
@@ -143,8 +164,8 @@ class ArcLengthTable:
         fraction = np.clip(np.where(cell_length > 0.0, fraction, 0.0), 0.0, 1.0)
         x = lower + fraction * (upper - lower)
         piece = self.cell_piece[cell]
-        tolerance = _NEWTON_TOLERANCE * self.length
-        for _ in range(_NEWTON_MAX_ITERATIONS):
+        tolerance = NEWTON_TOLERANCE * self.length
+        for _ in range(NEWTON_MAX_ITERATIONS):
             residual = self.arc_length_in_cell(cell, x) - s
             # the arc length increases with x: keep a bracket and bisect when Newton leaves it
             upper = np.where(residual > 0.0, x, upper)

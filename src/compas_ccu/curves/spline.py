@@ -2,30 +2,22 @@
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 
 from compas_ccu.curves.base import Profile, require_points
+from compas_ccu.curves.funicular_arc_length import (
+    MAX_BISECTIONS,
+    NEWTON_MAX_ITERATIONS,
+    NEWTON_TOLERANCE,
+    QUADRATURE_TOLERANCE,
+    gauss_legendre_rule,
+)
 from compas_ccu.errors import ProfileError
-from compas_ccu.tolerances import ROUND_OFF
 
 __all__ = ["SplineProfile"]
 
 #: End conditions accepted for the spline (``"clamped"`` is excluded: it stops the curve).
 BOUNDARY_CONDITIONS = ("natural", "not-a-knot")
-
-_GAUSS_ORDER = 16
-_MAX_BISECTIONS = 40
-_QUADRATURE_TOLERANCE = ROUND_OFF
-_NEWTON_TOLERANCE = ROUND_OFF
-_NEWTON_MAX_ITERATIONS = 60
-
-
-@functools.lru_cache(maxsize=1)
-def _gauss_legendre_rule() -> tuple:
-    """Nodes and weights of the Gauss-Legendre rule on [-1, 1], ``(_GAUSS_ORDER,)`` each."""
-    return np.polynomial.legendre.leggauss(_GAUSS_ORDER)
 
 
 class SplineProfile(Profile):
@@ -168,8 +160,8 @@ class SplineProfile(Profile):
         lower, upper = breaks[cell], breaks[cell + 1]
         fraction = (s - break_lengths[cell]) / (break_lengths[cell + 1] - break_lengths[cell])
         t = lower + fraction * (upper - lower)
-        tolerance = _NEWTON_TOLERANCE * self.length
-        for _ in range(_NEWTON_MAX_ITERATIONS):
+        tolerance = NEWTON_TOLERANCE * self.length
+        for _ in range(NEWTON_MAX_ITERATIONS):
             residual = self._arc_length_in_cell(cell, t) - s
             active = np.abs(residual) > tolerance
             if not active.any():
@@ -189,18 +181,18 @@ class SplineProfile(Profile):
         Adaptive bisection, vectorised over all cells of one level: starting from the spline
         pieces, a cell is accepted (as its two halves) when the Gauss-Legendre integral of the
         speed over the whole cell agrees with the sum over its halves to
-        ``_QUADRATURE_TOLERANCE * length``; otherwise both halves are bisected further.
+        ``QUADRATURE_TOLERANCE * length``; otherwise both halves are bisected further.
         """
         lower, upper = self._knots[:-1], self._knots[1:]
-        tolerance = _QUADRATURE_TOLERANCE * self._gauss_legendre(lower, upper).sum()
+        tolerance = QUADRATURE_TOLERANCE * self._gauss_legendre(lower, upper).sum()
         accepted_lower, accepted_lengths = [], []
-        for depth in range(_MAX_BISECTIONS + 1):
+        for depth in range(MAX_BISECTIONS + 1):
             middle = 0.5 * (lower + upper)
             whole = self._gauss_legendre(lower, upper)
             left = self._gauss_legendre(lower, middle)
             right = self._gauss_legendre(middle, upper)
             done = np.abs(left + right - whole) <= tolerance
-            if depth == _MAX_BISECTIONS:  # (a cusp of the spline) accept what there is
+            if depth == MAX_BISECTIONS:  # (a cusp of the spline) accept what there is
                 done[:] = True
             accepted_lower += [lower[done], middle[done]]
             accepted_lengths += [left[done], right[done]]
@@ -216,7 +208,7 @@ class SplineProfile(Profile):
 
     def _gauss_legendre(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
         """Integral of the speed over ``[lower, upper]`` (elementwise), Gauss-Legendre."""
-        gauss_nodes, gauss_weights = _gauss_legendre_rule()
+        gauss_nodes, gauss_weights = gauss_legendre_rule()
         half = 0.5 * (upper - lower)
         nodes = (0.5 * (upper + lower))[..., None] + half[..., None] * gauss_nodes
         return half * (self.speed(nodes) @ gauss_weights)
