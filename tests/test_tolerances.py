@@ -12,9 +12,10 @@ from compas_ccu.tolerances import DIVISION_FLOOR
 SRC = Path(__file__).resolve().parents[1] / "src" / "compas_ccu"
 
 
-def literal_floors(root: Path) -> list:
-    """Every number literal equal to 1e-300 (``1e-300``, ``1.0e-300``, ``1E-300`` ...) in the
-    Python files under ``root`` except ``tolerances.py``: ``path:line`` each."""
+def number_literals(root: Path, keep) -> list:
+    """``(path:line, literal)`` of every float literal in code under ``root`` except
+    ``tolerances.py`` whose value ``keep(value)`` accepts (docstrings and comments are words, not
+    numbers: the tokenizer gives them as strings)."""
     found = []
     for path in sorted(root.rglob("*.py")):
         if path.name == "tolerances.py":
@@ -23,9 +24,15 @@ def literal_floors(root: Path) -> list:
         for token in tokenize.generate_tokens(io.StringIO(text).readline):
             if token.type == tokenize.NUMBER and not token.string.endswith(("j", "J")):
                 value = token.string.replace("_", "")
-                if any(c in value for c in ".eE") and float(value) == DIVISION_FLOOR:
-                    found.append(f"{path.relative_to(root)}:{token.start[0]}")
+                if any(c in value for c in ".eE") and keep(float(value)):
+                    found.append((f"{path.relative_to(root)}:{token.start[0]}", token.string))
     return found
+
+
+def literal_floors(root: Path) -> list:
+    """Every number literal equal to 1e-300 (``1e-300``, ``1.0e-300``, ``1E-300`` ...) in the
+    Python files under ``root`` except ``tolerances.py``: ``path:line`` each."""
+    return [where for where, _ in number_literals(root, lambda v: v == DIVISION_FLOOR)]
 
 
 def test_no_literal_division_floor_outside_tolerances():
@@ -43,19 +50,9 @@ def test_the_check_finds_a_literal(tmp_path):
 
 def literal_tolerances(root: Path) -> list:
     """Every number literal between 1e-16 and 1e-9 (the round-off family: ``1e-9``, ``1e-12``,
-    ``1.0E-14`` ...) in code under ``root`` except ``tolerances.py``: ``path:line literal``.
-    Docstrings and comments are words, not numbers (the tokenizer gives them as strings)."""
-    found = []
-    for path in sorted(root.rglob("*.py")):
-        if path.name == "tolerances.py":
-            continue
-        text = path.read_text(encoding="utf-8")
-        for token in tokenize.generate_tokens(io.StringIO(text).readline):
-            if token.type == tokenize.NUMBER and not token.string.endswith(("j", "J")):
-                value = token.string.replace("_", "")
-                if any(c in value for c in ".eE") and 1e-16 <= float(value) <= 1e-9:
-                    found.append(f"{path.relative_to(root)}:{token.start[0]} {token.string}")
-    return found
+    ``1.0E-14`` ...) in code under ``root`` except ``tolerances.py``: ``path:line literal``."""
+    found = number_literals(root, lambda v: 1e-16 <= v <= 1e-9)
+    return [f"{where} {literal}" for where, literal in found]
 
 
 def test_every_round_off_tolerance_is_named_in_tolerances():
