@@ -123,6 +123,21 @@ def _random_strip(rng, n, spread):
     return near @ q + shift, far @ q + shift
 
 
+def _random_scene(rng, near, far, n, plates):
+    """The stacked states' offsets and faces, every ordered pair, a random chain of hinges."""
+    near, far = np.stack(near), np.stack(far)
+    nu = vertex_offsets(near, far)
+    zero = np.zeros(near.shape[:-1])
+    faces = solid_faces(near, far, nu, T, zero, zero)
+    m = n + 1
+    first, second = np.divmod(np.arange(plates * plates), plates)
+    pairs = np.c_[first, second][first != second]
+    row = np.zeros(2 * m, dtype=bool)
+    row[:m] = True
+    hinged = {(a, a + 1): np.r_[row, row] for a in range(plates - 1) if rng.random() < 0.5}
+    return near, far, nu, faces, pairs, hinged
+
+
 @settings(max_examples=40, deadline=None, database=None)
 @given(
     seed=st.integers(0, 2**32 - 1),
@@ -141,16 +156,7 @@ def test_no_pair_dropped_among_random_strips(seed, plates, n, spread, reach, sta
         strips = [_random_strip(rng, n, spread) for _ in range(plates)]
         near.append(np.stack([s[0] for s in strips]))
         far.append(np.stack([s[1] for s in strips]))
-    near, far = np.stack(near), np.stack(far)
-    nu = vertex_offsets(near, far)
-    zero = np.zeros(near.shape[:-1])
-    faces = solid_faces(near, far, nu, T, zero, zero)
-    m = n + 1
-    first, second = np.divmod(np.arange(plates * plates), plates)
-    pairs = np.c_[first, second][first != second]
-    row = np.zeros(2 * m, dtype=bool)
-    row[:m] = True
-    hinged = {(a, a + 1): np.r_[row, row] for a in range(plates - 1) if rng.random() < 0.5}
+    near, far, nu, faces, pairs, hinged = _random_scene(rng, near, far, n, plates)
     args = (near, far, nu, faces, T)
     _assert_nothing_dropped(args, {"pairs": pairs, "hinged": hinged, "reach": reach})
 
@@ -276,16 +282,7 @@ def test_report_pairs_among_random_strips(seed, plates, n, spread, reach, states
             strips = [_random_strip(rng, n, spread) for _ in range(plates)]
         near.append(np.stack([s[0] for s in strips]))
         far.append(np.stack([s[1] for s in strips]))
-    near, far = np.stack(near), np.stack(far)
-    nu = vertex_offsets(near, far)
-    zero = np.zeros(near.shape[:-1])
-    faces = solid_faces(near, far, nu, T, zero, zero)
-    m = n + 1
-    first, second = np.divmod(np.arange(plates * plates), plates)
-    pairs = np.c_[first, second][first != second]
-    row = np.zeros(2 * m, dtype=bool)
-    row[:m] = True
-    hinged = {(a, a + 1): np.r_[row, row] for a in range(plates - 1) if rng.random() < 0.5}
+    near, far, nu, faces, pairs, hinged = _random_scene(rng, near, far, n, plates)
     marked = rng.random(len(pairs)) < 0.7
     args = (near, far, nu, faces, T)
     _assert_same_report(args, {"pairs": pairs, "hinged": hinged, "reach": reach}, marked)
