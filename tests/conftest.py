@@ -147,10 +147,26 @@ SLOW_DOCTESTS = {
 
 
 def pytest_collection_modifyitems(config, items):
-    """Mark the docstring examples of :data:`SLOW_DOCTESTS` slow (a doctest takes no marks)."""
+    """Mark the docstring examples of :data:`SLOW_DOCTESTS` slow (a doctest takes no marks), and
+    put the tests of an ``in_order`` module back in file order (pytest-randomly shuffles before
+    this hook runs; the module keeps its place in the shuffled run)."""
     for item in items:
         if item.name in SLOW_DOCTESTS:
             item.add_marker(pytest.mark.slow)
+    in_file_order(items)
+
+
+def in_file_order(items) -> None:
+    """Sort, in place, the items of every module marked ``in_order`` by their line, each into
+    the slots its module's items hold."""
+    slots = {}
+    for index, item in enumerate(items):
+        if item.get_closest_marker("in_order") is not None:
+            slots.setdefault(item.location[0], []).append(index)
+    for indices in slots.values():
+        ordered = sorted((items[i] for i in indices), key=lambda item: item.location[1])
+        for index, item in zip(indices, ordered):
+            items[index] = item
 
 
 def pytest_terminal_summary(terminalreporter, config):

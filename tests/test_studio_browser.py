@@ -35,7 +35,7 @@ from studio_page import (  # noqa: E402
     tab,
 )
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.in_order]  # they share one page: in file order
 pytest.importorskip("viser")
 Studio = pytest.importorskip("compas_ccu.studio.app").Studio
 
