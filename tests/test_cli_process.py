@@ -204,7 +204,17 @@ def test_a_signal_before_the_first_run_leaves_no_folder(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_a_signal_during_the_commit_waits_for_it(tmp_path, monkeypatch):
+@pytest.fixture
+def python_sigint():
+    """SIGINT raises KeyboardInterrupt for the test, as in an interactive shell: a runner started
+    in the background (``cmd &`` without job control) inherits SIGINT ignored, and Python keeps it
+    ignored, so these tests would see no signal at all."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_a_signal_during_the_commit_waits_for_it(tmp_path, monkeypatch, python_sigint):
     commit = outputs._commit
 
     def interrupted_commit(stage, out):
@@ -230,7 +240,7 @@ def test_a_signal_during_the_commit_waits_for_it(tmp_path, monkeypatch):
     }
 
 
-def test_signals_held_delivers_the_first_signal_after_the_block():
+def test_signals_held_delivers_the_first_signal_after_the_block(python_sigint):
     ran = []
     with pytest.raises(KeyboardInterrupt):
         with outputs.signals_held():
@@ -238,6 +248,20 @@ def test_signals_held_delivers_the_first_signal_after_the_block():
             ran.append("after the signal")
     assert ran == ["after the signal"]
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_signals_held_leaves_an_ignored_signal_ignored():
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)  # as under nohup or `cmd &`
+    try:
+        ran = []
+        with outputs.signals_held():
+            assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+            signal.raise_signal(signal.SIGINT)
+            ran.append("after the signal")
+        assert ran == ["after the signal"]
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 # -- OpenSees --------------------------------------------------------------------------------------

@@ -169,8 +169,8 @@ def _commit(stage: Path, out: Path) -> list:
 def signals_held():
     """Hold Ctrl-C (SIGINT) and SIGTERM until the block ends, then deliver the first one.
 
-    In the main thread only (elsewhere, and for a signal whose handler Python did not set, the
-    block runs as it is).
+    In the main thread only (elsewhere, and for a signal whose handler Python did not set or
+    that is ignored, as under ``nohup`` or ``cmd &``, the block runs as it is).
     """
     if threading.current_thread() is not threading.main_thread():
         yield
@@ -179,7 +179,7 @@ def signals_held():
     previous = {}
     for sig in (signal.SIGINT, signal.SIGTERM):
         handler = signal.getsignal(sig)
-        if handler is not None:
+        if handler is not None and handler != signal.SIG_IGN:
             previous[sig] = signal.signal(sig, lambda signum, frame: held.append(signum))
     try:
         yield
