@@ -143,6 +143,7 @@ def captured_plate_contacts(thick, alphas, *, report=False):
 SLOW_DOCTESTS = {
     "compas_ccu.fabrication.import_documents.import_design",
     "compas_ccu.fabrication.import_documents.import_structure",
+    "compas_ccu.viz.report.write_report",  # a whole report of the vault (~4 s)
 }
 
 

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from compas_ccu.design.document import parse_toml
+from parsed import parse
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src" / "compas_ccu"
@@ -52,7 +53,7 @@ def test_no_function_local_imports_of_the_package():
     (and the command modules of the ccu command table, by name: the next tests)."""
     local = []
     for path in sorted(SRC.rglob("*.py")):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
+        tree = parse(path)
         for func in ast.walk(tree):
             if not isinstance(func, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 continue
@@ -93,7 +94,7 @@ def imports_by_name(root: Path) -> dict:
     variable (a literal naming another package is not listed)."""
     found = {}
     for path in sorted(root.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(parse(path)):
             if not isinstance(node, ast.Call) or not node.args:
                 continue
             func = node.func
@@ -144,7 +145,7 @@ def private_imports(root: Path) -> list:
     """``path:line name`` of every ``_private`` name imported from another compas_ccu module."""
     found = []
     for path in sorted(root.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(parse(path)):
             if not isinstance(node, ast.ImportFrom) or not (node.module or "").startswith(
                 "compas_ccu"
             ):

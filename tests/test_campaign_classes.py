@@ -162,6 +162,7 @@ def test_a_non_finite_dxf_coordinate_is_named(tmp_path, bad):
 # -- 5. the point limit and linear reading ----------------------------------------------------
 
 
+@pytest.mark.slow  # a file at the point limit (~1.7 s)
 def test_a_curve_file_above_the_point_limit_is_refused_before_parsing(tmp_path):
     path = tmp_path / "big.csv"
     t = np.linspace(0.0, np.pi, 1_000_001)

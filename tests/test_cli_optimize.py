@@ -18,6 +18,7 @@ pytest.importorskip("optuna")
 pytest.importorskip("pyarrow")
 
 
+@pytest.mark.slow  # a whole study through the CLI (2-4 s)
 def test_ccu_optimize_prints_the_best_design_and_writes_the_files(tmp_path, capsys):
     write_study(tmp_path)
     out = tmp_path / "out"
@@ -47,6 +48,7 @@ def test_ccu_optimize_prints_the_best_design_and_writes_the_files(tmp_path, caps
     assert {p.name for p in out.iterdir()} >= {"study.json", "journal.jsonl", "optuna.journal"}
 
 
+@pytest.mark.slow  # a whole study through the CLI (2-4 s)
 def test_no_feasible_design_exits_3_and_lists_the_least_violating(tmp_path, capsys):
     write_study(tmp_path, replace={"rise = {min = 0.9}": "rise = {min = 2.0}"})
     code = main(["optimize", str(tmp_path / "study.toml"), "--out", str(tmp_path / "out"),
@@ -98,6 +100,7 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys):
     assert "cannot read study file" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # a whole study through the CLI (2-4 s)
 def test_another_study_in_the_folder_is_refused_and_seed_is_another_study(tmp_path, capsys):
     write_study(tmp_path)
     study, out = str(tmp_path / "study.toml"), str(tmp_path / "out")

@@ -61,6 +61,7 @@ def _files(folder: Path) -> dict:
 # -- a reader that leaves ------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # a ccu process of its own (1-2 s)
 @pytest.mark.parametrize("argv", [["info", VAULT, "--json"], ["info", VAULT], ["--help"]])
 def test_a_closed_stdout_is_not_an_error(argv):
     write = _closed_pipe()
@@ -71,6 +72,7 @@ def test_a_closed_stdout_is_not_an_error(argv):
     assert (p.returncode, p.stderr) == (0, "")
 
 
+@pytest.mark.slow  # a ccu process of its own (1-2 s)
 def test_a_closed_stdout_does_not_stop_the_work(tmp_path):
     write = _closed_pipe()
     try:
@@ -82,6 +84,7 @@ def test_a_closed_stdout_does_not_stop_the_work(tmp_path):
     assert manifest["files"] == ["structure.compas.json", "structure.json", "structure.obj"]
 
 
+@pytest.mark.slow  # a ccu process of its own (1-2 s)
 def test_head_reads_the_first_line_and_ccu_exits_quietly():
     p = subprocess.Popen(
         [sys.executable, "-m", "compas_ccu.cli", "info", VAULT, "--json"],
@@ -183,6 +186,7 @@ def _stop_path(out: Path, sig) -> subprocess.CompletedProcess:
     return subprocess.CompletedProcess(p.args, p.returncode, stdout, stderr)
 
 
+@pytest.mark.slow  # a ccu process of its own (1-2 s)
 @pytest.mark.parametrize(
     "sig, status, line",
     [(signal.SIGINT, 130, "ccu: interrupted\n"), (signal.SIGTERM, 143, "ccu: terminated\n")],
@@ -198,6 +202,7 @@ def test_a_signal_is_one_line_and_keeps_the_previous_run(tmp_path, sig, status, 
     assert sorted(q.name for q in tmp_path.iterdir()) == ["p"]
 
 
+@pytest.mark.slow  # a ccu process of its own (1-2 s)
 def test_a_signal_before_the_first_run_leaves_no_folder(tmp_path):
     p = _stop_path(tmp_path / "fresh", signal.SIGTERM)
     assert (p.returncode, p.stderr) == (143, "ccu: terminated\n")
@@ -267,6 +272,7 @@ def test_signals_held_leaves_an_ignored_signal_ignored():
 # -- OpenSees --------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # a ccu process of its own (1-2 s)
 def test_opensees_exit_message_does_not_reach_the_user():
     if importlib.util.find_spec("openseespy") is None:  # not imported here: it would print
         pytest.skip("openseespy is not installed")
@@ -294,6 +300,7 @@ def _free_port() -> int:
         return s.getsockname()[1]  # closed again: nothing listens there
 
 
+@pytest.mark.slow  # a ccu process of its own (1-2 s)
 @pytest.mark.parametrize(
     "argv",
     [

@@ -63,6 +63,7 @@ def test_a_command_imports_its_own_module_only():
     assert set(run["modules"]) & set(COMMAND_MODULES) == {"compas_ccu.cli.new"}
 
 
+@pytest.mark.slow  # a ccu process of its own (~1.7 s)
 def test_python_m_compas_ccu_is_ccu():
     version = subprocess.run(
         [sys.executable, "-m", "compas_ccu", "--version"], capture_output=True, text=True
@@ -121,6 +122,7 @@ def _complete(line: str, tmp_path, *, prefix=("-m", "compas_ccu"), start="3") ->
     return answer.read_text().split("\n")
 
 
+@pytest.mark.slow  # a ccu process of its own (~1.7 s)
 def test_completion_is_wired(tmp_path):
     pytest.importorskip("argcomplete")
     commands = _complete("python -m compas_ccu ", tmp_path)

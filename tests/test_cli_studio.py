@@ -56,6 +56,7 @@ def _get(url: str, timeout: float = 30.0) -> str:
             time.sleep(0.2)
 
 
+@pytest.mark.slow  # a ccu studio process of its own (1-1.6 s)
 def test_ccu_studio_serves_the_page_on_this_machine(tmp_path):
     port = free_port()
     proc = _ccu(str(EXAMPLES / "vault.toml"), "--out", str(tmp_path), "--port", str(port),
@@ -72,6 +73,7 @@ def test_ccu_studio_serves_the_page_on_this_machine(tmp_path):
     assert not any(tmp_path.iterdir())  # nothing written before an edit
 
 
+@pytest.mark.slow  # a ccu studio process of its own (1-1.6 s)
 def test_another_host_prints_a_warning(tmp_path):
     port = free_port()
     proc = _ccu("--out", str(tmp_path), "--port", str(port), "--host", "0.0.0.0", "--no-browser")
@@ -84,6 +86,7 @@ def test_another_host_prints_a_warning(tmp_path):
     assert "ccu: warning: --host 0.0.0.0: the studio is reachable from other machines" in err
 
 
+@pytest.mark.slow  # a ccu studio process of its own (1-1.6 s)
 @pytest.mark.parametrize(
     "args, message",
     [

@@ -20,6 +20,7 @@ CONE = str(EXAMPLES / "cone.toml")
 VAULT = str(EXAMPLES / "vault.toml")
 
 
+@pytest.mark.slow  # every figure in every format (~4.5 s)
 def test_figures_writes_every_figure_in_every_format(tmp_path, capsys):
     assert main(["figures", CONE, "--out", str(tmp_path), "--format", "png,svg"]) == 0
     names = sorted(p.name for p in tmp_path.iterdir() if p.name != MANIFEST)

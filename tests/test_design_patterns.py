@@ -229,17 +229,20 @@ def header_of(text: str) -> str:
 @pytest.mark.parametrize(
     ("path", "plates", "options"),
     [
-        (EXAMPLES / "vault.toml", 10, {}),
+        # 3-4 s each (fabricate and import 10-12 plates): the cone is the quick loop's
+        pytest.param(EXAMPLES / "vault.toml", 10, {}, marks=pytest.mark.slow),
         (EXAMPLES / "cone.toml", 2, {}),
         pytest.param(
             catalog_path("fig11a-constant-apex"),
             10,
             {"hinge_width": 0.03, "allow_collisions": True},
+            marks=pytest.mark.slow,
         ),
         pytest.param(
             catalog_path("fig12b-dome"),
             12,
             {"hinge_width": 0.03, "allow_collisions": True},
+            marks=pytest.mark.slow,
         ),
     ],
     ids=["vault", "cone", "fig11a", "fig12b"],
@@ -302,7 +305,7 @@ def dome_plates(tmp_path_factory, request):
     return _dome(tmp_path_factory, request.param)
 
 
-@pytest.mark.slow  # 22 plates: about 10 s; the undoing's fast test is fig12b's round trip above
+@pytest.mark.slow  # 22 plates: about 10 s; the undoing's fast test: the 6-plate dome below
 def test_ccu_import_of_the_22_plate_dome(dome22, tmp_path, capsys):
     """Many plates, radial: the undoing of the 4 mm correction stops at the rounding floor
     (planar steps change by 3e-12 to 6e-12 m; it needed a tolerance relative to the plates'

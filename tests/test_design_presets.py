@@ -23,7 +23,12 @@ def test_every_preset_has_its_file_and_ships_as_package_data():
     assert '"data/presets/*.toml"' in (ROOT / "pyproject.toml").read_text()
 
 
-@pytest.mark.parametrize("preset", list(PRESETS))
+def _slow(presets, slow):
+    """The presets as parameters, those in ``slow`` marked slow (1.5-3 s each)."""
+    return [pytest.param(p, marks=pytest.mark.slow) if p in slow else p for p in presets]
+
+
+@pytest.mark.parametrize("preset", _slow(PRESETS, {"dome", "funnel"}))
 def test_a_preset_loads_deploys_and_its_info_runs(preset, tmp_path, capsys):
     path = tmp_path / f"my-{preset}.toml"
     assert main(["new", "--preset", preset, str(path)]) == 0
@@ -48,7 +53,9 @@ def test_a_preset_loads_deploys_and_its_info_runs(preset, tmp_path, capsys):
     assert f"design            my-{preset}" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("preset", [p for p in PRESETS if p != "quadrants"])
+@pytest.mark.parametrize(
+    "preset", _slow([p for p in PRESETS if p != "quadrants"], {"dome", "funnel", "vault"})
+)
 def test_a_preset_passes_ccu_fabricate(preset, tmp_path, capsys):
     """Every check of the workshop passes: the bending of the plates and of the splices (the
     cone and the vault on 3050 x 1525 mm sheets, whole; the dome split with 1 mm splice plates

@@ -363,6 +363,7 @@ def test_assess_tells_feasibility_violations_and_the_samplers_values():
 
 
 # -- runs -------------------------------------------------------------------------------------
+@pytest.mark.slow  # a whole study (2-5 s)
 def test_a_small_study_finds_a_feasible_design_better_than_the_grid(tmp_path):
     """40 trials of TPE (seed 2) beat the best of a 3 x 3 x 3 x 3 grid (81 designs, ccu explore
     with num = 3 for every range) of the same problem: 4.6251 kg (4 mm poplar plywood, rise
@@ -404,6 +405,7 @@ def test_a_small_study_finds_a_feasible_design_better_than_the_grid(tmp_path):
     assert (tmp_path / "out" / "plots" / "convergence.png").stat().st_size > 10_000
 
 
+@pytest.mark.slow  # a whole study (2-5 s)
 def test_the_same_seed_gives_the_same_study(tmp_path):
     study = write_study(tmp_path, replace={"trials = 40": "trials = 8"})
     a = run_study(study, tmp_path / "a", in_process=True, progress=False, summary=False)
@@ -412,6 +414,7 @@ def test_the_same_seed_gives_the_same_study(tmp_path):
     assert [r["mass"] for r in a.rows] == [r["mass"] for r in b.rows]
 
 
+@pytest.mark.slow  # a whole study (2-5 s)
 def test_a_study_resumes_and_evaluates_only_the_new_trials(tmp_path):
     study = write_study(tmp_path)
     out = tmp_path / "out"
@@ -486,6 +489,7 @@ def test_a_folder_of_another_study_is_refused_naming_both_fingerprints(tmp_path)
     assert study.fingerprint in text and other.fingerprint in text
 
 
+@pytest.mark.slow  # a whole study (2-5 s)
 def test_no_feasible_design_lists_the_least_violating(tmp_path):
     study = write_study(tmp_path, replace={"rise = {min = 0.9}": "rise = {min = 2.0}"})
     r = run_study(study, tmp_path / "out", trials=8, in_process=True, progress=False)
@@ -545,6 +549,7 @@ def test_the_cheap_checks_gate_the_fe(tmp_path):
         assert row["violation"] == pytest.approx(expected, rel=1e-9)
 
 
+@pytest.mark.slow  # a whole study (2-5 s)
 def test_several_objectives_give_a_pareto_front(tmp_path):
     study = write_study(
         tmp_path,
@@ -565,6 +570,7 @@ def test_several_objectives_give_a_pareto_front(tmp_path):
     assert (tmp_path / "out" / "plots" / "pareto.png").exists()
 
 
+@pytest.mark.slow  # a whole study (2-5 s)
 def test_ctrl_c_stops_between_trials_and_keeps_what_is_done(tmp_path, monkeypatch):
     study = write_study(tmp_path)
     calls = []
@@ -634,6 +640,7 @@ def test_a_study_with_fe_on_a_local_dask_cluster(tmp_path):
     assert np.isfinite(r.summary["run"]["seconds"])
 
 
+@pytest.mark.slow  # a whole study (2-5 s)
 def test_the_trials_do_not_depend_on_the_order_the_workers_finish_in(tmp_path, monkeypatch):
     """Three trials in flight, finished in the order asked or in reverse, one at a time: the
     sampler is told each batch in trial order, so it proposes the same designs."""

@@ -93,6 +93,7 @@ def interrupting(monkeypatch, after: int, seen: list):
     monkeypatch.setattr(runner, "open_evaluator", evaluator)
 
 
+@pytest.mark.slow  # a sweep and a study, each resumed (~5 s)
 def test_a_sweep_and_a_study_resume_after_k_evaluations_as_if_never_interrupted(
     files, tmp_path, monkeypatch
 ):

@@ -23,9 +23,10 @@ def vault():
 @pytest.mark.parametrize(
     "law, bending_power, mass_power, energy_power",
     [
-        ("constant", -1.0, 2.0, 0.0),
+        # ~1 s each: the quick loop checks one law
+        pytest.param("constant", -1.0, 2.0, 0.0, marks=pytest.mark.slow),
         ("proportional", 0.0, 3.0, 3.0),
-        ("cuberoot", -1.0 / 3.0, 8.0 / 3.0, 2.0),
+        pytest.param("cuberoot", -1.0 / 3.0, 8.0 / 3.0, 2.0, marks=pytest.mark.slow),
     ],
 )
 def test_similar_designs_follow_the_scaling_laws(
@@ -106,6 +107,7 @@ def test_refusals(vault):
     assert law_thickness("proportional", 0.01, 1.5) == pytest.approx(0.015)
 
 
+@pytest.mark.slow  # an imported structure or the scale plots (1.8-4 s)
 def test_ccu_scale_writes_the_table_and_the_plots(tmp_path, capsys):
     out = tmp_path / "scale"
     code = main(["scale", str(EXAMPLES / "vault.toml"), "--to", "4", "--steps", "2",
@@ -156,6 +158,7 @@ def imported(tmp_path_factory):
     return path, design.metric_document(), CCUModel(design).deploy().metrics
 
 
+@pytest.mark.slow  # an imported structure or the scale plots (1.8-4 s)
 def test_an_imported_patterns_design_scales_with_its_patterns(imported, tmp_path):
     """``ccu scale`` walks the loader's length keys: the cut patterns of an imported design
     scale with the crease (they stayed at scale 1 and the design was refused)."""

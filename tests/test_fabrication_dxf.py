@@ -388,6 +388,7 @@ save_document(doc, sys.argv[1])
 """
 
 
+@pytest.mark.slow  # three processes (~1.8 s)
 def test_a_drawing_writes_the_same_bytes_in_every_process(tmp_path):
     """ezdxf lists the CLASS of every entity type in use in a set's order, which follows the
     process's string hashing: save_document fixes the order (the same file in every run)."""

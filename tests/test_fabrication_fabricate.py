@@ -53,6 +53,7 @@ def fabricated_overbent(tmp_path_factory):
     return out, json.loads((out / "fabrication.json").read_text())
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_manifest_lists_every_file(fabricated):
     out, manifest = fabricated
     assert manifest["format"] == "ccu.fabrication"
@@ -80,6 +81,7 @@ def _every_item_assembled_and_clear(m: dict, thickness: float) -> None:
     )
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_manifest_numbers_of_the_vault_as_shipped(fabricated, vault_model):
     _, m = fabricated
     # ten 6 mm plates cut whole: no splice plates, nothing in the stack but the plates
@@ -97,6 +99,7 @@ def test_manifest_numbers_of_the_vault_as_shipped(fabricated, vault_model):
     assert m["stack_order"] == ThickModel(vault_model).stack_order
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_manifest_numbers_of_the_8mm_vault(fabricated_overbent, overbent_model):
     _, m = fabricated_overbent
     # ten 8 mm plates and, over one point at most, one cut's two 8 mm splice plates
@@ -131,6 +134,7 @@ def test_manifest_numbers_of_the_8mm_vault(fabricated_overbent, overbent_model):
     ]
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_printed_check_states_the_basis(fabricated, fabricated_overbent):
     """``ccu fabricate`` prints thickness_lines(manifest): the basis and the factors."""
     text = "\n".join(thickness_lines(fabricated[1]))
@@ -149,6 +153,7 @@ def test_printed_check_states_the_basis(fabricated, fabricated_overbent):
     assert "creep: k_def 0.8, final stiffness E/(1 + k_def) 5 / 5 GPa (E1 / E2)" in text
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_plate_dxf_matches_cut_pattern(fabricated, vault_model):
     out, _ = fabricated
     flat = vault_model.flat()
@@ -161,6 +166,7 @@ def test_plate_dxf_matches_cut_pattern(fabricated, vault_model):
         assert any(f"{pid}" in text for text in plate["labels"])
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_3dm_layers_and_solids(fabricated, vault_model):
     out, _ = fabricated
     summary = read_3dm_summary(out / "vault.3dm")
@@ -172,6 +178,7 @@ def test_3dm_layers_and_solids(fabricated, vault_model):
     assert layers["creases"]["count"] == len(vault_model.mechanism.creases)
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_fold_file_has_the_structure(fabricated, vault_model):
     out, _ = fabricated
     fold = read_fold(out / "vault.fold")
@@ -185,6 +192,7 @@ def test_fold_file_has_the_structure(fabricated, vault_model):
     assert rulings and set(rulings) <= {"M", "V"}
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_stack_obj_is_sum_of_thicknesses(fabricated, vault_model):
     import trimesh
 
@@ -266,6 +274,7 @@ def test_collision_text_with_pairs_but_no_clearance():
     assert collision_text(summary) == "none; min clearance 8 mm (plates 0/2 at alpha 0 deg)"
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 @pytest.mark.parametrize("which", ["vault", "overbent"])
 def test_sheets_json_records_the_nesting_of_the_sheet_dxfs(which, fabricated, fabricated_overbent):
     """sheets.json: every part placed on its sheet exactly as the sheet DXF's true outline and
@@ -313,6 +322,7 @@ def test_sheets_json_records_the_nesting_of_the_sheet_dxfs(which, fabricated, fa
         assert len(p0["marks"]) == 1 and p0["label"][0] == "P0.1 of 2"
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_view_shows_the_sheets_of_a_fabrication_folder(fabricated, tmp_path, capsys):
     out, manifest = fabricated
     view = tmp_path / "view"
@@ -335,6 +345,7 @@ def test_view_shows_the_sheets_of_a_fabrication_folder(fabricated, tmp_path, cap
     assert "was written from another version of the design file" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # a whole fabrication of the vault (2-7 s)
 def test_fabricating_again_into_a_folder_removes_only_its_own_stale_files(tmp_path):
     """A 22-plate dome then a 12-plate one into the same folder: plate_12 .. plate_21.dxf
     (and the extra sheets) were left, and ``ccu import`` read them as part of the structure."""

@@ -152,6 +152,7 @@ def inclined3(tmp_path_factory):
     return model, folder
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_thickness_shifts_are_the_thick_models(inclined3):
     """The forward correction the import undoes is ThickModel's, vertex by vertex."""
     model, _ = inclined3
@@ -163,6 +164,7 @@ def test_thickness_shifts_are_the_thick_models(inclined3):
     assert np.abs(far).max() > 7e-5
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_round_trip_undoes_the_thickness_correction(inclined3):
     """8 mm plates: the correction undone, the structure and the leading pair come back to
     rounding (measured 2.5e-16); taken as drawn, they are off by the correction (2.6e-5)."""
@@ -181,6 +183,7 @@ def test_round_trip_undoes_the_thickness_correction(inclined3):
     assert drawn.max_relative > 1e-5
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_undoing_that_does_not_converge_is_refused(inclined3, monkeypatch):
     model, folder = inclined3
     crease = leading_crease(model, folder)
@@ -198,6 +201,7 @@ def test_undoing_that_does_not_converge_is_refused(inclined3, monkeypatch):
     assert structure.report["thickness_correction"] is None
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_cli_import_undoes_or_takes_the_patterns_as_drawn(inclined3, tmp_path, capsys):
     """``ccu import`` undoes the correction: the leading plate's ruling ends move out by the
     correction of its far crease (7.45e-5 m), its crease (the leading one) does not move.
@@ -229,6 +233,7 @@ def test_cli_import_undoes_or_takes_the_patterns_as_drawn(inclined3, tmp_path, c
     )
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_bad_thickness_in_fabrication_json_is_refused(tmp_path):
     folder = hand_drawn(tmp_path / "drawn")
     (folder / "fabrication.json").write_text('{"alpha": 40.0, "thickness": -0.008}')
@@ -295,6 +300,7 @@ def test_missing_layer_is_refused_naming_the_file(tmp_path):
         read_plate_drawing(folder / "plate_a.dxf")
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_crossing_rulings_are_refused_naming_both_entities(tmp_path):
     inner = R - WIDTH
 
@@ -310,6 +316,7 @@ def test_crossing_rulings_are_refused_naming_both_entities(tmp_path):
         import_design(folder, alpha=ALPHA)
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_partner_creases_of_different_length_are_refused(tmp_path):
     folder = hand_drawn(tmp_path / "drawn", radius=2.1)
     with pytest.raises(
@@ -320,6 +327,7 @@ def test_partner_creases_of_different_length_are_refused(tmp_path):
         import_design(folder, alpha=ALPHA)
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_partner_that_is_not_the_mirror_image_is_refused(tmp_path):
     inner = R - WIDTH - 0.05
 
@@ -335,11 +343,13 @@ def test_partner_that_is_not_the_mirror_image_is_refused(tmp_path):
         import_design(folder, alpha=ALPHA)
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_no_angle_without_fabrication_json(tmp_path):
     with pytest.raises(DesignError, match=r"give the design reflection angle \(--alpha DEG\)"):
         import_design(hand_drawn(tmp_path / "drawn"))
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_cli_import_writes_a_design_that_loads(tmp_path, capsys):
     folder = hand_drawn(tmp_path / "drawn")
     out = tmp_path / "cone-imported.toml"
@@ -351,6 +361,7 @@ def test_cli_import_writes_a_design_that_loads(tmp_path, capsys):
     assert "exists; give --force" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # a fabrication, or an import of a thick structure (1-1.5 s)
 def test_open_outline_ruling_off_the_crease_and_crease_off_the_outline(tmp_path):
     folder = tmp_path / "drawn"
     folder.mkdir()

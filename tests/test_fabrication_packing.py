@@ -114,6 +114,7 @@ def test_bad_counts_are_refused():
         strip_pack(SHAPES, FREE, height=1000.0, gap=10.0, time_limit=float("nan"))
 
 
+@pytest.mark.slow  # a bounded search of the vault's parts (~12 s)
 def test_the_improving_reports_end_a_search_and_the_result_is_the_best_before():
     """``improvements`` counts sparrow's improving layouts (the work of a tight strip): the
     search stops at the given count, with the best layout reported before it, the same every

@@ -138,6 +138,7 @@ def vault_plan(vault_fab_data):
     return plan_workshop(vault_fab_data, hinge_strips(vault_fab_data), o, density=500.0)
 
 
+@pytest.mark.slow  # the vault's workshop plan (~14 s, shared)
 def test_vault_plates_are_split_in_two_with_splices(vault_plan, vault_fab_data):
     assert vault_plan.splits == VAULT_CUTS  # 2723 mm plates, 2 parts, cuts staggered
     kinds = [p.kind for p in vault_plan.parts]
@@ -165,6 +166,7 @@ def test_vault_plates_are_split_in_two_with_splices(vault_plan, vault_fab_data):
             assert len(vault_plan.sheets) == 8 and search["packings"] == 10
 
 
+@pytest.mark.slow  # the vault's workshop plan (~14 s, shared)
 def test_vault_bill_of_materials(vault_plan, vault_fab_data, tmp_path):
     b = vault_plan.bom
     plates = [r for r in b["rows"] if r["kind"] in ("plate", "splice")]
@@ -248,6 +250,7 @@ def test_splice_bending_takes_the_worst_vertex_under_the_splice_only():
     assert splice_bending(data, {}, u, o)["max_utilisation"] == 0.0  # nothing split
 
 
+@pytest.mark.slow  # the vault's workshop plan (~14 s, shared)
 def test_vault_sheet_dxf_toolpaths_are_kerf_compensated(vault_plan, tmp_path):
     from shapely import Polygon
 
@@ -303,6 +306,7 @@ def test_vault_fabrication_data_ids_follow_the_stack(vault_fab_data):
     assert d.metadata["model_crease_ids"] == [8, 7, 6, 5, 4, 0, 1, 2, 3]
 
 
+@pytest.mark.slow  # the vault's workshop plan (~14 s, shared)
 def test_assembly_glues_every_crease_in_stack_order(vault_plan):
     steps = vault_plan.assembly
     assert [s["step"] for s in steps] == list(range(1, len(steps) + 1))

@@ -83,6 +83,7 @@ def test_info_report_sweep_and_catalog_agree(design, capsys, tmp_path):
             assert row[figure] == k[figure], figure
 
 
+@pytest.mark.slow  # a whole report per design (~4 s)
 def test_the_report_shows_the_same_key_figures(design, tmp_path):
     pytest.importorskip("matplotlib")
     from compas_ccu.viz.report import write_report

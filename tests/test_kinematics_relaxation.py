@@ -363,7 +363,10 @@ def test_relax_states_wants_stacks(small):
 # -- the Levenberg-Marquardt solver (default) against scipy's least_squares (reference) ---------
 @pytest.fixture(
     scope="module",
-    params=[("fig12a-asymmetric", (10.0, 17.5, 25.0)), ("fig12c-funnel", (12.5, 22.5))],
+    params=[
+        ("fig12a-asymmetric", (10.0, 17.5, 25.0)),
+        pytest.param(("fig12c-funnel", (12.5, 22.5)), marks=pytest.mark.slow),  # ~7 s
+    ],
     ids=["fig12a-inclined", "fig12c-radial"],
 )
 def both_solvers(request):

@@ -6,16 +6,17 @@ from pathlib import Path
 
 import pytest
 
-nbformat = pytest.importorskip("nbformat")
-nbclient = pytest.importorskip("nbclient")
-pytest.importorskip("matplotlib")
-
 NOTEBOOK = Path(__file__).resolve().parents[1] / "notebooks" / "tour.ipynb"
 
 
 def _executed(path, *, notebook: bool = False):
     """The outputs of the notebook ``path`` run top to bottom (committed without outputs, no
     error), and the executed notebook itself with ``notebook``."""
+    # imported here, not at collection: nbformat's jsonschema builds a grammar (~1.5 s) that
+    # every run of the quick loop, which skips these slow tests, would pay
+    nbformat = pytest.importorskip("nbformat")
+    nbclient = pytest.importorskip("nbclient")
+    pytest.importorskip("matplotlib")
     nb = nbformat.read(path, as_version=4)
     assert all(not c.get("outputs") for c in nb.cells if c.cell_type == "code"), (
         "commit the notebook without outputs"
@@ -65,4 +66,4 @@ def test_scene_notebook_stays_small():
     assert len(views) == 1
     state = nb.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
     assert 0 < len(state) <= 50
-    assert len(nbformat.writes(nb).encode()) <= 500_000
+    assert len(pytest.importorskip("nbformat").writes(nb).encode()) <= 500_000

@@ -20,6 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SLICE = settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck))
 
 
+@pytest.mark.slow  # the fuzz campaign and its corpus (4-6 s)
 @SLICE
 @given(document=strategies.designs())
 def test_a_design_is_exact_in_its_file_or_refused_in_one_line(document):
@@ -40,6 +41,7 @@ def test_a_malformed_design_file_is_one_line_and_leaves_nothing(tmp_path_factory
         assert not out.exists()
 
 
+@pytest.mark.slow  # the fuzz campaign and its corpus (4-6 s)
 def test_the_campaign_runs_and_finds_no_bug():
     """tools/fuzz.py end to end on a small campaign: the table and a clean exit status."""
     p = subprocess.run(

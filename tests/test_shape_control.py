@@ -192,6 +192,7 @@ def catalog_rows():
     return rows
 
 
+@pytest.mark.slow  # every catalog design built and measured (~4 s)
 def test_every_catalog_design_is_built_measured_and_exact_at_its_design_state(catalog_rows):
     assert len(catalog_rows) == len(catalog_entries()) == 15
     figures = {catalog_entry(n).figure for n in catalog_rows}
@@ -217,6 +218,7 @@ def test_every_catalog_design_is_built_measured_and_exact_at_its_design_state(ca
         assert row["crease_span"] > 0 and row["crease_rise"] > 0 and row["stack_x"] > 0
 
 
+@pytest.mark.slow  # every catalog design built and measured (~4 s)
 def test_measured_global_curvature_matches_the_paper_rule(catalog_rows):
     for entry in catalog_entries():
         if entry.expected is not None:

@@ -88,6 +88,7 @@ def brute_force(vertices, target) -> np.ndarray:
     return np.sqrt(normal**2 + excess**2).reshape(vertices.shape[:-1])
 
 
+@pytest.mark.slow  # the distance over the whole path (~9 s)
 def test_the_distance_is_zero_at_the_targets_angle_and_grows_away_from_it(session):
     target = load_target(session.files, "target27.obj")
     assert len(target.target) == 50_000 and target.target.kind == "mesh"

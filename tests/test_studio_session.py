@@ -376,6 +376,7 @@ def test_cut_patterns_svg_flags_plates_larger_than_a_sheet(vault_model):
     assert none == []
 
 
+@pytest.mark.slow  # an export process (1-3 s)
 def test_export_writes_into_the_output_folder_only(session, folders):
     pytest.importorskip("ezdxf")
     design, out = folders
@@ -743,6 +744,7 @@ def test_document_text_keeps_a_long_array_with_comments_and_special_numbers():
     assert _same(parse_toml(text), document) and "[[nan, inf], [-inf, 1], " in text
 
 
+@pytest.mark.slow  # an export process (1-3 s)
 def test_the_export_runs_in_another_process(session, folders):
     from compas_ccu.studio.export import ExportProcess
 
@@ -808,6 +810,7 @@ def test_a_curve_file_reached_through_a_link_out_of_the_folder_is_refused(tmp_pa
     assert f"'c.csv' ({other / 'c.csv'}) is outside the design folder" in problem.message
 
 
+@pytest.mark.slow  # an export process (1-3 s)
 def test_a_killed_export_process_is_said_and_started_again(session, folders):
     import signal
 

@@ -47,6 +47,7 @@ def test_the_cone_pair_and_the_command_line(capsys):
     )
 
 
+@pytest.mark.slow  # a 22-plate dome (~1.6 s)
 def test_a_dome_is_held_by_a_ring_through_its_feet(tmp_path, capsys):
     """Radial layouts: the ring tension T = -dE/dalpha / (dL/dalpha) of a tie through the feet
     (the vault's tie, T = -F, with the ring in place of the span), checked against central

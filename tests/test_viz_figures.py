@@ -155,6 +155,7 @@ def test_views_carry_span_and_rise_dimensions_from_the_key_figures(vault, tmp_pa
     assert len(texts) >= 10
 
 
+@pytest.mark.slow  # an SVG of a field-coloured view (~1.5 s)
 def test_a_field_coloured_view_is_one_image_in_svg_and_its_text_stays_text(vault, tmp_path):
     """The vault's curvature painted on sub-quads: 5.9 MB of SVG polygons before; now the
     plates are one embedded image per view and the labels are <text>."""

@@ -118,6 +118,7 @@ def test_the_sheets_reader_refuses_what_is_no_nesting_of_this_design(tmp_path):
             reader(tmp_path, design="cone", sha256="cd" * 32)
 
 
+@pytest.mark.slow  # a fabrication or a multi-page PDF (2.5-3.5 s)
 def test_the_pdf_has_the_rows_as_text_and_breaks_pages(tmp_path, vault_model):
     pypdf = pytest.importorskip("pypdf")
     from compas_ccu.key_figures import key_figures
@@ -228,6 +229,7 @@ def test_a_manifest_without_tables_is_said_so_on_the_page(tmp_path):
     assert fabrication_section(None, tmp_path) == ""
 
 
+@pytest.mark.slow  # a fabrication or a multi-page PDF (2.5-3.5 s)
 def test_the_fabrication_reader_reads_what_ccu_fabricate_writes(tmp_path, overbent_model):
     """A real folder: the workshop's sheets, the BOM's rows and totals, the failed checks (the
     8 mm vault on 2.5 x 1.25 m sheets: every plate spliced)."""

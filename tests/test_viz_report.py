@@ -59,6 +59,7 @@ def report(tmp_path_factory):
     return out, page
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_every_link_resolves_and_every_file_is_linked(report):
     out, page = report
     assert page.links
@@ -73,6 +74,7 @@ def test_every_link_resolves_and_every_file_is_linked(report):
     assert {"viewer.html", "deployment.gif", "data/structure.json", "data/path.csv"} <= written
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_key_figures_are_on_the_page(report, vault_model):
     out, page = report
     text = " ".join(" ".join(page.text).split())
@@ -89,12 +91,14 @@ def test_key_figures_are_on_the_page(report, vault_model):
     assert "crease_span 2.5 m" in text
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_report_pictures_are_real(report):
     out, _ = report
     for name, _ in FIGURES:
         assert_picture(load_rgb(out / "figures" / f"{name}.png"), min_ink=0.02, min_colours=20)
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_report_cli_is_quiet_with_quiet(tmp_path, capsys):
     code = main(
         [
@@ -122,6 +126,7 @@ def test_report_refuses_bad_steps(tmp_path, capsys):
     assert not (Path(tmp_path) / "index.html").exists()
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_thickness_checks_are_on_the_page(report):
     out, page = report
     text = " ".join(" ".join(page.text).split())
@@ -140,6 +145,7 @@ def test_thickness_checks_are_on_the_page(report):
     assert "<tr><th>bending check</th>" in html_text and "class=bad" not in html_text
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_the_failed_check_is_marked_on_the_page(tmp_path, monkeypatch):
     """The 8 mm vault (examples/overbent.toml) exceeds its design bending strength (1.229)."""
     monkeypatch.setenv("CCU_CACHE_DIR", str(tmp_path / "cache"))
@@ -232,6 +238,7 @@ def test_console_and_report_show_the_same_load_case_cells():
 # -- the engineering record, the PDF, the fabrication section ------------------------------
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_the_record_shows_the_design_file_as_read_with_its_hash(report):
     out, page = report
     text = " ".join(page.text)
@@ -254,6 +261,7 @@ def test_the_record_shows_the_design_file_as_read_with_its_hash(report):
     assert "design strengths f_d f1 15 MPa, f2 15 MPa" in text  # k_mod 0.6 / gamma_M 1.2
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_the_pdf_is_read_by_an_independent_reader(report, vault_model):
     pypdf = pytest.importorskip("pypdf")
     out, page = report
@@ -274,6 +282,7 @@ def test_the_pdf_is_read_by_an_independent_reader(report, vault_model):
     assert images >= len(FIGURES)
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_the_pdf_hash_follows_the_design_file(tmp_path):
     pypdf = pytest.importorskip("pypdf")
     original = (EXAMPLES / "cone.toml").read_bytes()
@@ -289,6 +298,7 @@ def test_the_pdf_hash_follows_the_design_file(tmp_path):
     assert (out / "design" / "cone.toml").read_bytes() == design.read_bytes()
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_no_pdf_writes_no_pdf(tmp_path):
     code = main(
         ["report", str(EXAMPLES / "cone.toml"), "--out", str(tmp_path), "--steps", "1"]
@@ -307,6 +317,7 @@ def _fabrication_folder(folder, **manifest):
     return folder
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_the_fabrication_section_links_every_file_and_shows_the_tables(tmp_path):
     fab = _fabrication_folder(
         tmp_path / "fab",
@@ -356,6 +367,7 @@ def test_a_fabrication_of_another_design_is_refused_before_any_work(tmp_path, ca
     )
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_the_last_validation_of_the_file_joins_the_checks_and_the_pdf(tmp_path, monkeypatch):
     pypdf = pytest.importorskip("pypdf")
     from compas_ccu.fea.record import remember
@@ -407,6 +419,7 @@ def test_the_last_validation_of_the_file_joins_the_checks_and_the_pdf(tmp_path, 
     assert _last_validation(str(design)) == (None, [])
 
 
+@pytest.mark.slow  # a whole report of the vault (5-9 s)
 def test_the_viewer_of_the_report_shows_the_sheets_of_the_fabrication(tmp_path, cone_model):
     from compas_ccu.fabrication import fabrication_data
     from compas_ccu.fabrication.hinges import hinge_strips
