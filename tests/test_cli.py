@@ -185,7 +185,11 @@ def test_bad_design_key_is_named(tmp_path, capsys):
     assert "crease.radius: must be > 0 and <= 1e6, got -2.0" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("sub", [[], ["deploy"], ["path"], ["info"]])
+@pytest.mark.parametrize(
+    "sub",
+    # a ccu process each (~0.8 s); every command's help in-process: tests/test_cli_startup.py
+    [[]] + [pytest.param([name], marks=pytest.mark.slow) for name in ("deploy", "path", "info")],
+)
 def test_help_everywhere(sub):
     out = subprocess.run(
         [sys.executable, "-m", "compas_ccu.cli", *sub, "--help"],
