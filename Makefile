@@ -157,10 +157,12 @@ test-simd: setup
 
 # the quick loop while editing: ruff and every test not marked slow, on 2 processes, in random
 # order (pytest-randomly, from the dev extra; the run ends with its seed): that order again with
-# `make test-fast SEED=N`
+# `make test-fast SEED=N`. pytest keeps the tests with their asserts rewritten in __pycache__ even
+# where the environment sets PYTHONDONTWRITEBYTECODE (else each process rewrites them, ~7 s)
 test-fast: setup
 	$(BIN)/ruff check src tests benchmarks tools scripts
-	$(BIN)/python -m pytest -q -m "not slow" -n 2 -p randomly $(if $(SEED),--randomly-seed=$(SEED))
+	PYTHONDONTWRITEBYTECODE= $(BIN)/python -m pytest -q -m "not slow" -n 2 -p randomly \
+	  $(if $(SEED),--randomly-seed=$(SEED))
 
 bench: setup
 	$(BIN)/python benchmarks/bench_deploy.py
