@@ -89,7 +89,7 @@ def bench(name: str, path: Path, nesting: str, out: Path, *, files: bool) -> dic
         "parts": len(plan.parts),
         "sheets": len(plan.sheets),
         "utilisation": plan.utilisation,
-        "roll_m": plan.roll["length"],
+        "roll_m": plan.roll.length,
         "thick_s": w_thick + w_data,
         "plan_s": w_plan,
         "plan_cpu_s": c_plan,

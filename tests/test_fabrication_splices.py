@@ -157,9 +157,9 @@ def test_vault_stack_height_with_splices_is_what_lies_under_the_crown(vault):
         assert under == spliced
         in_model = [replace(r, plate=model_ids[r.plate]) for r in records]
         stack = vault.thick.splice_stack(in_model)
-        assert stack["stack_height"] == pytest.approx(plates * T + under * T, abs=1e-12)
-        assert stack["stack_height"] == pytest.approx(height, abs=1e-12)
-        assert stack["stack_height_plates"] == pytest.approx(0.080, abs=1e-12)
+        assert stack.stack_height == pytest.approx(plates * T + under * T, abs=1e-12)
+        assert stack.stack_height == pytest.approx(height, abs=1e-12)
+        assert stack.stack_height_plates == pytest.approx(0.080, abs=1e-12)
     s = vault.splices
     assert (s["max_pile_unstaggered"], s["max_pile"]) == pytest.approx((0.160, 0.016), abs=1e-12)
     assert s["stack_height"] == pytest.approx(0.096, abs=1e-12)
@@ -193,7 +193,7 @@ def test_vault_splices_hold_the_flat_stack_open_and_clear_the_neighbours_when_de
         replace(r, plate=model_ids[r.plate], thickness=0.1) for r in vault.plan.splices
     ]
     deep = vault.thick.splice_collisions(thick_splices)
-    assert deep["interpenetration"] is True and deep["clear_from_alpha"] is None
+    assert deep.interpenetration is True and deep.clear_from_alpha is None
 
 
 # ------------------------------------------------------------------------------------ assembly
@@ -245,10 +245,16 @@ def test_the_assembly_sheet_lists_every_bom_item(vault, tmp_path):
 def test_without_splices_the_stack_is_the_plates_and_nothing_collides(cone_model):
     thick = ThickModel(cone_model)
     stack = thick.splice_stack([])
-    assert stack["stack_height"] == stack["stack_height_plates"] == thick.stack_height
-    assert (stack["max_pile"], stack["pile_point"], stack["count"], stack["mass"]) == (
-        0.0, None, 0, 0.0,
-    )  # fmt: skip
+    assert stack.stack_height == stack.stack_height_plates == thick.stack_height
+    assert (stack.max_pile, stack.pile_point, stack.count, stack.mass) == (0.0, None, 0, 0.0)
     c = thick.splice_collisions([], [0.0, 10.0])
-    assert (c["max_depth"], c["clear_from_alpha"], c["interpenetration"]) == (0.0, 0.0, False)
-    assert c["clearance_design"] is None and c["splices"] == []
+    assert (c.max_depth, c.clear_from_alpha, c.interpenetration) == (0.0, 0.0, False)
+    assert c.clearance_design is None and c.splices == ()
+    assert c.to_dict() == {
+        "alphas": [0.0, 10.0, 2], "tolerance": 1e-6, "max_depth": 0.0,
+        "clear_from_alpha": 0.0, "interpenetration": False, "clearance_design": None,
+        "splices": [],
+    }  # fmt: skip
+    assert list(stack.to_dict()) == [
+        "stack_height", "stack_height_plates", "max_pile", "pile_point", "count", "area", "mass"
+    ]  # fmt: skip

@@ -153,17 +153,17 @@ def test_vault_plates_are_split_in_two_with_splices(vault_plan, vault_fab_data):
     assert 6 <= len(vault_plan.sheets) <= 10
     assert 0.25 < vault_plan.utilisation < 0.6
     search = vault_plan.nesting_search
-    assert search["seed"] == 0 and search["time_limit"] == 600.0 and vault_plan.warnings == []
-    if search["solver"] == "compas_nest":  # the default when installed
-        assert search["generations"] == 3 and search["population"] == 10
-        assert search["packings"] == 2 and search["layouts_searched"] == 60  # parts, roll
-        if search["version"] == "0.1.0":  # measured: the nesting depends on its version
+    assert search.seed == 0 and search.time_limit == 600.0 and vault_plan.warnings == []
+    if search.solver == "compas_nest":  # the default when installed
+        assert search.generations == 3 and search.population == 10
+        assert search.packings == 2 and search.layouts_searched == 60  # parts, roll
+        if search.version == "0.1.0":  # measured: the nesting depends on its version
             assert len(vault_plan.sheets) == 8
     else:
-        assert search["steps"] == 500 and search["roll_improvements"] == 40
-        assert search["patience"] == 2
-        if search["version"] == "0.9.0":  # measured: the nesting depends on the solver's version
-            assert len(vault_plan.sheets) == 8 and search["packings"] == 10
+        assert search.steps == 500 and search.roll_improvements == 40
+        assert search.patience == 2
+        if search.version == "0.9.0":  # measured: the nesting depends on the solver's version
+            assert len(vault_plan.sheets) == 8 and search.packings == 10
 
 
 @pytest.mark.slow  # the vault's workshop plan (~14 s, shared)

@@ -34,7 +34,7 @@ def bill_of_materials(data, parts, sheets, roll, options: WorkshopOptions, densi
                 "quantity": 1,
             }
         )
-    hinge_lengths = roll["strips"]
+    hinge_lengths = roll.strips
     glue_hinges = 2.0 * sum(hinge_lengths.values())  # each strip glued to both plates
     splices = [p for p in parts if p.kind == "splice"]
     glue_splices = sum(
@@ -43,7 +43,7 @@ def bill_of_materials(data, parts, sheets, roll, options: WorkshopOptions, densi
     )
     fasteners = len(splices) * options.fasteners_per_splice
     mass = sum(r["mass_kg"] for r in rows)
-    textile = float(roll["length"])
+    textile = float(roll.length)
     glue = glue_hinges + glue_splices
     costs = {
         "sheets": len(sheets) * options.sheet_price,
@@ -73,7 +73,7 @@ def bill_of_materials(data, parts, sheets, roll, options: WorkshopOptions, densi
         "parts_area_m2": sum(p.area for p in parts),
         "mass_kg": mass,
         "density_kg_m3": density,
-        "textile_roll_width_m": float(roll["width"]),
+        "textile_roll_width_m": float(roll.width),
         "textile_length_m": textile,
         "hinge_length_m": sum(hinge_lengths.values()),
         "glue_line_m": glue,

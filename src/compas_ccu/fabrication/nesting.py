@@ -26,7 +26,7 @@ from compas_ccu.fabrication.nfp_packing import (
     sheet_pack,
 )
 from compas_ccu.fabrication.packing import PATIENCE, SOLVER, solver_version, strip_pack
-from compas_ccu.fabrication.plan import WorkshopOptions
+from compas_ccu.fabrication.plan import NestingSearch, RollNesting, WorkshopOptions
 from compas_ccu.fabrication.splices import (
     fitting_size,
     part_orientations,
@@ -391,13 +391,14 @@ def _merge_sheets(sheets, parts, centres, options, k, thickness, length, width, 
             sheets.remove(last)
 
 
-def nest_roll(strips, options: WorkshopOptions, *, log=None) -> dict:
+def nest_roll(strips, options: WorkshopOptions, *, log=None) -> RollNesting:
     """The hinge strips strip-packed on the textile roll, each along the roll (0 or 180 deg
-    after turning its chord along it): ``width``, ``length`` (m used), ``strips`` (per crease:
-    length of its centre line, m). ``log`` (a list) collects the packing."""
+    after turning its chord along it): :class:`~compas_ccu.fabrication.plan.RollNesting`
+    ``width``, ``length`` (m used), ``strips`` (per crease: length of its centre line, m).
+    ``log`` (a list) collects the packing."""
     options = _resolved(options)
     if not strips:
-        return {"width": options.roll_width, "length": 0.0, "strips": {}}
+        return RollNesting(options.roll_width, 0.0, {})
     shapes, orient, lengths = {}, {}, {}
     for s in strips:
         c = np.asarray(s.centre, dtype=float)
@@ -418,21 +419,13 @@ def nest_roll(strips, options: WorkshopOptions, *, log=None) -> dict:
     if options.nesting == "shelf":
         on = _shelf_sheet(shapes, orient, 1e12, height, options.spacing * MM)
         used = max(float(v[2][:, 0].max()) for v in on.values())
-        return {
-            "width": options.roll_width,
-            "length": used / MM + 2.0 * options.margin,
-            "strips": lengths,
-        }
+        return RollNesting(options.roll_width, used / MM + 2.0 * options.margin, lengths)
     if options.nesting == "compas_nest":
         used = _nfp_roll(shapes, orient, height, options, log)
     else:
         _, used = _strip_pack(shapes, orient, height, options.spacing * MM, options, log,
                               improvements=ROLL_IMPROVEMENTS)  # fmt: skip
-    return {
-        "width": options.roll_width,
-        "length": used / MM + 2.0 * options.margin,
-        "strips": lengths,
-    }
+    return RollNesting(options.roll_width, used / MM + 2.0 * options.margin, lengths)
 
 
 def _nfp_roll(shapes, orientations, height, options, log) -> float:
@@ -454,39 +447,38 @@ def _nfp_roll(shapes, orientations, height, options, log) -> float:
     return max(float(p[:, 0].max()) for p in pts) - min(float(p[:, 0].min()) for p in pts)
 
 
-def nesting_search(options: WorkshopOptions, packings: list) -> dict:
-    """What the nesting searched (``fabrication.json`` ``workshop.nesting_search``): the solver
+def nesting_search(options: WorkshopOptions, packings: list) -> NestingSearch:
+    """What the nesting searched (:class:`~compas_ccu.fabrication.plan.NestingSearch`;
+    ``fabrication.json`` ``workshop.nesting_search``): the solver
     and its version, the seed, the steps per packing, the time limit (a safety limit only), the
     packings and the steps they searched. The shelf packing searches nothing (only ``solver``
     is set); compas_nest records its generations, population and curve tolerances and the part
     orders it placed (``layouts_searched``) instead of steps."""
     options = _resolved(options)
     if options.nesting == "compas_nest":
-        return {
-            "solver": "compas_nest",
-            "version": nester_version(),
-            "seed": int(options.nesting_seed),
-            "generations": int(options.nesting_generations),
-            "population": POPULATION,
-            "part_tolerance": NFP_PART_TOLERANCE,
-            "roll_tolerance": ROLL_TOLERANCE,
-            "time_limit": float(options.nesting_time),
-            "packings": len(packings),
-            "layouts_searched": int(sum(p.layouts for p in packings)),
-        }
+        return NestingSearch(
+            solver="compas_nest",
+            version=nester_version(),
+            seed=int(options.nesting_seed),
+            generations=int(options.nesting_generations),
+            population=POPULATION,
+            part_tolerance=NFP_PART_TOLERANCE,
+            roll_tolerance=ROLL_TOLERANCE,
+            time_limit=float(options.nesting_time),
+            packings=len(packings),
+            layouts_searched=int(sum(p.layouts for p in packings)),
+        )
     if options.nesting == "shelf":
-        return {"solver": "shelf", "version": None, "seed": None, "steps": None,
-                "roll_improvements": None, "time_limit": None, "packings": 0,
-                "steps_searched": 0}  # fmt: skip
-    return {
-        "solver": SOLVER,
-        "version": solver_version(),
-        "seed": int(options.nesting_seed),
-        "steps": int(options.nesting_steps),
-        "roll_improvements": ROLL_IMPROVEMENTS,
-        "patience": PATIENCE,
-        "merge_patience": MERGE_PATIENCE,
-        "time_limit": float(options.nesting_time),
-        "packings": len(packings),
-        "steps_searched": int(sum(p.steps for p in packings)),
-    }
+        return NestingSearch(solver="shelf", packings=0, steps_searched=0)
+    return NestingSearch(
+        solver=SOLVER,
+        version=solver_version(),
+        seed=int(options.nesting_seed),
+        steps=int(options.nesting_steps),
+        roll_improvements=ROLL_IMPROVEMENTS,
+        patience=PATIENCE,
+        merge_patience=MERGE_PATIENCE,
+        time_limit=float(options.nesting_time),
+        packings=len(packings),
+        steps_searched=int(sum(p.steps for p in packings)),
+    )

@@ -16,6 +16,9 @@ __all__ = [
     "WorkshopOptions",
     "Part",
     "WorkshopPlan",
+    "RollNesting",
+    "NestingSearch",
+    "NESTING_SEARCH_KEYS",
     "outline_ring",
 ]
 
@@ -141,6 +144,100 @@ class Part:
         return np.asarray(points, dtype=float) @ r.T + np.asarray(self.translation)
 
 
+@dataclass(frozen=True)
+class RollNesting:
+    """The hinge strips on the textile roll (:func:`~compas_ccu.fabrication.nesting.nest_roll`).
+
+    Attributes
+    ----------
+    width : float
+        The roll's width, m.
+    length : float
+        The length of roll used, margins included, m (0 without strips).
+    strips : dict
+        Per hinge strip (``"C<crease id>"``): the length of its centre line, m.
+    """
+
+    width: float
+    length: float
+    strips: dict
+
+    def to_dict(self) -> dict:
+        """Plain data (``fabrication.json`` ``workshop.roll``): ``width``, ``length``,
+        ``strips``."""
+        return {"width": self.width, "length": self.length, "strips": self.strips}
+
+
+#: The keys of :meth:`NestingSearch.to_dict` per solver (any other: the strip packing's).
+NESTING_SEARCH_KEYS = {
+    "compas_nest": (
+        "solver", "version", "seed", "generations", "population", "part_tolerance",
+        "roll_tolerance", "time_limit", "packings", "layouts_searched",
+    ),
+    "shelf": (
+        "solver", "version", "seed", "steps", "roll_improvements", "time_limit", "packings",
+        "steps_searched",
+    ),
+    None: (
+        "solver", "version", "seed", "steps", "roll_improvements", "patience", "merge_patience",
+        "time_limit", "packings", "steps_searched",
+    ),
+}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class NestingSearch:
+    """What the nesting searched (:func:`~compas_ccu.fabrication.nesting.nesting_search`;
+    ``fabrication.json`` ``workshop.nesting_search``). A field the solver does not have is None
+    (and :meth:`to_dict` leaves it out).
+
+    Attributes
+    ----------
+    solver : str
+        ``"compas_nest"``, ``"shelf"`` or the strip packer's name (spyrrow).
+    version : str or None
+        The solver's version (None: the shelves).
+    seed : int or None
+        The nesting seed (None: the shelves).
+    time_limit : float or None
+        The time limit of a packing (a safety limit only), s.
+    packings : int
+        The packings searched (sheets and roll).
+    steps, roll_improvements, patience, merge_patience : int or None
+        The strip packer's steps per packing, improving reports of the roll, infeasible steps
+        and merge attempts it stops at.
+    steps_searched : int or None
+        The strip packer's steps over every packing.
+    generations, population : int or None
+        compas_nest's generations and population.
+    part_tolerance, roll_tolerance : float or None
+        compas_nest's curve tolerances of the parts and of the hinge strips, mm.
+    layouts_searched : int or None
+        The part orders compas_nest placed over every packing.
+    """
+
+    solver: str
+    version: str | None = None
+    seed: int | None = None
+    time_limit: float | None = None
+    packings: int = 0
+    steps: int | None = None
+    roll_improvements: int | None = None
+    patience: int | None = None
+    merge_patience: int | None = None
+    steps_searched: int | None = None
+    generations: int | None = None
+    population: int | None = None
+    part_tolerance: float | None = None
+    roll_tolerance: float | None = None
+    layouts_searched: int | None = None
+
+    def to_dict(self) -> dict:
+        """Plain data: the solver's keys (:data:`NESTING_SEARCH_KEYS`) in its order."""
+        keys = NESTING_SEARCH_KEYS.get(self.solver, NESTING_SEARCH_KEYS[None])
+        return {k: getattr(self, k) for k in keys}
+
+
 @dataclass
 class WorkshopPlan:
     """The parts, the sheets they are nested on, the hinge roll, the BOM and the assembly.
@@ -154,7 +251,7 @@ class WorkshopPlan:
         area / sheet area).
     splits : dict
         Plate id -> the rulings its cuts follow (empty if it fits whole).
-    roll : dict
+    roll : RollNesting
         The hinge strips on the textile roll: ``width``, ``length`` (m used), ``strips``.
     bom : dict
         The bill of materials (:meth:`bom_rows` for its table).
@@ -167,8 +264,9 @@ class WorkshopPlan:
         The design's name (:meth:`layout` records it).
     model_plate_ids : list of int or None
         The model's plate id of every workshop plate id (``fabrication.json`` ``model_ids``).
-    nesting_search : dict or None
-        What the nesting searched (:func:`nesting_search`): solver, version, seed, steps.
+    nesting_search : NestingSearch or None
+        What the nesting searched (:func:`~compas_ccu.fabrication.nesting.nesting_search`):
+        solver, version, seed, steps.
     splices : list of compas_ccu.thickness.splices.Splice
         The splice plates (:func:`~compas_ccu.fabrication.splices.splice_records`).
     warnings : list of str
@@ -181,13 +279,13 @@ class WorkshopPlan:
     parts: list
     sheets: list
     splits: dict
-    roll: dict
+    roll: RollNesting
     bom: dict = field(default_factory=dict)
     assembly: list = field(default_factory=list)
     splice_bending: dict | None = None
     design: str | None = None
     model_plate_ids: list | None = None
-    nesting_search: dict | None = None
+    nesting_search: NestingSearch | None = None
     splices: list = field(default_factory=list)
     warnings: list = field(default_factory=list)
 
@@ -209,13 +307,15 @@ class WorkshopPlan:
             "grain": o.grain,
             "score_rulings": o.score_rulings,
             "nesting": o.nesting,
-            "nesting_search": self.nesting_search,
+            "nesting_search": (
+                None if self.nesting_search is None else self.nesting_search.to_dict()
+            ),
             "warnings": list(self.warnings),
             "sheet_count": len(self.sheets),
             "utilisation": self.utilisation,
             "sheets": self.sheets,
             "splits": {str(k): v for k, v in self.splits.items()},
-            "roll": self.roll,
+            "roll": self.roll.to_dict(),
             "splice_thickness": self.parts_thickness("splice"),
             "splice_bending": self.splice_bending,
             "bom": self.bom,

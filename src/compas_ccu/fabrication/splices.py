@@ -319,12 +319,13 @@ def splice_summary(thick, data, records, splits: dict, options) -> dict:
     in_model = [replace(r, plate=int(model_ids[r.plate])) for r in records]
     out = {"records": [r.to_dict() for r in records]}
     out["cuts"] = {str(k): [int(j) for j in v] for k, v in splits.items()}
-    out.update(thick.splice_stack(in_model))
+    out.update(thick.splice_stack(in_model).to_dict())
     plain = splice_records(data, stagger_cuts(data, options, stagger=False), options)
     out["max_pile_unstaggered"] = splice_pile(plain)
     collisions = thick.splice_collisions(in_model)
-    for row in collisions["splices"]:
-        if row["neighbour"] is not None:
-            row["neighbour"] = workshop[int(row["neighbour"])]
-    out["collisions"] = collisions
+    per = [
+        sp if sp.neighbour is None else replace(sp, neighbour=workshop[int(sp.neighbour)])
+        for sp in collisions.splices
+    ]
+    out["collisions"] = replace(collisions, splices=tuple(per)).to_dict()
     return out

@@ -24,13 +24,21 @@ characteristic loads (serviceability, SLS) and its design loads (ultimate, ULS).
   normal) and the shear along the crease, per metre of crease.
 
 :func:`structural_checks` returns them per case and the governing values over the cases (the
-keys of one case, so older readers of ``validation.json`` keep working).
+keys of one case, so older readers of ``validation.json`` keep working):
+:class:`~compas_ccu.fea.check_results.StructuralChecks`, whose ``to_dict()`` ``validation.json``
+holds.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.fea.check_results import (
+    CreaseHingeForces,
+    HingeExtremes,
+    HingeLineForces,
+    StructuralChecks,
+)
 from compas_ccu.fea.design_values import (
     StiffnessBasis,
     creep_psi2,
@@ -44,7 +52,14 @@ from compas_ccu.fea.stresses import principal, surface_stresses
 from compas_ccu.materials import design_factors
 from compas_ccu.tolerances import ZERO_LENGTH
 
-__all__ = ["structural_checks", "case_factors", "hinge_line_forces", "resolve_hinge_forces"]
+__all__ = [
+    "structural_checks",
+    "case_factors",
+    "hinge_line_forces",
+    "resolve_hinge_forces",
+    "StructuralChecks",
+    "HingeLineForces",
+]
 
 
 def case_factors(history: DeploymentHistory, duration: str):
@@ -116,13 +131,13 @@ def resolve_hinge_forces(
     return across, normal, along
 
 
-def hinge_line_forces(history: DeploymentHistory, step: int) -> dict:
+def hinge_line_forces(history: DeploymentHistory, step: int) -> HingeLineForces:
     """The hinge line forces at ``step`` (0-based) resolved in the crease's frame, N/m
     (:func:`resolve_hinge_forces`).
 
     Returns
     -------
-    dict
+    HingeLineForces
         The largest tension and compression across a crease, out-of-plane shear and shear
         along a crease, the mean line force, and the same per crease (with the resultant, N).
         The largest values sit at the feet, where the hinge meets a held foot (a concentrated
@@ -134,7 +149,7 @@ def hinge_line_forces(history: DeploymentHistory, step: int) -> dict:
     r = h.result
     mesh = h.mesh
     if r.tie_forces is None or not len(h.problem.ties):
-        return {"creases": []}
+        return HingeLineForces(None)
     fixed = h.problem.fixed[h.problem.fixed < len(mesh.nodes)]
     ties, lengths, crease, keep = tie_set(mesh, fixed)
     forces = r.tie_forces[step][: len(ties)]
@@ -165,26 +180,24 @@ def hinge_line_forces(history: DeploymentHistory, step: int) -> dict:
         where[rows] = s / max(s[-1], ZERO_LENGTH)
     interior = (where[keep] >= 0.1) & (where[keep] <= 0.9)
 
-    def extremes(sel) -> dict:
+    def extremes(sel) -> HingeExtremes:
         inner = sel & interior
-        return {
-            "tension_max_N_per_m": float(max(across[sel].max(), 0.0)),
-            "compression_max_N_per_m": float(max(-across[sel].min(), 0.0)),
-            "out_of_plane_max_N_per_m": float(out_of_plane[sel].max()),
-            "along_crease_max_N_per_m": float(along[sel].max()),
-            "line_mean_N_per_m": float((line[sel] * lengths[sel]).sum() / lengths[sel].sum()),
-            "interior_max_N_per_m": float(line[inner].max()) if inner.any() else None,
-        }
+        return HingeExtremes(
+            tension_max_N_per_m=float(max(across[sel].max(), 0.0)),
+            compression_max_N_per_m=float(max(-across[sel].min(), 0.0)),
+            out_of_plane_max_N_per_m=float(out_of_plane[sel].max()),
+            along_crease_max_N_per_m=float(along[sel].max()),
+            line_mean_N_per_m=float((line[sel] * lengths[sel]).sum() / lengths[sel].sum()),
+            interior_max_N_per_m=float(line[inner].max()) if inner.any() else None,
+        )
 
-    rows = [
-        {
-            "crease": int(c),
-            **extremes(crease == c),
-            "resultant_N": np.round(forces[crease == c].sum(axis=0), 6).tolist(),
-        }
+    rows = tuple(
+        CreaseHingeForces(
+            int(c), extremes(crease == c), np.round(forces[crease == c].sum(axis=0), 6).tolist()
+        )
         for c in np.unique(crease)
-    ]
-    return {**extremes(np.ones(len(ties), dtype=bool)), "creases": rows}
+    )
+    return HingeLineForces(extremes(np.ones(len(ties), dtype=bool)), rows)
 
 
 def _reactions(history: DeploymentHistory, step: int) -> dict:
@@ -223,8 +236,8 @@ def _peak_stress(forces: np.ndarray, thickness: float) -> np.ndarray:
     """(E,) the largest absolute surface principal stress of every element, Pa."""
     stress = surface_stresses(forces, thickness=thickness)
     return np.maximum(
-        np.abs(principal(stress["top"])).max(axis=1),
-        np.abs(principal(stress["bottom"])).max(axis=1),
+        np.abs(principal(stress.top)).max(axis=1),
+        np.abs(principal(stress.bottom)).max(axis=1),
     )
 
 
@@ -325,13 +338,14 @@ def _case(history: DeploymentHistory, entry: dict, k0: int, span: float) -> dict
         "buckling_note": note,
         "reactions_sls": _reactions(h, sls),
         "reactions_uls": _reactions(h, uls),
-        "hinges_uls": hinge_line_forces(h, uls),
+        "hinges_uls": hinge_line_forces(h, uls).to_dict(),
         "steps": {"sls": sls + 1, "uls": uls + 1},
     }
 
 
-def structural_checks(history: DeploymentHistory) -> dict | None:
-    """Every load case's checks and the governing values, JSON-ready.
+def structural_checks(history: DeploymentHistory) -> StructuralChecks | None:
+    """Every load case's checks and the governing values (:class:`StructuralChecks`; its
+    ``to_dict()`` is JSON-ready).
 
     None if the history has no load-case steps (``checks=False``, or the actuation strategy).
     """
@@ -359,43 +373,43 @@ def structural_checks(history: DeploymentHistory) -> dict | None:
     heaviest = np.round(max(totals, key=lambda r: abs(r @ h.model.axes[1])), 3).tolist()
     m = s.material
     area = next((c for c in cases if c["name"] == "area-load"), None)
-    return {
-        "load": {
+    return StructuralChecks(
+        load={
             "self_weight_N_per_m2": m.density * GRAVITY * s.thickness,
             "area_load_N_per_m2": s.area_load if area is not None else 0.0,
         },
-        "supports": h.supports.to_dict() if h.supports is not None else {"type": "pinned"},
-        "cases": cases,
-        "governing": {"deflection": defl_case, "utilisation": util_case, "buckling": buck_case},
-        "deflection_max_m": max(c["deflection_max_m"] for c in cases),
-        "deflection_limit_m": cases[0]["deflection_limit_m"],
-        "deflection_ratio": defl,
-        "deflection_ok": all(c["deflection_ok"] for c in cases),
-        "utilisation_max": util,
-        "utilisation_max_characteristic": max(c["utilisation_max_characteristic"] for c in cases),
-        "utilisation_plate": governing["utilisation_plate"],
-        "strength_MPa": governing["strength_MPa"],
-        "strength_characteristic_MPa": governing["strength_characteristic_MPa"],
-        "basis": governing["basis"],
-        "utilisation_ok": all(c["utilisation_ok"] for c in cases),
-        "reaction_total_N": heaviest,
-        "buckling_factor": buck,
-        "buckling_ok": None if buck is None else bool(buck >= 1.0),
-        "buckling_factor_mean": next(
+        supports=h.supports.to_dict() if h.supports is not None else {"type": "pinned"},
+        cases=cases,
+        governing={"deflection": defl_case, "utilisation": util_case, "buckling": buck_case},
+        deflection_max_m=max(c["deflection_max_m"] for c in cases),
+        deflection_limit_m=cases[0]["deflection_limit_m"],
+        deflection_ratio=defl,
+        deflection_ok=all(c["deflection_ok"] for c in cases),
+        utilisation_max=util,
+        utilisation_max_characteristic=max(c["utilisation_max_characteristic"] for c in cases),
+        utilisation_plate=governing["utilisation_plate"],
+        strength_MPa=governing["strength_MPa"],
+        strength_characteristic_MPa=governing["strength_characteristic_MPa"],
+        basis=governing["basis"],
+        utilisation_ok=all(c["utilisation_ok"] for c in cases),
+        reaction_total_N=heaviest,
+        buckling_factor=buck,
+        buckling_ok=None if buck is None else bool(buck >= 1.0),
+        buckling_factor_mean=next(
             (c["buckling_factor_mean"] for c in cases if c["name"] == buck_case), None
         ),
-        "stiffness": next((c["stiffness"] for c in cases if c["name"] == buck_case), None)
+        stiffness=next((c["stiffness"] for c in cases if c["name"] == buck_case), None)
         or governing["stiffness"],
-        "deflection_final_max_m": max(
+        deflection_final_max_m=max(
             (c["deflection_final_max_m"] for c in cases if c["deflection_final_max_m"] is not None),
             default=None,
         ),
-        "buckling_note": next((c["buckling_note"] for c in cases if c["buckling_note"]), ""),
-        "hinge_tension_max_N_per_m": max(
+        buckling_note=next((c["buckling_note"] for c in cases if c["buckling_note"]), ""),
+        hinge_tension_max_N_per_m=max(
             c["hinges_uls"].get("tension_max_N_per_m", 0.0) for c in cases
         ),
-        "hinge_mean_N_per_m": governing["hinges_uls"].get("line_mean_N_per_m"),
-        "hinge_shear_max_N_per_m": max(
+        hinge_mean_N_per_m=governing["hinges_uls"].get("line_mean_N_per_m"),
+        hinge_shear_max_N_per_m=max(
             c["hinges_uls"].get("out_of_plane_max_N_per_m", 0.0) for c in cases
         ),
-    }
+    )

@@ -18,7 +18,7 @@ from compas_ccu.fea.mesh import ShellMesh
 from compas_ccu.fea.problem import FEProblem, FEResult
 from compas_ccu.fea.settings import FESettings
 from compas_ccu.fea.solving import tie_set
-from compas_ccu.fea.stresses import surface_stresses
+from compas_ccu.fea.stresses import SurfaceStresses, surface_stresses
 from compas_ccu.thickness.actuation import actuation_force
 from compas_ccu.tolerances import ZERO_LENGTH
 
@@ -91,8 +91,9 @@ class DeploymentHistory:
         """(k, F, 3) reactions of the prescribed nodes at every step, N."""
         return self.result.reactions
 
-    def stresses(self) -> dict:
-        """Plane stresses ``top`` / ``bottom`` / ``membrane`` (k, E, 3) in the element frame."""
+    def stresses(self) -> SurfaceStresses:
+        """Plane stresses ``top`` / ``bottom`` / ``membrane`` (k, E, 3) in the element frame,
+        Pa (:func:`~compas_ccu.fea.stresses.surface_stresses`)."""
         return surface_stresses(self.result.forces, thickness=self.settings.thickness)
 
     def hinge_forces(self, step: int = -1) -> list:

@@ -10,7 +10,7 @@ import os
 
 import numpy as np
 
-from compas_ccu.fea.checks import structural_checks
+from compas_ccu.fea.checks import StructuralChecks, structural_checks
 from compas_ccu.fea.comparison import Comparison
 from compas_ccu.fea.stresses import signed_bending_stress
 from compas_ccu.outputs import write_json
@@ -52,9 +52,9 @@ def write_results(out, summary: dict, comparison: Comparison, *, figures: bool =
         positions=h.positions,
         kinematic=h.kinematic,
         forces=h.result.forces,
-        stress_top=stresses["top"],
-        stress_bottom=stresses["bottom"],
-        stress_membrane=stresses["membrane"],
+        stress_top=stresses.top,
+        stress_bottom=stresses.bottom,
+        stress_membrane=stresses.membrane,
         reactions=h.result.reactions,
         tie_forces=h.result.tie_forces,
         ties=h.problem.ties,
@@ -137,7 +137,7 @@ def write_figures(out, comparison: Comparison) -> list:
         )
         fig.suptitle(
             f"{name}: deflection under the characteristic loads of every case "
-            f"(limit {checks['deflection_limit_m'] * 1e3:.2f} mm)",
+            f"(limit {checks.deflection_limit_m * 1e3:.2f} mm)",
             fontsize=11,
         )
         paths.append(os.path.join(out, "fe_load_cases.png"))
@@ -146,10 +146,10 @@ def write_figures(out, comparison: Comparison) -> list:
     return paths
 
 
-def load_case_titles(checks: dict) -> list:
+def load_case_titles(checks: StructuralChecks) -> list:
     """One line per load case: deflection, utilisation and buckling factor (the pictures)."""
     out = []
-    for c in checks["cases"]:
+    for c in checks.cases:
         b = c["buckling_factor"]
         out.append(
             f"{c['name']}: {c['deflection_max_m'] * 1e3:.2f} mm, utilisation "

@@ -7,7 +7,7 @@ orientation of that frame, so two engines with different local axes compare dire
 >>> import numpy as np
 >>> f = np.array([[0.0, 0.0, 0.0, -10.0, 0.0, 0.0]])       # pure bending, 10 N m/m
 >>> s = surface_stresses(f, thickness=0.01)
->>> s["top"][0] / 1e6, s["bottom"][0] / 1e6                # sigma11 = -/+ 6 m / t^2
+>>> s.top[0] / 1e6, s.bottom[0] / 1e6                      # sigma11 = -/+ 6 m / t^2
 (array([-0.6,  0. ,  0. ]), array([0.6, 0. , 0. ]))
 >>> float(signed_bending_stress(f, thickness=0.01)[0] / 1e6)  # the top surface is compressed
 -0.6
@@ -15,9 +15,13 @@ orientation of that frame, so two engines with different local axes compare dire
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 __all__ = [
+    "SurfaceStresses",
+    "StressSummary",
     "surface_stresses",
     "principal",
     "von_mises",
@@ -26,7 +30,65 @@ __all__ = [
 ]
 
 
-def surface_stresses(forces: np.ndarray, *, thickness: float) -> dict:
+@dataclass(frozen=True)
+class SurfaceStresses:
+    """Plane stress ``[s11, s22, s12]`` in the element frame (:func:`surface_stresses`).
+
+    Attributes
+    ----------
+    top : (..., 3) float
+        On the top surface (+t/2 along the element normal), Pa.
+    bottom : (..., 3) float
+        On the bottom surface (-t/2), Pa.
+    membrane : (..., 3) float
+        On the mid-plane (the membrane part alone), Pa.
+    """
+
+    top: np.ndarray
+    bottom: np.ndarray
+    membrane: np.ndarray
+
+
+@dataclass(frozen=True)
+class StressSummary:
+    """Peak values over the elements of one state (:func:`stress_summary`).
+
+    Attributes
+    ----------
+    max_tension_MPa : float
+        The largest surface principal stress (top or bottom), MPa.
+    max_compression_MPa : float
+        The smallest (most compressive) surface principal stress, MPa.
+    max_von_mises_MPa : float
+        The largest surface von Mises stress, MPa.
+    max_bending_MPa : float
+        The largest absolute bending stress (:func:`signed_bending_stress`), MPa.
+    max_membrane_MPa : float
+        The largest absolute membrane principal stress, MPa.
+    max_moment_Nm_per_m : float
+        The largest absolute principal bending moment, N m/m.
+    """
+
+    max_tension_MPa: float
+    max_compression_MPa: float
+    max_von_mises_MPa: float
+    max_bending_MPa: float
+    max_membrane_MPa: float
+    max_moment_Nm_per_m: float
+
+    def to_dict(self) -> dict:
+        """Plain data (``validation.json`` ``stresses``), the fields in order."""
+        return {
+            "max_tension_MPa": self.max_tension_MPa,
+            "max_compression_MPa": self.max_compression_MPa,
+            "max_von_mises_MPa": self.max_von_mises_MPa,
+            "max_bending_MPa": self.max_bending_MPa,
+            "max_membrane_MPa": self.max_membrane_MPa,
+            "max_moment_Nm_per_m": self.max_moment_Nm_per_m,
+        }
+
+
+def surface_stresses(forces: np.ndarray, *, thickness: float) -> SurfaceStresses:
     """Plane stress ``[s11, s22, s12]`` on the top and bottom surfaces and the mid-plane.
 
     Parameters
@@ -36,13 +98,13 @@ def surface_stresses(forces: np.ndarray, *, thickness: float) -> dict:
 
     Returns
     -------
-    dict of (..., 3) float
-        ``top`` (+t/2 along the element normal), ``bottom`` and ``membrane``, Pa.
+    SurfaceStresses
+        ``top`` (+t/2 along the element normal), ``bottom`` and ``membrane``, (..., 3) Pa.
     """
     f = np.asarray(forces, dtype=float)
     membrane = f[..., :3] / thickness
     bending = 6.0 * f[..., 3:] / thickness**2
-    return {"top": membrane + bending, "bottom": membrane - bending, "membrane": membrane}
+    return SurfaceStresses(top=membrane + bending, bottom=membrane - bending, membrane=membrane)
 
 
 def principal(s: np.ndarray) -> np.ndarray:
@@ -69,19 +131,26 @@ def signed_bending_stress(forces: np.ndarray, *, thickness: float) -> np.ndarray
     return np.where(np.abs(p[..., 0]) >= np.abs(p[..., 1]), p[..., 0], p[..., 1])
 
 
-def stress_summary(forces: np.ndarray, *, thickness: float) -> dict:
-    """Peak values over elements of one state (forces (E, 6)): MPa and N m/m."""
+def stress_summary(forces: np.ndarray, *, thickness: float) -> StressSummary:
+    """Peak values over the elements of one state, MPa and N m/m (:class:`StressSummary`).
+
+    Parameters
+    ----------
+    forces : (E, 6) float
+        The element forces of the state (:mod:`compas_ccu.fea.problem`).
+    thickness : float
+        The plates', m.
+    """
     s = surface_stresses(forces, thickness=thickness)
-    top, bottom = principal(s["top"]), principal(s["bottom"])
+    top, bottom = principal(s.top), principal(s.bottom)
     bending = signed_bending_stress(forces, thickness=thickness)
-    membrane = principal(s["membrane"])
+    membrane = principal(s.membrane)
     moments = principal(np.asarray(forces)[..., 3:])
-    return {
-        "max_tension_MPa": float(max(top.max(), bottom.max()) / 1e6),
-        "max_compression_MPa": float(min(top.min(), bottom.min()) / 1e6),
-        "max_von_mises_MPa": float(max(von_mises(s["top"]).max(), von_mises(s["bottom"]).max()))
-        / 1e6,
-        "max_bending_MPa": float(np.abs(bending).max() / 1e6),
-        "max_membrane_MPa": float(np.abs(membrane).max() / 1e6),
-        "max_moment_Nm_per_m": float(np.abs(moments).max()),
-    }
+    return StressSummary(
+        max_tension_MPa=float(max(top.max(), bottom.max()) / 1e6),
+        max_compression_MPa=float(min(top.min(), bottom.min()) / 1e6),
+        max_von_mises_MPa=float(max(von_mises(s.top).max(), von_mises(s.bottom).max())) / 1e6,
+        max_bending_MPa=float(np.abs(bending).max() / 1e6),
+        max_membrane_MPa=float(np.abs(membrane).max() / 1e6),
+        max_moment_Nm_per_m=float(np.abs(moments).max()),
+    )

@@ -24,7 +24,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from compas_ccu.fea.actuation import actuate
-from compas_ccu.fea.checks import structural_checks
+from compas_ccu.fea.checks import StructuralChecks, structural_checks
 from compas_ccu.fea.comparison import Comparison, compare
 from compas_ccu.fea.displacement import deploy_by_displacement, deployment_problem
 from compas_ccu.fea.history import DeploymentHistory
@@ -153,8 +153,9 @@ class Validation:
         """Per plate at one step: max and mean deviation (% span), peak bending stress (MPa)."""
         return self.comparison.plate_table(step)
 
-    def structural_checks(self) -> dict | None:
-        """Deflection and utilisation under the check loads (:mod:`compas_ccu.fea.checks`)."""
+    def structural_checks(self) -> StructuralChecks | None:
+        """Deflection and utilisation under the check loads (:mod:`compas_ccu.fea.checks`;
+        None without load-case steps)."""
         return structural_checks(self.history)
 
     # -- summary and output -------------------------------------------------------------------
@@ -162,6 +163,7 @@ class Validation:
         """Everything a report needs, JSON-ready (what ``validation.json`` holds)."""
         h = self.history
         s, r, k = h.settings, h.result, h.deployment_steps - 1
+        checks = structural_checks(h)
         settings = asdict(s)
         settings["material"] = s.material.to_dict()
         return {
@@ -183,10 +185,10 @@ class Validation:
             },
             "deviation": self.comparison.summary(k),
             "plates": self.comparison.plate_table(k),
-            "stresses": stress_summary(r.forces[k], thickness=s.thickness),
+            "stresses": stress_summary(r.forces[k], thickness=s.thickness).to_dict(),
             "hinges": h.hinge_forces(k),
             "load_path": h.load_path(),
-            "checks": structural_checks(h),
+            "checks": None if checks is None else checks.to_dict(),
             "solver": {
                 "steps": int(h.problem.steps),
                 "iterations": r.iterations.tolist() if r.iterations is not None else [],

@@ -41,7 +41,8 @@ from compas_ccu.thickness.collision_check import (
     path_collisions,
     scan_first_collision,
 )
-from compas_ccu.thickness.splice_stack import splice_path_gaps, stack_with_splices
+from compas_ccu.thickness.splice_stack import SpliceStack, splice_path_gaps, stack_with_splices
+from compas_ccu.thickness.splices import SpliceGaps
 from compas_ccu.thickness.summary import thick_summary
 from compas_ccu.thickness.thick_invariants import hinge_pairing, thick_metrics
 
@@ -330,7 +331,7 @@ class ThickModel(Data):
         return hinge_pairing(self)
 
     # -- splice plates --------------------------------------------------------------------------
-    def splice_stack(self, splices) -> dict:
+    def splice_stack(self, splices) -> SpliceStack:
         """The flat stack with splice plates (:mod:`compas_ccu.thickness.splices`).
 
         Parameters
@@ -340,7 +341,7 @@ class ThickModel(Data):
 
         Returns
         -------
-        dict
+        compas_ccu.thickness.splice_stack.SpliceStack
             ``stack_height`` (the plates' :attr:`stack_height` plus ``max_pile``, m),
             ``stack_height_plates``, ``max_pile`` (the highest pile of splice plates over one
             point of the plan, m), ``pile_point`` (where, cut-pattern coordinates, or None),
@@ -348,13 +349,14 @@ class ThickModel(Data):
         """
         return stack_with_splices(self, splices)
 
-    def splice_collisions(self, splices, alphas=None, *, tolerance: float = 1e-6) -> dict:
+    def splice_collisions(self, splices, alphas=None, *, tolerance: float = 1e-6) -> SpliceGaps:
         """Splice plates against the neighbouring plates of the stack along the path.
 
         An upper-face splice plate faces the plate above its own in the flat stack, a lower-face
         one the plate below (none on the outside of the stack). Its :func:`slab_points` are
         tested against that plate's cells in every state (``alphas``, degrees; default: 41
-        from the flat stack to the design): :func:`~compas_ccu.thickness.splices.gap_summary`.
+        from the flat stack to the design): :func:`~compas_ccu.thickness.splices.gap_summary`
+        (:class:`~compas_ccu.thickness.splices.SpliceGaps`).
         """
         if alphas is None:
             alphas = np.linspace(0.0, self.model.alpha_design, 41)

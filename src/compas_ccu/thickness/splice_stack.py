@@ -10,31 +10,82 @@ neighbouring plates of the stack in every state of the path
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from compas_ccu.thickness.splices import gap_summary, max_pile, slab_points, splice_gaps
+from compas_ccu.thickness.splices import (
+    SpliceGaps,
+    gap_summary,
+    max_pile,
+    slab_points,
+    splice_gaps,
+)
 
-__all__ = ["stack_with_splices", "splice_path_gaps"]
+__all__ = ["SpliceStack", "stack_with_splices", "splice_path_gaps"]
 
 
-def stack_with_splices(thick, splices) -> dict:
+@dataclass(frozen=True)
+class SpliceStack:
+    """The flat-folded stack with splice plates (:meth:`ThickModel.splice_stack`).
+
+    Attributes
+    ----------
+    stack_height : float
+        The plates' stack height plus :attr:`max_pile`, m.
+    stack_height_plates : float
+        The plates' own :attr:`ThickModel.stack_height`, m.
+    max_pile : float
+        The highest pile of splice plates over one point of the plan, m.
+    pile_point : list of float or None
+        Where ([x, y], cut-pattern coordinates, m); None without splice plates.
+    count : int
+        The number of splice plates.
+    area : float
+        Their footprints' area, m².
+    mass : float
+        Their mass (the plates' material), kg.
+    """
+
+    stack_height: float
+    stack_height_plates: float
+    max_pile: float
+    pile_point: list | None
+    count: int
+    area: float
+    mass: float
+
+    def to_dict(self) -> dict:
+        """Plain data (strict JSON), the fields in order."""
+        return {
+            "stack_height": self.stack_height,
+            "stack_height_plates": self.stack_height_plates,
+            "max_pile": self.max_pile,
+            "pile_point": None if self.pile_point is None else list(self.pile_point),
+            "count": self.count,
+            "area": self.area,
+            "mass": self.mass,
+        }
+
+
+def stack_with_splices(thick, splices) -> SpliceStack:
     """The flat stack of ``thick`` (a ThickModel) with ``splices``
     (:meth:`ThickModel.splice_stack`)."""
     quads = np.array([sp.footprint for sp in splices], dtype=float).reshape(-1, 4, 2)
     pile, point = max_pile(quads, [sp.thickness for sp in splices])
     plates = thick.stack_height
-    return {
-        "stack_height": plates + pile,
-        "stack_height_plates": plates,
-        "max_pile": pile,
-        "pile_point": None if point is None else [float(v) for v in point],
-        "count": len(splices),
-        "area": float(sum(sp.area for sp in splices)),
-        "mass": float(sum(sp.area * sp.thickness for sp in splices) * thick.material.density),
-    }
+    return SpliceStack(
+        stack_height=plates + pile,
+        stack_height_plates=plates,
+        max_pile=pile,
+        pile_point=None if point is None else [float(v) for v in point],
+        count=len(splices),
+        area=float(sum(sp.area for sp in splices)),
+        mass=float(sum(sp.area * sp.thickness for sp in splices) * thick.material.density),
+    )
 
 
-def splice_path_gaps(thick, splices, alphas, tolerance: float) -> dict:
+def splice_path_gaps(thick, splices, alphas, tolerance: float) -> SpliceGaps:
     """Splice plates against the neighbouring plates of the stack of ``thick`` (a ThickModel)
     at reference angles ``alphas`` (degrees; :meth:`ThickModel.splice_collisions`)."""
     if not len(splices):

@@ -38,6 +38,8 @@ __all__ = [
     "slab_points",
     "splice_gaps",
     "gap_summary",
+    "SpliceClearance",
+    "SpliceGaps",
     "GRID",
 ]
 
@@ -327,17 +329,95 @@ def splice_gaps(points, targets, mid_near, mid_far, offsets, thickness) -> np.nd
     return gaps
 
 
-def gap_summary(splices, neighbours, alphas, gaps, tolerance: float) -> dict:
-    """Plain data (strict JSON) of :func:`splice_gaps` along a path from the flat stack.
+@dataclass(frozen=True)
+class SpliceClearance:
+    """How one splice plate clears its neighbouring plate along the path (:class:`SpliceGaps`).
 
-    ``max_depth`` is the deepest sample point inside a neighbouring plate along the path (m;
-    ``t/2 - |d|`` as the plates' own check, so at most half the plate thickness): near the
-    flat stack the splice plates hold the plates apart, which the stack height with splices
-    counts; ``clear_from_alpha`` the angle from which every splice plate stays clear of its
-    neighbour to the design state (None if one is not clear at the design state:
-    ``interpenetration``), ``clearance_design`` the smallest gap at the design state (None if
-    no splice plate lies over a neighbour). Per splice: its ``neighbour`` (plate id or None)
-    and ``clear_from_alpha``.
+    Attributes
+    ----------
+    name : str
+        The splice plate's part name (:attr:`Splice.name`).
+    neighbour : int or None
+        The plate it faces in the flat stack (plate id), None on the outside of the stack.
+    clear_from_alpha : float or None
+        The reference angle (degrees) from which it stays clear of its neighbour to the design
+        state; None if it is not clear at the design state.
+    """
+
+    name: str
+    neighbour: int | None
+    clear_from_alpha: float | None
+
+    def to_dict(self) -> dict:
+        """Plain data (strict JSON): ``name``, ``neighbour``, ``clear_from_alpha``."""
+        return {
+            "name": self.name,
+            "neighbour": self.neighbour,
+            "clear_from_alpha": self.clear_from_alpha,
+        }
+
+
+@dataclass(frozen=True)
+class SpliceGaps:
+    """The splice plates against their neighbouring plates along a path from the flat stack
+    (:func:`gap_summary`).
+
+    Attributes
+    ----------
+    alphas : list
+        ``[first, last, count]``: the reference angles sampled (degrees, degrees, int).
+    tolerance : float
+        The depth a splice plate may reach into its neighbour, m.
+    max_depth : float
+        The deepest sample point inside a neighbouring plate along the path, m (``t/2 - |d|``
+        as the plates' own check, so at most half the plate thickness): near the flat stack
+        the splice plates hold the plates apart, which the stack height with splices counts.
+    clear_from_alpha : float or None
+        The angle (degrees) from which every splice plate stays clear of its neighbour to the
+        design state; None if one is not clear at the design state.
+    interpenetration : bool
+        A splice plate reaches into its neighbour at the design state.
+    clearance_design : float or None
+        The smallest gap at the design state, m; None if no splice plate lies over a neighbour.
+    splices : tuple of SpliceClearance
+        Per splice plate, in the order given.
+    """
+
+    alphas: list
+    tolerance: float
+    max_depth: float
+    clear_from_alpha: float | None
+    interpenetration: bool
+    clearance_design: float | None
+    splices: tuple = ()
+
+    def to_dict(self) -> dict:
+        """Plain data (strict JSON), the fields in order (``splices`` as a list of dicts)."""
+        return {
+            "alphas": list(self.alphas),
+            "tolerance": self.tolerance,
+            "max_depth": self.max_depth,
+            "clear_from_alpha": self.clear_from_alpha,
+            "interpenetration": self.interpenetration,
+            "clearance_design": self.clearance_design,
+            "splices": [sp.to_dict() for sp in self.splices],
+        }
+
+
+def gap_summary(splices, neighbours, alphas, gaps, tolerance: float) -> SpliceGaps:
+    """:func:`splice_gaps` along a path from the flat stack, summed up (:class:`SpliceGaps`).
+
+    Parameters
+    ----------
+    splices : list of Splice
+    neighbours : list of int or None
+        Per splice plate: the plate it faces (plate id), None for none.
+    alphas : (k,) float
+        The reference angles of the states, degrees, from the flat stack to the design.
+    gaps : (k, s) float
+        :func:`splice_gaps`, m.
+    tolerance : float
+        The depth a splice plate may reach into its neighbour, m.
     """
     alphas = np.asarray(alphas, dtype=float)
     bad = -gaps > tolerance  # (k, s)
@@ -346,16 +426,16 @@ def gap_summary(splices, neighbours, alphas, gaps, tolerance: float) -> dict:
         hits = np.flatnonzero(bad[:, q])
         last = int(hits[-1]) if len(hits) else -1
         clear = None if last == len(alphas) - 1 else float(alphas[last + 1])
-        per.append({"name": sp.name, "neighbour": neighbours[q], "clear_from_alpha": clear})
+        per.append(SpliceClearance(sp.name, neighbours[q], clear))
     hits = np.flatnonzero(bad.any(axis=1))
     last = int(hits[-1]) if len(hits) else -1
     design = gaps[-1][np.isfinite(gaps[-1])]
-    return {
-        "alphas": [float(alphas[0]), float(alphas[-1]), len(alphas)],
-        "tolerance": tolerance,
-        "max_depth": float(max(0.0, -gaps.min(initial=np.inf))),
-        "clear_from_alpha": None if last == len(alphas) - 1 else float(alphas[last + 1]),
-        "interpenetration": bool(bad[-1].any()),
-        "clearance_design": float(design.min()) if len(design) else None,
-        "splices": per,
-    }
+    return SpliceGaps(
+        alphas=[float(alphas[0]), float(alphas[-1]), len(alphas)],
+        tolerance=tolerance,
+        max_depth=float(max(0.0, -gaps.min(initial=np.inf))),
+        clear_from_alpha=None if last == len(alphas) - 1 else float(alphas[last + 1]),
+        interpenetration=bool(bad[-1].any()),
+        clearance_design=float(design.min()) if len(design) else None,
+        splices=tuple(per),
+    )
