@@ -142,6 +142,7 @@ class LeadingStrip:
         self._ruling_cos = np.append(self._cos_fwd[:-1], -self._cos_back[-1])
         self._ruling_sin = np.append(self._sin_fwd[:-1], self._sin_back[-1])
         self._factors_ext = np.append(self.tilt_factors, self.tilt_factors[-1])
+        self._ruling_xyz = np.repeat(intrinsics.ruling_lengths[:, None], 3, axis=1)
         j = int(np.argmax(self.tilt_factors))
         self.limit_segment = j
         self.s0_max = 1.0 / self.tilt_factors[j]
@@ -194,30 +195,37 @@ class LeadingStrip:
         -------
         LeadingPlacement
         """
-        s0 = np.atleast_1d(np.asarray(s0, dtype=float))
+        if type(s0) is not np.ndarray or s0.ndim != 1 or s0.dtype != np.float64:
+            s0 = np.atleast_1d(np.asarray(s0, dtype=float))
         n = self.n
-        # n + 1 columns: segments 0 ... n - 1, and segment n - 1 again for the last ruling
-        sin_psi = np.clip(s0[:, None] * self._factors_ext[None, :], -1.0, 1.0)
-        cos_psi = np.sqrt(1.0 - sin_psi**2)
+        # n + 1 columns: segments 0 ... n - 1, and segment n - 1 again for the last ruling; the
+        # clip as its two ufuncs, the cumulative sums as add.accumulate (the same operations)
+        sin_psi = np.multiply(s0[:, None], self._factors_ext[None, :])
+        np.minimum(np.maximum(sin_psi, -1.0, out=sin_psi), 1.0, out=sin_psi)
+        cos_psi = np.square(sin_psi)
+        np.sqrt(np.subtract(1.0, cos_psi, out=cos_psi), out=cos_psi)
         turns = self._turns(s0, sin_psi[:, :n], cos_psi[:, :n])
         k = len(s0)
         theta = np.zeros((k, n + 1))
-        np.cumsum(turns, axis=1, out=theta[:, 1:n])
+        np.add.accumulate(turns, axis=1, out=theta[:, 1:n])
         theta[:, :n] += (self.anchor_angle - self._tangent_angle(theta[:, :n], turns))[:, None]
         theta[:, n] = theta[:, n - 1]
         cos_t, sin_t = np.cos(theta), np.sin(theta)
         h = self.intrinsics.edge_lengths
         near = np.zeros((k, n + 1, 3))
-        np.cumsum(h * cos_t[:, :n], axis=1, out=near[:, 1:, 0])
-        np.cumsum(h * sin_t[:, :n], axis=1, out=near[:, 1:, 1])
+        np.add.accumulate(np.multiply(h, cos_t[:, :n]), axis=1, out=near[:, 1:, 0])
+        np.add.accumulate(np.multiply(h, sin_t[:, :n]), axis=1, out=near[:, 1:, 1])
         near[:, :, :2] += (self.anchor_point - near[:, self.reference, :2])[:, None, :]
         # ruling i in the frame of quad min(i, n - 1) (docstring), from the vertex into the plate
         cb, sb = self._ruling_cos, self._ruling_sin
+        sb_cos = sb * cos_psi
         rulings = np.empty((k, n + 1, 3))
-        rulings[:, :, 0] = cb * cos_t - sb * cos_psi * sin_t
-        rulings[:, :, 1] = cb * sin_t + sb * cos_psi * cos_t
-        rulings[:, :, 2] = sb * sin_psi
-        far = near + self.intrinsics.ruling_lengths[None, :, None] * rulings
+        x, y = rulings[:, :, 0], rulings[:, :, 1]
+        np.subtract(np.multiply(cb, cos_t, out=x), sb_cos * sin_t, out=x)
+        np.add(np.multiply(cb, sin_t, out=y), sb_cos * cos_t, out=y)
+        np.multiply(sb, sin_psi, out=rulings[:, :, 2])
+        far = np.multiply(self._ruling_xyz, rulings)  # the lengths repeated over xyz
+        far += near
         return LeadingPlacement(near, rulings, far, np.arcsin(sin_psi[:, :n]))
 
     # -- naming the actuation by alpha at the reference vertex ------------------------------------
@@ -385,7 +393,7 @@ class _ScalarAlpha:
         self.factor = float(strip.tilt_factors[i])
         self.own_prev = j == i - 1
         self.turn_y = (float(strip._sin_back[i]), float(strip._sin_fwd[i]))
-        self.turn_x = [float(-strip._cos_back[i]), float(strip._cos_fwd[i])] * 2
+        self.turn_x = np.array([float(-strip._cos_back[i]), float(strip._cos_fwd[i])] * 2)
         at = strip._sin_back[n] if k == n else strip._sin_fwd[k]
         cos_at = strip._cos_back[n] if k == n else strip._cos_fwd[k]
         self.s_end, self.c_end = float(at), float(cos_at)
@@ -402,7 +410,7 @@ class _ScalarAlpha:
             tilts.append((sp_prev, cp_prev) if self.own_prev else (sp, cp))
             turn += (y_back * cp_prev, y_fwd * cp)
         a = np.arctan2(turn, self.turn_x).tolist()
-        half = [0.5 * (a[0] - a[1]), 0.5 * (a[2] - a[3])]
+        half = np.array([0.5 * (a[0] - a[1]), 0.5 * (a[2] - a[3])])
         sin_h, cos_h = np.sin(half).tolist(), np.cos(half).tolist()
         se, ce = self.s_end, self.c_end
         y = [se * sp for sp, _ in tilts]

@@ -26,6 +26,7 @@ from typing import NamedTuple
 import numpy as np
 
 from compas_ccu.geometry import dot, fit_planes, reflect_points
+from compas_ccu.kinematics.generations import DefaultPlacement, placement_batches
 from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import StripIntrinsics
@@ -309,7 +310,7 @@ class Mechanism:
         ).reshape(-1, 3)
         for c in self.creases:
             boundary_rows(None, None, c.boundary_a)  # a known boundary name
-        self.generations, self._batches = self._placement_batches()
+        self.generations, self._batches = placement_batches(self.plates, self.creases)
         placed = np.zeros(len(self.creases), dtype=bool)
         for batch in self._batches:
             placed[batch.creases] = True
@@ -330,43 +331,7 @@ class Mechanism:
             creases = np.asarray(creases, dtype=np.intp)
             self._kept[_selection_key(creases)] = CreaseSelection(self, creases.copy())
         self._selections = {}
-
-    def _placement_batches(self):
-        """The generations of plates and, per generation, the index arrays of its placement."""
-        generation = np.zeros(len(self.plates), dtype=int)
-        for i, plate in enumerate(self.plates[1:], start=1):
-            before = [plate.parent]
-            if plate.crease is not None:
-                before.append(self.creases[plate.crease].plate_a)
-            generation[i] = 1 + max(generation[b] for b in before)
-        generations, batches = [np.array([0], dtype=np.intp)], []
-        for g in range(1, int(generation.max(initial=0)) + 1):
-            members = np.flatnonzero(generation == g)
-            links = [self.plates[i] for i in members]
-            for plate in links:
-                boundary_rows(None, None, plate.boundary)  # a known boundary name
-            generations.append(members)
-            from_far = np.array([p.boundary == "far" for p in links], dtype=bool)
-            ccf = np.array([p.relation == "ccf" for p in links], dtype=bool)
-            lengths = np.stack([self._ruling_lengths[i] for i in members])
-            steps = np.diff(members)
-            even = len(members) == 1 or (steps[0] > 0 and (steps == steps[0]).all())
-            step = int(steps[0]) if len(members) > 1 else 1  # evenly spaced plates: a slice
-            batches.append(
-                _Batch(
-                    plates=members,
-                    parents=np.array([p.parent for p in links], dtype=np.intp),
-                    creases=np.array([p.crease for p in links], dtype=np.intp),
-                    from_far=from_far,
-                    ccf=ccf,
-                    lengths=lengths,
-                    target=slice(int(members[0]), int(members[-1]) + 1, step) if even else members,
-                    side=bool(from_far[0]) if (from_far == from_far[0]).all() else None,
-                    flip=bool(ccf[0]) if (ccf == ccf[0]).all() else None,
-                    scale=lengths[None, :, :, None],
-                )
-            )
-        return generations, batches
+        self._default = DefaultPlacement(self, self._batches, self._closing)
 
     @property
     def segments(self) -> int:
@@ -431,10 +396,16 @@ class Mechanism:
         s0 : float or (k,) float
         planes : CreasePlanes, optional
             The strategy that gives the planes of creases from the placed parent plates
-            (default: the fixed leading plane and the best-fit planes of the other creases).
+            (default: the fixed leading plane and the best-fit planes of the other creases,
+            placed by :class:`compas_ccu.kinematics.generations.DefaultPlacement`: the same
+            numbers, bit for bit, at less dispatch).
         """
-        planes = _DEFAULT_PLANES if planes is None else planes
         lead = self.leading.place(s0)
+        if planes is None or type(planes) is CreasePlanes:
+            placed = self._default.place(lead)
+            if placed is not None:
+                return MechanismStates(*placed, lead.tilts)
+        planes = _DEFAULT_PLANES if planes is None else planes
         k, m = lead.near.shape[0], lead.near.shape[1]
         p, c = len(self.plates), len(self.creases)
         near = np.empty((k, p, m, 3))
@@ -523,21 +494,6 @@ class Mechanism:
     def alpha_limit(self) -> float:
         """Largest reachable reference reflection angle, radians."""
         return self.leading.alpha_limit
-
-
-class _Batch(NamedTuple):
-    """One generation of plates placed together (index arrays of :meth:`Mechanism.place`)."""
-
-    plates: np.ndarray  # (g,) the plates
-    parents: np.ndarray  # (g,) their parents
-    creases: np.ndarray  # (g,) the creases they hang on
-    from_far: np.ndarray  # (g,) bool: on the parent's far boundary
-    ccf: np.ndarray  # (g,) bool: folded continuation
-    lengths: np.ndarray  # (g, n + 1) ruling lengths
-    target: object  # the plates as a slice where they are evenly spaced, else ``plates``
-    side: bool | None  # all on the parent's far (True) / near (False) boundary, None: mixed
-    flip: bool | None  # all folded continuations (True) / mirror partners (False), None: mixed
-    scale: np.ndarray  # (1, g, n + 1, 1) the ruling lengths, broadcast over states and xyz
 
 
 _DEFAULT_PLANES = CreasePlanes()
