@@ -16,6 +16,7 @@ import pytest
 
 from compas_ccu.catalog import CATALOG_DIR
 from compas_ccu.geometry import dot, reflect_points
+from compas_ccu.kinematics.generations import as_slice
 from compas_ccu.kinematics.mechanism import CreasePlanes
 from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.model import load_model
@@ -115,3 +116,52 @@ def test_known_generations_of_the_vault(vault_model):
     st = vault_model.mechanism.deploy(math.radians(30.0))
     # parallel planes keep every crease planar and every plate an isometry of its pattern
     assert st.planarity.max() < 1e-12 * vault_model.size
+
+
+class _GeneralLoop(CreasePlanes):
+    """The default planes through the general placement loop (a strategy other than the
+    default itself), the reference of :class:`DefaultPlacement`."""
+
+
+@pytest.mark.parametrize("states", [1, 4])
+def test_default_placement_is_the_general_loop_to_the_last_bit(model, states):
+    """``DefaultPlacement`` (the planned fast path) writes the same bytes as the general loop
+    with the same planes, signed zeros included, at the flat state and up to the limit."""
+    mech = model.mechanism
+    s0 = np.linspace(0.0, mech.leading.s0_max, states + 1)[:states]
+    for values in (s0, s0[-1:], np.array([mech.leading.s0_max])):
+        got = mech.place(values)
+        want = mech.place(values, planes=_GeneralLoop())
+        for name, a, b in zip(got._fields, got, want):
+            assert a.shape == b.shape and a.tobytes() == b.tobytes(), name
+
+
+def test_default_placement_hands_rows_that_are_not_finite_to_the_general_loop(vault_model):
+    mech = vault_model.mechanism
+    lead = mech.leading.place([0.1, np.nan])
+    assert mech._default.place(lead) is None  # the masked plane fit of the general loop
+    with np.errstate(invalid="ignore"):
+        got = mech.place([0.1, np.nan])
+        want = mech.place([0.1, np.nan], planes=_GeneralLoop())
+    for name, a, b in zip(got._fields, got, want):
+        np.testing.assert_array_equal(a, b, err_msg=name)
+    assert np.isfinite(got.near[0]).all() and np.isfinite(got.plane_normals[0]).all()
+    free = ~mech.crease_fixed
+    assert np.isnan(got.plane_normals[1, free]).all()  # the fixed leading plane stays z = 0
+
+
+def test_a_placement_keeps_nothing_between_calls(vault_model):
+    """Every array of a placement is its own: the next call does not change it."""
+    mech = vault_model.mechanism
+    first = mech.deploy(math.radians(20.0))
+    kept = [a.copy() for a in first]
+    mech.deploy(math.radians(40.0))
+    for a, b in zip(first, kept):
+        assert a.tobytes() == b.tobytes()
+
+
+def test_evenly_spaced_indices_are_slices():
+    assert as_slice(np.array([3, 7, 11])) == slice(3, 12, 4)
+    assert as_slice(np.array([0])) == slice(0, 1, 1)
+    for indices in ([0, 0], [2, 1], [0, 1, 3]):
+        assert isinstance(as_slice(np.array(indices)), np.ndarray)

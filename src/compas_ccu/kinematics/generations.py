@@ -122,8 +122,8 @@ def placement_batches(plates: list, creases: list):
 class _Rows(NamedTuple):
     """Crease rows to fit (or, fixed, to keep) and the crease columns they are written to."""
 
-    hinge: object  # positions in the generation's hinge rows (a slice or (h,) int), or None
-    pick: object  # else the CreaseSelection that reads them from the placed plates
+    hinge: object  # positions in the generation's hinge rows (a slice or (h,) int; None: all)
+    pick: object  # or the CreaseSelection that reads them from the placed plates (not None)
     columns: object  # the creases (a slice or (h,) int)
     fit: bool  # fitted planes (else the fixed leading plane)
 
@@ -156,10 +156,8 @@ class DefaultPlacement:
         fixed = mechanism.crease_fixed
         self.steps = []
         for batch in batches:
-            on_parent = (
-                (mechanism.crease_plate_a[batch.creases] == batch.parents).all()
-                and (mechanism.crease_far[batch.creases] == batch.from_far).all()
-            )
+            on_plate = (mechanism.crease_plate_a[batch.creases] == batch.parents).all()
+            on_parent = on_plate and (mechanism.crease_far[batch.creases] == batch.from_far).all()
             parts = []
             for fit, mask in ((True, ~fixed[batch.creases]), (False, fixed[batch.creases])):
                 at = np.flatnonzero(mask)
@@ -168,7 +166,7 @@ class DefaultPlacement:
                     continue
                 columns = batch.creases[at]
                 if on_parent:
-                    hinge = slice(None) if len(at) == len(mask) else as_slice(at)
+                    hinge = None if len(at) == len(mask) else as_slice(at)
                     parts.append(_Rows(hinge, None, as_slice(columns), fit))
                 else:
                     pick = mechanism.crease_selection(columns)
@@ -234,20 +232,23 @@ class DefaultPlacement:
             if rows is not None:
                 self._planes(rows, hinge, near, far, planes)
         normal = planes[1][:, step.columns][:, :, None]  # unoriented: the same mirror image
-        mirrored = away - 2.0 * dot(away, normal)[..., None] * normal
+        shift = 2.0 * np.einsum("...i,...i", away, normal)[..., None] * normal  # geometry.dot
+        target = batch.target
+        near[:, target] = hinge
+        if isinstance(target, slice) and batch.flip is False:  # written where it is kept
+            mirrored = rays[:, target]
+            np.subtract(away, shift, out=mirrored)
+            placed = far[:, target]
+            np.multiply(step.scale, mirrored, out=placed)
+            np.add(hinge, placed, out=placed)
+            return
+        mirrored = away - shift
         if batch.flip is None:
             mirrored = np.where(batch.ccf[None, :, None, None], -mirrored, mirrored)
         elif batch.flip:
             mirrored = -mirrored
-        target = batch.target
-        near[:, target] = hinge
         rays[:, target] = mirrored
-        if isinstance(target, slice):
-            placed = far[:, target]
-            np.multiply(step.scale, mirrored, out=placed)
-            np.add(hinge, placed, out=placed)
-        else:
-            far[:, target] = hinge + step.scale * mirrored
+        far[:, target] = hinge + step.scale * mirrored
 
     def _planes(self, rows: _Rows, hinge, near, far, planes) -> None:
         """Fit (free) or keep (fixed) the planes of crease rows: their origins, normals and
@@ -256,7 +257,7 @@ class DefaultPlacement:
         if rows.pick is not None:
             points = self.mechanism.selected_rows(rows.pick, near, far)
         else:
-            points = hinge[:, rows.hinge]
+            points = hinge if rows.hinge is None else hinge[:, rows.hinge]
         at = rows.columns
         if not rows.fit:  # origin 0 and normal (0, 0, 1) kept: the deviation is |z|
             centred[:, at] = points
