@@ -398,7 +398,8 @@ class Mechanism:
             The strategy that gives the planes of creases from the placed parent plates
             (default: the fixed leading plane and the best-fit planes of the other creases,
             placed by :class:`compas_ccu.kinematics.generations.DefaultPlacement`: the same
-            numbers, bit for bit, at less dispatch).
+            numbers as this loop, bit for bit, at less dispatch; rows that are not finite are
+            left to this loop).
         """
         lead = self.leading.place(s0)
         if planes is None or type(planes) is CreasePlanes:
