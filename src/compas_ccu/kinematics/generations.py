@@ -274,7 +274,7 @@ class DefaultPlacement:
             origin /= m
             part = points - origin[..., None, :]
             origins[:, at], centred[:, at] = origin, part
-        if _SVD is None:  # pragma: no cover
+        if _SVD is None:  # NumPy 1.x
             normals[:, at] = np.linalg.svd(part, full_matrices=m < 3)[2][..., -1, :]
         else:  # numpy.linalg.svd's gufunc: the same LAPACK call on the same rows
             normals[:, at] = _SVD[m >= 3](part, signature="d->ddd")[2][..., -1, :]
