@@ -22,8 +22,9 @@ cut (docs/benchmarks.md, "The fixed cost of a redeploy"):
   origin 0, so its deviation is the same dot product as a fitted one's: ``|z|``.
 
 Nothing is kept between calls (every array is allocated per call): two threads may place the
-same mechanism at once. Where a crease row is not finite, :meth:`DefaultPlacement.place` returns
-None and the general loop places the states instead (its masked plane fit).
+same mechanism at once. Where a crease row is not finite or an SVD fails,
+:meth:`DefaultPlacement.place` returns None and the general loop places the states instead (its
+masked plane fit, or ``numpy.linalg.svd``'s ``LinAlgError``).
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from typing import NamedTuple
 import numpy as np
 
 from compas_ccu.geometry import dot
+from compas_ccu.kinematics.plates import boundary_rows
 
 try:  # the gufuncs behind numpy.linalg.svd (NumPy >= 2), called without its per-call checks
     from numpy.linalg import _umath_linalg
@@ -40,7 +42,6 @@ try:  # the gufuncs behind numpy.linalg.svd (NumPy >= 2), called without its per
     _SVD = (_umath_linalg.svd_f, _umath_linalg.svd_s)
 except (ImportError, AttributeError):  # pragma: no cover - NumPy 1.x names them otherwise
     _SVD = None
-from compas_ccu.kinematics.plates import boundary_rows
 
 __all__ = ["Batch", "DefaultPlacement", "as_slice", "placement_batches"]
 
