@@ -19,7 +19,10 @@ from compas_ccu.tolerances import EXACT_RELATIVE
 __all__ = [
     "cell_hulls",
     "cell_frames",
+    "point_bounds",
+    "bounded_boxes",
     "oriented_boxes",
+    "box_bounds",
     "pack_boxes",
     "separated",
     "index_blocks",
@@ -72,25 +75,45 @@ def cell_frames(mid_near, normal, cell):
     return np.stack([t, cross3(nrm, t), nrm], axis=-1)
 
 
-def oriented_boxes(points, axes, tol):
-    """Oriented boxes around point sets (..., s, 3) in the frames ``axes`` (..., 3, 3): centres
-    (..., 3), the axes and the half-extents (..., 3), widened for round-off (inf where a point
-    is not finite)."""
-    x, y, z = (points[..., i] for i in range(3))
-    lo, hi = [], []
+def point_bounds(points, axes):
+    """The lowest and highest coordinates (..., 3) each of point sets (..., s, 3) along the
+    columns of the frames ``axes`` (..., 3, 3) (non-finite where a point is not finite): one
+    batched product of the transposed frames with the transposed points."""
     with np.errstate(invalid="ignore", over="ignore"):
-        for c in range(3):  # coordinates along axis c
-            a = axes[..., c]
-            along = x * a[..., 0, None] + y * a[..., 1, None] + z * a[..., 2, None]
-            lo.append(along.min(axis=-1))
-            hi.append(along.max(axis=-1))
-        lo, hi = np.stack(lo, axis=-1), np.stack(hi, axis=-1)
+        along = np.swapaxes(axes, -1, -2) @ np.swapaxes(points, -1, -2)  # (..., 3, s)
+    return along.min(axis=-1), along.max(axis=-1)
+
+
+def bounded_boxes(lo, hi, axes, tol):
+    """Oriented boxes from the coordinates ``lo``, ``hi`` (..., 3) they span along the columns
+    of ``axes`` (..., 3, 3): centres (..., 3), the axes and the half-extents (..., 3), widened
+    by ``1e-9`` of the coordinates plus ``tol`` for round-off (inf where not finite)."""
+    with np.errstate(invalid="ignore", over="ignore"):
         mid = 0.5 * (lo + hi)
         half = 0.5 * (hi - lo) + EXACT_RELATIVE * (np.abs(lo) + np.abs(hi)) + tol
     bad = ~np.isfinite(half).all(axis=-1)
     mid[bad], half[bad] = 0.0, np.inf
-    centre = np.einsum("...ij,...j->...i", axes, mid)
+    centre = (axes @ mid[..., None])[..., 0]
     return centre, axes, half
+
+
+def oriented_boxes(points, axes, tol):
+    """Oriented boxes around point sets (..., s, 3) in the frames ``axes`` (..., 3, 3): centres
+    (..., 3), the axes and the half-extents (..., 3), widened for round-off (inf where a point
+    is not finite; :func:`point_bounds`, :func:`bounded_boxes`)."""
+    return bounded_boxes(*point_bounds(points, axes), axes, tol)
+
+
+def box_bounds(box, axes):
+    """The lowest and highest coordinates (..., 3) each of oriented boxes along the columns of
+    the frames ``axes`` (..., 3, 3): the support of a box along a unit vector ``u`` is
+    ``centre . u ± sum_j half_j |axis_j . u|`` (the extreme corners, without the corners)."""
+    turn = np.swapaxes(axes, -1, -2)
+    centre, box_axes, half = box
+    with np.errstate(invalid="ignore", over="ignore"):
+        mid = (turn @ centre[..., None])[..., 0]
+        reach = (np.abs(turn @ box_axes) @ half[..., None])[..., 0]
+        return mid - reach, mid + reach
 
 
 def pack_boxes(box):
@@ -131,22 +154,14 @@ def index_blocks(count, size):
     return np.minimum(np.arange(blocks * size).reshape(blocks, size), count - 1)
 
 
-def _corners(box):
-    """(..., 8, 3) corners of boxes."""
-    centre, axes, half = box
-    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
-    with np.errstate(invalid="ignore"):
-        offsets = np.einsum("...ij,...cj->...ci", axes, signs * half[..., None, :])
-    return centre[..., None, :] + offsets
-
-
 def box_tree(box, middle, frame, tol):
     """Boxes of a binary tree over the leaf boxes of every plate (leaves along axis 2).
 
     ``middle(level, node)`` is the cell whose frame a node takes, ``frame(cells)`` the frames
-    of cells; a parent's box holds the corners of its children's boxes. Leaves are padded to a
-    power of two with empty ones. Returns the levels from the leaves up, each the packed boxes
-    (15, states x plates x nodes) and which nodes are not padding.
+    of cells; a parent's box holds its children's boxes (their extents along its axes,
+    :func:`box_bounds`: the tree is refitted level by level, O(nodes) array operations). Leaves
+    are padded to a power of two with empty ones. Returns the levels from the leaves up, each
+    the packed boxes (15, states x plates x nodes) and which nodes are not padding.
     """
     count = box[0].shape[2]
     size = 1 << max(count - 1, 0).bit_length()
@@ -158,13 +173,16 @@ def box_tree(box, middle, frame, tol):
     while size > 1:
         size //= 2
         level += 1
-        corners = _corners(box)  # (k, p, 2 size, 8, 3)
         pair = valid.reshape(size, 2)
-        # an empty child takes its sibling's corners (a parent of two empty ones is empty)
-        corners = corners.reshape(*corners.shape[:2], size, 2, 8, 3)
-        corners = np.where(pair[:, :, None, None], corners, corners[:, :, :, ::-1])
-        corners = corners.reshape(*corners.shape[:2], size, 16, 3)
-        box = oriented_boxes(corners, frame(middle(level, np.arange(size))), tol)
+        # an empty child takes its sibling's box (a parent of two empty ones is empty)
+        own = np.arange(2 * size).reshape(size, 2)
+        twin = np.where(pair, own, own[:, ::-1])
+        axes = frame(middle(level, np.arange(size)))  # (k, p, size, 3, 3)
+        children = tuple(x[:, :, twin.reshape(-1)] for x in box)
+        lo, hi = box_bounds(children, np.repeat(axes, 2, axis=2))
+        lo = lo.reshape(*lo.shape[:2], size, 2, 3).min(axis=3)
+        hi = hi.reshape(*hi.shape[:2], size, 2, 3).max(axis=3)
+        box = bounded_boxes(lo, hi, axes, tol)
         valid = pair.any(axis=1)
         levels.append((box, valid))
     return [(pack_boxes(box).reshape(15, -1), valid) for box, valid in levels]

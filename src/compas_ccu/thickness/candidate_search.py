@@ -55,12 +55,14 @@ import numpy as np
 
 from compas_ccu.geometry import dot
 from compas_ccu.thickness.box_trees import (
+    bounded_boxes,
     box_tree,
     cell_frames,
     cell_hulls,
     index_blocks,
     oriented_boxes,
     pack_boxes,
+    point_bounds,
     separated,
 )
 from compas_ccu.thickness.broad_phase import PairTable
@@ -152,13 +154,14 @@ def plate_blocks(
     points = faces.reshape(k, p, nv, 3)
     block_points = points[:, :, local]  # (k, p, I, 4 RULINGS, 3)
     frames = cell_frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
-    vertex_box = oriented_boxes(block_points, frames, tol)
     # a pair whose one row is all on their hinge meets the other row only (no crossing test):
-    # boxes of the near rows and of the far rows too, and which box each hinge meets
+    # boxes of the near rows and of the far rows too, and which box each hinge meets; the
+    # box of both rows spans the union of their extents (the same frame)
     rows = local.reshape(ni, 2, 2, RULINGS)
-    boxes = [vertex_box] + [
-        oriented_boxes(points[:, :, rows[:, :, r].reshape(ni, -1)], frames, tol) for r in (0, 1)
-    ]
+    near, far = (point_bounds(points[:, :, rows[:, :, r].reshape(ni, -1)], frames) for r in (0, 1))
+    both = np.minimum(near[0], far[0]), np.maximum(near[1], far[1])
+    vertex_box = bounded_boxes(*both, frames, tol)
+    boxes = [vertex_box] + [bounded_boxes(*bounds, frames, tol) for bounds in (near, far)]
     boxes = [np.stack(parts).reshape(-1, *parts[0].shape[3:]) for parts in zip(*boxes)]
     masks = table.masks
     on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
