@@ -41,27 +41,28 @@ def cell_hulls(cells, tol, height):
     never meets those planes (a degenerate cell), the points are infinite.
     """
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
-    near, far, side0, side1 = (a, e_near), (d, e_far), (a, s0), (b, s1)
+    # the lateral planes in turn round the cell (near, side 0, far, side 1): each one's offset
+    # moved out by tol and its line's direction in the planes parallel to the mid plane,
+    # computed once for the two corners and the two bounds it enters
+    planes = ((a, e_near), (a, s0), (d, e_far), (b, s1))
     oc = dot(centre, normal)[..., None]
+    offset = [dot(base, nrm)[..., None] - tol for base, nrm in planes]
+    line = [cross3(normal, nrm) for _, nrm in planes]  # cross3(nrm, normal) = -line exactly
     out = []
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        for (ba, na), (bb, nb) in ((near, side0), (side0, far), (far, side1), (side1, near)):
-            oa = dot(ba, na)[..., None] - tol  # the lateral half-spaces, moved out by tol
-            ob = dot(bb, nb)[..., None] - tol
-            axis = cross3(na, nb)
+        for i in range(4):
+            j = (i + 1) % 4
+            axis = cross3(planes[i][1], planes[j][1])
             det = dot(normal, axis)[..., None]
-            x0 = (oa * cross3(nb, normal) + ob * cross3(normal, na) + oc * axis) / det
-            out += [x0 - height * axis / det, x0 + height * axis / det]
+            x0 = (offset[i] * -line[j] + offset[j] * line[i] + oc * axis) / det
+            step = height * axis / det
+            out += [x0 - step, x0 + step]
     out = np.stack(out, axis=-2)
+    # each line bounded from opposite sides by the lines of its two neighbours
     bounded = np.ones(out.shape[:-2], dtype=bool)
-    for (_, line), (_, one), (_, other) in (
-        (near, side0, side1),
-        (far, side0, side1),
-        (side0, near, far),
-        (side1, near, far),
-    ):
-        u = cross3(normal, line)  # the line's direction in the planes parallel to the mid plane
-        bounded &= dot(one, u) * dot(other, u) < 0.0
+    for i in range(4):
+        one, other = planes[(i + 1) % 4][1], planes[(i + 3) % 4][1]
+        bounded &= dot(one, line[i]) * dot(other, line[i]) < 0.0
     out[~bounded] = np.inf
     return out
 
