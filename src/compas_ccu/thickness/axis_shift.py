@@ -48,6 +48,7 @@ __all__ = [
     "HingePlanes",
     "place_thick",
     "solid_faces",
+    "offset_faces",
 ]
 
 
@@ -291,7 +292,20 @@ def solid_faces(
     ruling = unit(far - near)
     mid_near = near + shifts_near[..., None] * ruling
     mid_far = far - shifts_far[..., None] * ruling
-    mid = np.concatenate([mid_near, mid_far], axis=-2)
-    nu = np.concatenate([offsets, offsets], axis=-2)
-    half = 0.5 * thickness
-    return np.stack([mid - half * nu, mid + half * nu], axis=-3)
+    return offset_faces(mid_near, mid_far, offsets, thickness)
+
+
+def offset_faces(
+    mid_near: np.ndarray, mid_far: np.ndarray, offsets: np.ndarray, thickness: float
+) -> np.ndarray:
+    """Lower and upper face vertices (..., 2, 2n + 2, 3) of thick plates from their mid-surface
+    boundaries with the crease corrections (..., n + 1, 3) and face offsets: the mid-surface
+    vertices ``∓ t/2 ν`` (:func:`solid_faces`), written in place."""
+    m = mid_near.shape[-2]
+    step = (0.5 * thickness) * offsets
+    out = np.empty((*np.broadcast_shapes(mid_near.shape, offsets.shape)[:-2], 2, 2 * m, 3))
+    np.subtract(mid_near, step, out=out[..., 0, :m, :])
+    np.subtract(mid_far, step, out=out[..., 0, m:, :])
+    np.add(mid_near, step, out=out[..., 1, :m, :])
+    np.add(mid_far, step, out=out[..., 1, m:, :])
+    return out

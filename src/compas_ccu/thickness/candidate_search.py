@@ -285,17 +285,21 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
     heights = blocks.normals.take(cell_id, axis=0) @ x.swapaxes(1, 2)
     heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
     heights -= blocks.offsets.take(cell_id, axis=0)
-    lateral = heights[:, 1] >= -tol
-    for plane in (2, 3, 4):
-        lateral &= heights[:, plane] >= -tol
+    # inside every lateral half-space: the lowest of the four heights (NaN: not inside)
+    low = np.minimum(heights[:, 1], heights[:, 2])
+    np.minimum(low, heights[:, 3], out=low)
+    np.minimum(low, heights[:, 4], out=low)
+    lateral = low >= -tol
     hinge = table.hinge[pair]  # -1: the all-False last row of the masks
     lateral &= ~blocks.skip.reshape(-1, 4 * RULINGS).take(
         np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib, axis=0
     )[:, None]
     # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
-    size = np.abs(heights[:, 0])
-    size[~lateral] = np.inf
-    gap = size.min(axis=1) - half
+    size = np.where(lateral, np.abs(heights[:, 0]), np.inf)
+    gap = np.minimum(size[:, 0], size[:, 1])
+    for cell in range(2, CELLS):
+        np.minimum(gap, size[:, cell], out=gap)
+    gap -= half
     best = gap.argmin(axis=1)  # the first of the smallest gaps: the lowest vertex number
     rows = np.arange(count)
     value = gap[rows, best]
