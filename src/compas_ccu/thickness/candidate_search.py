@@ -98,9 +98,8 @@ class Blocks(NamedTuple):
     offsets: np.ndarray  # (k p J, 5, CELLS, 1) and their offsets
     points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block
     cell_tree: list  # levels of packed boxes over the cell blocks, leaves first
-    ruling_tree: list  # the same over the vertex blocks
-    rows: np.ndarray  # (15, 3 k p I) packed leaf boxes: both rows, near rows, far rows
-    row_box: np.ndarray  # (H + 1,) which leaf box a hinged pair meets (-1: none)
+    ruling_tree: list  # the same over the vertex blocks: both rows, near rows, far rows
+    row_box: np.ndarray  # (H + 1,) which ruling tree a hinged pair meets (-1: none)
     skip: np.ndarray  # (H + 1, I, 4 RULINGS) bool: hinge vertices left out, per hinge
 
 
@@ -162,13 +161,16 @@ def plate_blocks(
     both = np.minimum(near[0], far[0]), np.maximum(near[1], far[1])
     vertex_box = bounded_boxes(*both, frames, tol)
     boxes = [vertex_box] + [bounded_boxes(*bounds, frames, tol) for bounds in (near, far)]
-    boxes = [np.stack(parts).reshape(-1, *parts[0].shape[3:]) for parts in zip(*boxes)]
+    boxes = [np.concatenate(parts) for parts in zip(*boxes)]  # (3 k, p, I, ...)
     masks = table.masks
     on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
     row_box = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
 
     def frame(cells):
         return cell_frames(mid_near, normal, np.minimum(cells, n - 1))
+
+    def frames3(cells):  # the same frames for the three trees of rows
+        return np.concatenate([frame(cells)] * 3)
 
     def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
         return lambda level, node: ((2 * node + 1) << level) * size // 2
@@ -182,8 +184,7 @@ def plate_blocks(
         offsets=block_offsets.reshape(-1, 5, CELLS, 1),
         points=block_points.reshape(-1, 4 * RULINGS, 3),
         cell_tree=box_tree(cell_box, middle(CELLS), frame, tol),
-        ruling_tree=box_tree(vertex_box, middle(RULINGS), frame, tol),
-        rows=pack_boxes(tuple(boxes)).reshape(15, -1),
+        ruling_tree=box_tree(tuple(boxes), middle(RULINGS), frames3, tol),
         row_box=row_box,
         skip=masks[:, local],
     )
@@ -215,20 +216,15 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     keep = row_box[pair] >= 0
     qq = pair[keep]
     node_a = state[keep] * p + table.pairs[qq, 0]  # (state, plate, node) at the current levels
-    node_b = state[keep] * p + table.pairs[qq, 1]
+    kp = cell_tree[-1][0].shape[1]  # states x plates: one root each
+    # the tree of both rows, or for a hinged pair the tree of its free row
+    node_b = row_box[qq] * kp + state[keep] * p + table.pairs[qq, 1]
     la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
-    rows = blocks.rows
-    kpi = rows.shape[1] // 3
     while True:
         (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
         keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
         qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
-        if la == 0 and lb == 0:  # the leaves: for hinged pairs, the box of the free row
-            plate_b, ii = np.divmod(node_b, ni)
-            b_of = rows.take(row_box[qq] * kpi + plate_b * len(blocks.local) + ii, axis=1)
-        else:
-            b_of = box_b.take(node_b, axis=1)
-        keep = ~separated(box_a.take(node_a, axis=1), b_of)
+        keep = ~separated(box_a.take(node_a, axis=1), box_b.take(node_b, axis=1))
         qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
         if la == 0 and lb == 0:
             break
@@ -243,6 +239,7 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
         la, lb = la - split_a, lb - split_b
     plate_a, jj = np.divmod(node_a, nj)
     plate_b, ii = np.divmod(node_b, ni)
+    plate_b %= kp  # (state, plate) whatever the tree of rows
     cell_id = plate_a * len(blocks.cell_block) + jj  # (state, plate, block) without padding
     ruling_id = plate_b * len(blocks.local) + ii
     return qq, cell_id, ruling_id
