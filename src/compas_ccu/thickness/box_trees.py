@@ -94,7 +94,7 @@ def bounded_boxes(lo, hi, axes, tol):
         half = 0.5 * (hi - lo) + EXACT_RELATIVE * (np.abs(lo) + np.abs(hi)) + tol
     bad = ~np.isfinite(half).all(axis=-1)
     mid[bad], half[bad] = 0.0, np.inf
-    centre = (axes @ mid[..., None])[..., 0]
+    centre = np.einsum("...ij,...j->...i", axes, mid)
     return centre, axes, half
 
 
@@ -109,11 +109,12 @@ def box_bounds(box, axes):
     """The lowest and highest coordinates (..., 3) each of oriented boxes along the columns of
     the frames ``axes`` (..., 3, 3): the support of a box along a unit vector ``u`` is
     ``centre . u ± sum_j half_j |axis_j . u|`` (the extreme corners, without the corners)."""
-    turn = np.swapaxes(axes, -1, -2)
     centre, box_axes, half = box
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = (turn @ centre[..., None])[..., 0]
-        reach = (np.abs(turn @ box_axes) @ half[..., None])[..., 0]
+        mid = np.einsum("...ij,...i->...j", axes, centre)
+        size = np.abs(np.swapaxes(axes, -1, -2) @ box_axes)  # |u_c . axis_j|
+        reach = size[..., 0] * half[..., 0, None] + size[..., 1] * half[..., 1, None]
+        reach += size[..., 2] * half[..., 2, None]
         return mid - reach, mid + reach
 
 

@@ -61,7 +61,6 @@ from compas_ccu.thickness.box_trees import (
     cell_hulls,
     index_blocks,
     oriented_boxes,
-    pack_boxes,
     point_bounds,
     separated,
 )
@@ -279,7 +278,8 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
     vertices = blocks.local[ib]  # (N, 4 RULINGS)
     x = blocks.points.take(ruling_id, axis=0)  # (N, 4 RULINGS, 3)
     # heights (N, plane, cell, vertex) by the same matrix products as the brute force
-    heights = blocks.normals.take(cell_id, axis=0) @ x.swapaxes(1, 2)
+    # (the points transposed into a contiguous operand: the same BLAS kernel, faster packing)
+    heights = blocks.normals.take(cell_id, axis=0) @ np.ascontiguousarray(x.swapaxes(1, 2))
     heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
     heights -= blocks.offsets.take(cell_id, axis=0)
     # inside every lateral half-space: the lowest of the four heights (NaN: not inside)
