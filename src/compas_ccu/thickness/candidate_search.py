@@ -73,6 +73,7 @@ __all__ = [
     "BATCH",
     "Blocks",
     "plate_blocks",
+    "with_planes",
     "block_pairs",
     "Found",
     "exact_tests",
@@ -95,7 +96,8 @@ class Blocks(NamedTuple):
     planes: list  # the four lateral planes (base, normal), each (k, p, n, 3)
     normals: np.ndarray  # (k p J, 5 CELLS, 3) plane normals of every cell block
     offsets: np.ndarray  # (k p J, 5, CELLS, 1) and their offsets
-    points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block
+    points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block (these
+    # three None until :func:`with_planes`)
     cell_tree: list  # levels of packed boxes over the cell blocks, leaves first
     ruling_tree: list  # the same over the vertex blocks: both rows, near rows, far rows
     row_box: np.ndarray  # (H + 1,) which ruling tree a hinged pair meets (-1: none)
@@ -103,7 +105,7 @@ class Blocks(NamedTuple):
 
 
 def plate_blocks(
-    mid_near, mid_far, offsets, faces, table: PairTable, tol, height, cells=None
+    mid_near, mid_far, offsets, faces, table: PairTable, tol, height, cells=None, *, planes=True
 ) -> Blocks:
     """Blocks, boxes and trees of the candidate search (module docstring).
 
@@ -119,27 +121,26 @@ def plate_blocks(
         collision report's, :mod:`compas_ccu.thickness.report_pairs`), m.
     cells : tuple, optional
         :func:`compas_ccu.thickness.cells.plate_cells` of the plates, if already computed.
+    planes : bool
+        False: without the planes and points of the exact tests (``normals``, ``offsets`` and
+        ``points`` None), for a walk that may keep no block pair; :func:`with_planes` adds them.
     """
     k, p, m = mid_near.shape[:3]
     n = m - 1
     # cells and their five planes (mid plane, then the lateral ones), every state and plate
     if cells is None:
         cells = plate_cells(mid_near, mid_far, offsets)
-    centre, normal, planes = cells[0], cells[1], cells[2:]
-    normals = np.stack([normal] + [nrm for _, nrm in planes], axis=-2)  # (k, p, n, 5, 3)
-    plane_offsets = np.stack(
-        [dot(centre, normal)] + [dot(base, nrm) for base, nrm in planes], axis=-1
-    )  # (k, p, n, 5)
+    normal = cells[1]
 
     # cell blocks: a box (in the frame of the middle cell) around the hull of what their
     # lateral tests accept up to the reach
     cell_block = index_blocks(n, CELLS)  # (J, CELLS)
     nj = len(cell_block)
-    hull = cell_hulls(cells, tol, height)[:, :, cell_block].reshape(k, p, nj, -1, 3)
-    cell_box = oriented_boxes(hull, cell_frames(mid_near, normal, cell_block[:, CELLS // 2]), tol)
-    # the five planes of the cells of every block: normals (plane, cell) and offsets
-    block_normals = normals[:, :, cell_block].swapaxes(3, 4).reshape(-1, 5 * CELLS, 3)
-    block_offsets = plane_offsets[:, :, cell_block].swapaxes(3, 4)[..., None]
+    hull = cell_hulls(cells, tol, height)
+    hull = hull.reshape(k, p, nj, -1, 3) if n % CELLS == 0 else hull[:, :, cell_block]
+    cell_box = oriented_boxes(
+        hull.reshape(k, p, nj, -1, 3), cell_frames(mid_near, normal, cell_block[:, CELLS // 2]), tol
+    )
 
     # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
     # near / far row, then the ruling): the vertices and the rulings between them (vertex
@@ -150,7 +151,6 @@ def plate_blocks(
     local = np.arange(2)[:, None, None] * (2 * m) + np.arange(2)[None, :, None] * m
     local = (local[None] + column[:, None, None, :]).reshape(ni, 4 * RULINGS)
     points = faces.reshape(k, p, nv, 3)
-    block_points = points[:, :, local]  # (k, p, I, 4 RULINGS, 3)
     frames = cell_frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
     # a pair whose one row is all on their hinge meets the other row only (no crossing test):
     # boxes of the near rows and of the far rows too, and which box each hinge meets; the
@@ -174,18 +174,45 @@ def plate_blocks(
     def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
         return lambda level, node: ((2 * node + 1) << level) * size // 2
 
-    return Blocks(
+    blocks = Blocks(
         plates=p,
         cell_block=cell_block,
         local=local,
-        planes=planes,
-        normals=block_normals,
-        offsets=block_offsets.reshape(-1, 5, CELLS, 1),
-        points=block_points.reshape(-1, 4 * RULINGS, 3),
+        planes=cells[2:],
+        normals=None,
+        offsets=None,
+        points=None,
         cell_tree=box_tree(cell_box, middle(CELLS), frame, tol),
         ruling_tree=box_tree(tuple(boxes), middle(RULINGS), frames3, tol),
         row_box=row_box,
         skip=masks[:, local],
+    )
+    return with_planes(blocks, cells, faces) if planes else blocks
+
+
+def with_planes(blocks: Blocks, cells, faces) -> Blocks:
+    """``blocks`` with the planes and points of the exact tests: the five planes of the cells
+    of every cell block, normals (plane, cell) and offsets, and the face vertices of every
+    vertex block.
+
+    Parameters
+    ----------
+    blocks : Blocks
+    cells : tuple
+        :func:`compas_ccu.thickness.cells.plate_cells` of the (k, p, n) cells.
+    faces : (k, p, 2, 2n + 2, 3) float
+    """
+    centre, normal, planes = cells[0], cells[1], cells[2:]
+    cell_block = blocks.cell_block
+    normals = [normal] + [nrm for _, nrm in planes]
+    offsets = [dot(centre, normal)] + [dot(base, nrm) for base, nrm in planes]
+    normals = np.stack([x[:, :, cell_block] for x in normals], axis=3)  # (k, p, J, 5, CELLS, 3)
+    offsets = np.stack([x[:, :, cell_block] for x in offsets], axis=3)  # (k, p, J, 5, CELLS)
+    points = faces.reshape(*faces.shape[:2], -1, 3)[:, :, blocks.local]  # (k, p, I, 4 R, 3)
+    return blocks._replace(
+        normals=normals.reshape(-1, 5 * CELLS, 3),
+        offsets=offsets.reshape(-1, 5, CELLS, 1),
+        points=points.reshape(-1, 4 * RULINGS, 3),
     )
 
 
