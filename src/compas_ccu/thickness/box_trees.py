@@ -41,29 +41,26 @@ def cell_hulls(cells, tol, height):
     never meets those planes (a degenerate cell), the points are infinite.
     """
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
-    # the lateral planes in turn round the cell (near, side 0, far, side 1): each one's offset
-    # moved out by tol and its line's direction in the planes parallel to the mid plane,
-    # computed once for the two corners and the two bounds it enters
-    planes = ((a, e_near), (a, s0), (d, e_far), (b, s1))
-    oc = dot(centre, normal)[..., None]
-    offset = [dot(base, nrm)[..., None] - tol for base, nrm in planes]
-    line = [cross3(normal, nrm) for _, nrm in planes]  # cross3(nrm, normal) = -line exactly
-    out = []
+    # the lateral planes in turn round the cell (near, side 0, far, side 1), stacked (..., 4, 3):
+    # each one's offset moved out by tol and its line's direction in the planes parallel to
+    # the mid plane; corner i where the lines of planes i and i + 1 meet
+    plane = np.stack([e_near, s0, e_far, s1], axis=-2)
+    offset = dot(np.stack([a, a, d, b], axis=-2), plane)[..., None] - tol
+    up = normal[..., None, :]
+    line = cross3(up, plane)
+    turn = [1, 2, 3, 0]  # the next plane round the cell
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        for i in range(4):
-            j = (i + 1) % 4
-            axis = cross3(planes[i][1], planes[j][1])
-            det = dot(normal, axis)[..., None]
-            x0 = (offset[i] * -line[j] + offset[j] * line[i] + oc * axis) / det
-            step = height * axis / det
-            out += [x0 - step, x0 + step]
-    out = np.stack(out, axis=-2)
+        axis = cross3(plane, plane[..., turn, :])
+        det = dot(up, axis)[..., None]
+        # cross3(next, normal) = -line of the next plane, exactly
+        x0 = offset * -line[..., turn, :] + offset[..., turn, :] * line
+        x0 = (x0 + dot(centre, normal)[..., None, None] * axis) / det
+        step = height[..., None] * axis / det if np.ndim(height) else height * axis / det
+        out = np.stack([x0 - step, x0 + step], axis=-2)  # (..., 4 corners, 2, 3)
+    out = out.reshape(*out.shape[:-3], 8, 3)
     # each line bounded from opposite sides by the lines of its two neighbours
-    bounded = np.ones(out.shape[:-2], dtype=bool)
-    for i in range(4):
-        one, other = planes[(i + 1) % 4][1], planes[(i + 3) % 4][1]
-        bounded &= dot(one, line[i]) * dot(other, line[i]) < 0.0
-    out[~bounded] = np.inf
+    bounded = dot(plane[..., turn, :], line) * dot(plane[..., [3, 0, 1, 2], :], line) < 0.0
+    out[~bounded.all(axis=-1)] = np.inf
     return out
 
 
