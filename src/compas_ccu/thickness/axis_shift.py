@@ -37,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 
 from compas_ccu.errors import GeometryError
-from compas_ccu.geometry import dot, unit
+from compas_ccu.geometry import cross3, dot, unit, unit3
 from compas_ccu.kinematics.mechanism import CreasePlanes, Mechanism, MechanismStates
 from compas_ccu.tolerances import EXACT_RELATIVE
 
@@ -59,7 +59,7 @@ def quad_normals(near: np.ndarray, far: np.ndarray) -> np.ndarray:
     :func:`compas_ccu.strips.curvature.plate_curvature`).
     """
     a, b, c, d = near[..., :-1, :], near[..., 1:, :], far[..., 1:, :], far[..., :-1, :]
-    return unit(np.cross(c - a, d - b))
+    return unit3(cross3(c - a, d - b))
 
 
 def vertex_offsets(near: np.ndarray, far: np.ndarray) -> np.ndarray:
@@ -88,18 +88,18 @@ def vertex_offsets(near: np.ndarray, far: np.ndarray) -> np.ndarray:
     normals = quad_normals(near, far)
     if normals.shape[-2] == 1:
         return np.concatenate([normals, normals], axis=-2)
-    ruling = unit(far - near)
+    ruling = unit3(far - near)
     n0, n1 = normals[..., :-1, :], normals[..., 1:, :]
     interior = (n0 + n1) / (1.0 + dot(n0, n1))[..., None]
     # end rulings: continue the strip past its end with the fold angle of the neighbouring
     # ruling (exact for the uniform cone, so its offset creases stay planar to round-off)
-    fold = np.arctan2(dot(np.cross(n0, n1), ruling[..., 1:-1, :]), dot(n0, n1))
+    fold = np.arctan2(dot(cross3(n0, n1), ruling[..., 1:-1, :]), dot(n0, n1))
     ends = []
     for quad, r, angle in (
         (normals[..., 0, :], ruling[..., 0, :], -fold[..., 0]),
         (normals[..., -1, :], ruling[..., -1, :], fold[..., -1]),
     ):
-        beyond = quad * np.cos(angle)[..., None] + np.cross(r, quad) * np.sin(angle)[..., None]
+        beyond = quad * np.cos(angle)[..., None] + cross3(r, quad) * np.sin(angle)[..., None]
         ends.append(((quad + beyond) / (1.0 + np.cos(angle))[..., None])[..., None, :])
     return np.concatenate([ends[0], interior, ends[1]], axis=-2)
 
@@ -207,7 +207,7 @@ class HingePlanes(CreasePlanes):
         :meth:`CreasePlanes.planes <compas_ccu.kinematics.mechanism.CreasePlanes.planes>`)."""
         creases = np.asarray(creases, dtype=np.intp)
         row, other = mechanism.crease_boundaries(creases, near, far)  # (k, g, n + 1, 3)
-        away = unit(other - row)
+        away = unit3(other - row)
         a = mechanism.crease_plate_a[creases]
         side = self.sides[creases, 0] * self.half  # (g,)
         facing = row + side[None, :, None, None] * vertex_offsets(near[:, a], far[:, a])
@@ -289,7 +289,7 @@ def solid_faces(
         ``[..., 0]`` the face at ``-t/2 ν`` ("lower"), ``[..., 1]`` at ``+t/2 ν`` ("upper"), in
         the plate vertex order (near row, then far row).
     """
-    ruling = unit(far - near)
+    ruling = unit3(far - near)
     mid_near = near + shifts_near[..., None] * ruling
     mid_far = far - shifts_far[..., None] * ruling
     return offset_faces(mid_near, mid_far, offsets, thickness)

@@ -17,7 +17,9 @@ from compas_ccu.geometry import cross3, dot, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
+    "cell_corners",
     "cell_hulls",
+    "hull_bounds",
     "cell_frames",
     "point_bounds",
     "bounded_boxes",
@@ -30,16 +32,11 @@ __all__ = [
 ]
 
 
-def cell_hulls(cells, tol, height):
-    """(..., n, 8, 3) points whose convex hull holds every point that the lateral test of a cell
-    accepts at a distance of up to ``height`` from the cell's mid plane
-    (:mod:`compas_ccu.thickness.candidate_search`).
-
-    In the planes parallel to the mid plane each lateral plane leaves a line of fixed direction;
-    the accepted set is bounded by the four corners where adjacent lines meet if, along each
-    line, its two neighbours bound it from opposite sides. Where that fails, or a corner line
-    never meets those planes (a degenerate cell), the points are infinite.
-    """
+def cell_corners(cells, tol):
+    """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (..., n, 4,
+    3) in the mid plane and directions ``w`` (..., n, 4, 3), the corner at height ``h`` over
+    the mid plane being ``X(0) + h w`` (:func:`cell_hulls`; ``X(0)`` infinite where the cell
+    is unbounded)."""
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
     # the lateral planes in turn round the cell (near, side 0, far, side 1), stacked (..., 4, 3):
     # each one's offset moved out by tol and its line's direction in the planes parallel to
@@ -55,13 +52,40 @@ def cell_hulls(cells, tol, height):
         # cross3(next, normal) = -line of the next plane, exactly
         x0 = offset * -line[..., turn, :] + offset[..., turn, :] * line
         x0 = (x0 + dot(centre, normal)[..., None, None] * axis) / det
-        step = height[..., None] * axis / det if np.ndim(height) else height * axis / det
-        out = np.stack([x0 - step, x0 + step], axis=-2)  # (..., 4 corners, 2, 3)
-    out = out.reshape(*out.shape[:-3], 8, 3)
+        w = axis / det
     # each line bounded from opposite sides by the lines of its two neighbours
     bounded = dot(plane[..., turn, :], line) * dot(plane[..., [3, 0, 1, 2], :], line) < 0.0
-    out[~bounded.all(axis=-1)] = np.inf
-    return out
+    x0[~bounded.all(axis=-1)] = np.inf
+    return x0, w
+
+
+def cell_hulls(cells, tol, height):
+    """(..., n, 8, 3) points whose convex hull holds every point that the lateral test of a cell
+    accepts at a distance of up to ``height`` from the cell's mid plane
+    (:mod:`compas_ccu.thickness.candidate_search`): ``X(±height)`` of :func:`cell_corners`.
+
+    In the planes parallel to the mid plane each lateral plane leaves a line of fixed direction;
+    the accepted set is bounded by the four corners where adjacent lines meet if, along each
+    line, its two neighbours bound it from opposite sides. Where that fails, or a corner line
+    never meets those planes (a degenerate cell), the points are infinite.
+    """
+    x0, w = cell_corners(cells, tol)
+    with np.errstate(invalid="ignore", over="ignore"):
+        step = (np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height) * w
+        out = np.stack([x0 - step, x0 + step], axis=-2)  # (..., 4 corners, 2, 3)
+    return out.reshape(*out.shape[:-3], 8, 3)
+
+
+def hull_bounds(corners, directions, axes, height):
+    """The lowest and highest coordinates (..., 3) each of the hulls of cell corners (...,
+    s, 3) with their directions (..., s, 3) up to ``height`` (:func:`cell_corners`) along
+    the columns of ``axes`` (..., 3, 3): the segment ``X(0) + h w``, ``|h| <= height``, spans
+    ``X(0) . u ± height |w . u|`` (the hull's points, without the points)."""
+    turn = np.swapaxes(axes, -1, -2)
+    with np.errstate(invalid="ignore", over="ignore"):
+        mid = turn @ np.swapaxes(corners, -1, -2)  # (..., 3, s)
+        size = np.abs(turn @ np.swapaxes(directions, -1, -2)) * height
+        return (mid - size).min(axis=-1), (mid + size).max(axis=-1)
 
 
 def cell_frames(mid_near, normal, cell):

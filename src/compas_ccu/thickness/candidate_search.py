@@ -57,10 +57,10 @@ from compas_ccu.geometry import dot
 from compas_ccu.thickness.box_trees import (
     bounded_boxes,
     box_tree,
+    cell_corners,
     cell_frames,
-    cell_hulls,
+    hull_bounds,
     index_blocks,
-    oriented_boxes,
     point_bounds,
     separated,
 )
@@ -136,11 +136,13 @@ def plate_blocks(
     # lateral tests accept up to the reach
     cell_block = index_blocks(n, CELLS)  # (J, CELLS)
     nj = len(cell_block)
-    hull = cell_hulls(cells, tol, height)
-    hull = hull.reshape(k, p, nj, -1, 3) if n % CELLS == 0 else hull[:, :, cell_block]
-    cell_box = oriented_boxes(
-        hull.reshape(k, p, nj, -1, 3), cell_frames(mid_near, normal, cell_block[:, CELLS // 2]), tol
-    )
+    corners, directions = cell_corners(cells, tol)  # (k, p, n, 4, 3) each
+    if n % CELLS:
+        corners, directions = corners[:, :, cell_block], directions[:, :, cell_block]
+    corners, directions = (x.reshape(k, p, nj, 4 * CELLS, 3) for x in (corners, directions))
+    axes = cell_frames(mid_near, normal, cell_block[:, CELLS // 2])
+    up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
+    cell_box = bounded_boxes(*hull_bounds(corners, directions, axes, up_to), axes, tol)
 
     # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
     # near / far row, then the ruling): the vertices and the rulings between them (vertex
