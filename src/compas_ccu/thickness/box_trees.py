@@ -1,12 +1,16 @@
 """Oriented boxes and binary trees of boxes: the bounding volumes of the candidate search.
 
 :mod:`compas_ccu.thickness.candidate_search` boxes blocks of cells and blocks of face vertices
-and walks two trees of boxes down to the block pairs that can meet. Here: the hull of what a
-cell's lateral test accepts up to a height (:func:`cell_hulls`), the frames of cells
-(:func:`cell_frames`), boxes around point sets in such frames (:func:`oriented_boxes`), packed
-as columns (:func:`pack_boxes`) for the separating axis test (:func:`separated`), the blocks of
-consecutive indices (:func:`index_blocks`) and the tree over the leaf boxes of every plate
-(:func:`box_tree`).
+and walks two trees of boxes down to the block pairs that can meet. Here: the corner lines of
+what a cell's lateral test accepts (:func:`cell_corners`) and their hull up to a height
+(:func:`cell_hulls`), the frames of cells (:func:`cell_frames`), the extents of point sets
+(:func:`point_bounds`), of those hulls (:func:`hull_bounds`, without the hull's points) and of
+boxes (:func:`box_bounds`) along such frames, boxes from extents (:func:`bounded_boxes`) or
+around point sets (:func:`oriented_boxes`), packed as columns (:func:`pack_boxes`) for the
+separating axis test (:func:`separated`), the blocks of consecutive indices
+(:func:`index_blocks`) and the tree over the leaf boxes of every plate (:func:`box_tree`),
+refitted level by level from its children's boxes. Every product runs on whole stacks of
+boxes (one batched BLAS product or an ``einsum``, no per-box Python).
 """
 
 from __future__ import annotations

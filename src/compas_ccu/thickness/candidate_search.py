@@ -18,7 +18,8 @@ them), and the exact tests run only on block pairs that can meet. What a block p
   even where the two side lines cross, lies on a segment between two such corners. A vertex
   whose gap counts (``|d| - t/2 <= reach``) has ``|h| <= t/2 + reach``, so it lies in the convex
   hull of the eight points ``X(±(t/2 + reach))`` of the cell (:func:`cell_hulls`; a corner line
-  parallel to the mid plane gives infinite points: that cell meets everything). A crossing
+  parallel to the mid plane gives infinite points: that cell meets everything; a box spans
+  the hull where it spans the ends of the four segments, :func:`hull_bounds`). A crossing
   point lies on the mid plane (``h = 0`` up to round-off) inside the footprint, so in the same
   hull, and on its ruling, so in the hull of the ruling block's vertices.
 * *Blocks.* A cell block is boxed in the frame of its middle cell around the hulls of its
@@ -27,10 +28,11 @@ them), and the exact tests run only on block pairs that can meet. What a block p
   blocks form a binary tree whose nodes are boxed around their children's boxes; for every pair
   and state a walk from the two roots keeps the node pairs whose boxes overlap (the separating
   axis test on the six face axes) down to the leaf blocks. Two plates joined by a hinge leave
-  out its row of vertices and the crossing test, so for them the leaf box of the ruling
-  block's other row stands in. No accepted vertex, counted gap or crossing is outside both
-  boxes of its block pair, nor of any node pair above it, so none is lost: every contact within
-  the reach, and every crossing at any distance, is found.
+  out its row of vertices and the crossing test, so for them the tree over the ruling
+  blocks' other rows stands in (three ruling trees per plate: both rows, the near rows, the
+  far rows, whose leaves hold the vertices of those rows). No accepted vertex, counted gap or
+  crossing is outside both boxes of its block pair, nor of any node pair above it, so none is
+  lost: every contact within the reach, and every crossing at any distance, is found.
 * *The same numbers.* On the remaining block pairs the heights are the same BLAS matrix
   products as in the brute force (one product of the ``4 RULINGS`` vertices with the ``5 CELLS``
   plane normals per block pair: BLAS sums the three terms of every entry the same way whatever
