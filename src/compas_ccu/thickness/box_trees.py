@@ -42,23 +42,25 @@ def cell_corners(cells, tol):
     the mid plane being ``X(0) + h w`` (:func:`cell_hulls`; ``X(0)`` infinite where the cell
     is unbounded)."""
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
-    # the lateral planes in turn round the cell (near, side 0, far, side 1), stacked (..., 4, 3):
-    # each one's offset moved out by tol and its line's direction in the planes parallel to
-    # the mid plane; corner i where the lines of planes i and i + 1 meet
-    plane = np.stack([e_near, s0, e_far, s1], axis=-2)
-    offset = dot(np.stack([a, a, d, b], axis=-2), plane)[..., None] - tol
+    # the lateral planes in turn round the cell (near, side 0, far, side 1), with the last one
+    # before and the first two after them (..., 6, 3): each one's offset moved out by tol and
+    # its line's direction in the planes parallel to the mid plane; corner i where the lines of
+    # planes i and i + 1 meet (slices [1:5] the planes, [2:6] the next, [0:4] the previous)
+    ring = np.stack([s1, e_near, s0, e_far, s1, e_near], axis=-2)
+    offset = dot(np.stack([b, a, a, d, b, a], axis=-2), ring)[..., None] - tol
     up = normal[..., None, :]
-    line = cross3(up, plane)
-    turn = [1, 2, 3, 0]  # the next plane round the cell
+    line = cross3(up, ring)
+    plane, after, before = ring[..., 1:5, :], ring[..., 2:6, :], ring[..., 0:4, :]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        axis = cross3(plane, plane[..., turn, :])
+        axis = cross3(plane, after)
         det = dot(up, axis)[..., None]
         # cross3(next, normal) = -line of the next plane, exactly
-        x0 = offset * -line[..., turn, :] + offset[..., turn, :] * line
+        x0 = offset[..., 2:6, :] * line[..., 1:5, :] - offset[..., 1:5, :] * line[..., 2:6, :]
         x0 = (x0 + dot(centre, normal)[..., None, None] * axis) / det
         w = axis / det
     # each line bounded from opposite sides by the lines of its two neighbours
-    bounded = dot(plane[..., turn, :], line) * dot(plane[..., [3, 0, 1, 2], :], line) < 0.0
+    line = line[..., 1:5, :]
+    bounded = dot(after, line) * dot(before, line) < 0.0
     x0[~bounded.all(axis=-1)] = np.inf
     return x0, w
 
