@@ -37,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 
 from compas_ccu.errors import GeometryError
-from compas_ccu.geometry import dot, unit
+from compas_ccu.geometry import cross3, dot, unit, unit3
 from compas_ccu.kinematics.mechanism import CreasePlanes, Mechanism, MechanismStates
 from compas_ccu.tolerances import EXACT_RELATIVE
 
@@ -48,6 +48,7 @@ __all__ = [
     "HingePlanes",
     "place_thick",
     "solid_faces",
+    "offset_faces",
 ]
 
 
@@ -58,7 +59,7 @@ def quad_normals(near: np.ndarray, far: np.ndarray) -> np.ndarray:
     :func:`compas_ccu.strips.curvature.plate_curvature`).
     """
     a, b, c, d = near[..., :-1, :], near[..., 1:, :], far[..., 1:, :], far[..., :-1, :]
-    return unit(np.cross(c - a, d - b))
+    return unit3(cross3(c - a, d - b))
 
 
 def vertex_offsets(near: np.ndarray, far: np.ndarray) -> np.ndarray:
@@ -87,18 +88,18 @@ def vertex_offsets(near: np.ndarray, far: np.ndarray) -> np.ndarray:
     normals = quad_normals(near, far)
     if normals.shape[-2] == 1:
         return np.concatenate([normals, normals], axis=-2)
-    ruling = unit(far - near)
+    ruling = unit3(far - near)
     n0, n1 = normals[..., :-1, :], normals[..., 1:, :]
     interior = (n0 + n1) / (1.0 + dot(n0, n1))[..., None]
     # end rulings: continue the strip past its end with the fold angle of the neighbouring
     # ruling (exact for the uniform cone, so its offset creases stay planar to round-off)
-    fold = np.arctan2(dot(np.cross(n0, n1), ruling[..., 1:-1, :]), dot(n0, n1))
+    fold = np.arctan2(dot(cross3(n0, n1), ruling[..., 1:-1, :]), dot(n0, n1))
     ends = []
     for quad, r, angle in (
         (normals[..., 0, :], ruling[..., 0, :], -fold[..., 0]),
         (normals[..., -1, :], ruling[..., -1, :], fold[..., -1]),
     ):
-        beyond = quad * np.cos(angle)[..., None] + np.cross(r, quad) * np.sin(angle)[..., None]
+        beyond = quad * np.cos(angle)[..., None] + cross3(r, quad) * np.sin(angle)[..., None]
         ends.append(((quad + beyond) / (1.0 + np.cos(angle))[..., None])[..., None, :])
     return np.concatenate([ends[0], interior, ends[1]], axis=-2)
 
@@ -206,7 +207,7 @@ class HingePlanes(CreasePlanes):
         :meth:`CreasePlanes.planes <compas_ccu.kinematics.mechanism.CreasePlanes.planes>`)."""
         creases = np.asarray(creases, dtype=np.intp)
         row, other = mechanism.crease_boundaries(creases, near, far)  # (k, g, n + 1, 3)
-        away = unit(other - row)
+        away = unit3(other - row)
         a = mechanism.crease_plate_a[creases]
         side = self.sides[creases, 0] * self.half  # (g,)
         facing = row + side[None, :, None, None] * vertex_offsets(near[:, a], far[:, a])
@@ -288,10 +289,23 @@ def solid_faces(
         ``[..., 0]`` the face at ``-t/2 ν`` ("lower"), ``[..., 1]`` at ``+t/2 ν`` ("upper"), in
         the plate vertex order (near row, then far row).
     """
-    ruling = unit(far - near)
+    ruling = unit3(far - near)
     mid_near = near + shifts_near[..., None] * ruling
     mid_far = far - shifts_far[..., None] * ruling
-    mid = np.concatenate([mid_near, mid_far], axis=-2)
-    nu = np.concatenate([offsets, offsets], axis=-2)
-    half = 0.5 * thickness
-    return np.stack([mid - half * nu, mid + half * nu], axis=-3)
+    return offset_faces(mid_near, mid_far, offsets, thickness)
+
+
+def offset_faces(
+    mid_near: np.ndarray, mid_far: np.ndarray, offsets: np.ndarray, thickness: float
+) -> np.ndarray:
+    """Lower and upper face vertices (..., 2, 2n + 2, 3) of thick plates from their mid-surface
+    boundaries with the crease corrections (..., n + 1, 3) and face offsets: the mid-surface
+    vertices ``∓ t/2 ν`` (:func:`solid_faces`), written in place."""
+    m = mid_near.shape[-2]
+    step = (0.5 * thickness) * offsets
+    out = np.empty((*np.broadcast_shapes(mid_near.shape, offsets.shape)[:-2], 2, 2 * m, 3))
+    np.subtract(mid_near, step, out=out[..., 0, :m, :])
+    np.subtract(mid_far, step, out=out[..., 0, m:, :])
+    np.add(mid_near, step, out=out[..., 1, :m, :])
+    np.add(mid_far, step, out=out[..., 1, m:, :])
+    return out

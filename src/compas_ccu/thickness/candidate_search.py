@@ -18,7 +18,8 @@ them), and the exact tests run only on block pairs that can meet. What a block p
   even where the two side lines cross, lies on a segment between two such corners. A vertex
   whose gap counts (``|d| - t/2 <= reach``) has ``|h| <= t/2 + reach``, so it lies in the convex
   hull of the eight points ``X(±(t/2 + reach))`` of the cell (:func:`cell_hulls`; a corner line
-  parallel to the mid plane gives infinite points: that cell meets everything). A crossing
+  parallel to the mid plane gives infinite points: that cell meets everything; a box spans
+  the hull where it spans the ends of the four segments, :func:`hull_bounds`). A crossing
   point lies on the mid plane (``h = 0`` up to round-off) inside the footprint, so in the same
   hull, and on its ruling, so in the hull of the ruling block's vertices.
 * *Blocks.* A cell block is boxed in the frame of its middle cell around the hulls of its
@@ -27,10 +28,11 @@ them), and the exact tests run only on block pairs that can meet. What a block p
   blocks form a binary tree whose nodes are boxed around their children's boxes; for every pair
   and state a walk from the two roots keeps the node pairs whose boxes overlap (the separating
   axis test on the six face axes) down to the leaf blocks. Two plates joined by a hinge leave
-  out its row of vertices and the crossing test, so for them the leaf box of the ruling
-  block's other row stands in. No accepted vertex, counted gap or crossing is outside both
-  boxes of its block pair, nor of any node pair above it, so none is lost: every contact within
-  the reach, and every crossing at any distance, is found.
+  out its row of vertices and the crossing test, so for them the tree over the ruling
+  blocks' other rows stands in (three ruling trees per plate: both rows, the near rows, the
+  far rows, whose leaves hold the vertices of those rows). No accepted vertex, counted gap or
+  crossing is outside both boxes of its block pair, nor of any node pair above it, so none is
+  lost: every contact within the reach, and every crossing at any distance, is found.
 * *The same numbers.* On the remaining block pairs the heights are the same BLAS matrix
   products as in the brute force (one product of the ``4 RULINGS`` vertices with the ``5 CELLS``
   plane normals per block pair: BLAS sums the three terms of every entry the same way whatever
@@ -55,12 +57,13 @@ import numpy as np
 
 from compas_ccu.geometry import dot
 from compas_ccu.thickness.box_trees import (
+    bounded_boxes,
     box_tree,
+    cell_corners,
     cell_frames,
-    cell_hulls,
+    hull_bounds,
     index_blocks,
-    oriented_boxes,
-    pack_boxes,
+    point_bounds,
     separated,
 )
 from compas_ccu.thickness.broad_phase import PairTable
@@ -72,6 +75,7 @@ __all__ = [
     "BATCH",
     "Blocks",
     "plate_blocks",
+    "with_planes",
     "block_pairs",
     "Found",
     "exact_tests",
@@ -94,16 +98,16 @@ class Blocks(NamedTuple):
     planes: list  # the four lateral planes (base, normal), each (k, p, n, 3)
     normals: np.ndarray  # (k p J, 5 CELLS, 3) plane normals of every cell block
     offsets: np.ndarray  # (k p J, 5, CELLS, 1) and their offsets
-    points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block
+    points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block (these
+    # three None until :func:`with_planes`)
     cell_tree: list  # levels of packed boxes over the cell blocks, leaves first
-    ruling_tree: list  # the same over the vertex blocks
-    rows: np.ndarray  # (15, 3 k p I) packed leaf boxes: both rows, near rows, far rows
-    row_box: np.ndarray  # (H + 1,) which leaf box a hinged pair meets (-1: none)
+    ruling_tree: list  # the same over the vertex blocks: both rows, near rows, far rows
+    row_box: np.ndarray  # (H + 1,) which ruling tree a hinged pair meets (-1: none)
     skip: np.ndarray  # (H + 1, I, 4 RULINGS) bool: hinge vertices left out, per hinge
 
 
 def plate_blocks(
-    mid_near, mid_far, offsets, faces, table: PairTable, tol, height, cells=None
+    mid_near, mid_far, offsets, faces, table: PairTable, tol, height, cells=None, *, planes=True
 ) -> Blocks:
     """Blocks, boxes and trees of the candidate search (module docstring).
 
@@ -119,27 +123,28 @@ def plate_blocks(
         collision report's, :mod:`compas_ccu.thickness.report_pairs`), m.
     cells : tuple, optional
         :func:`compas_ccu.thickness.cells.plate_cells` of the plates, if already computed.
+    planes : bool
+        False: without the planes and points of the exact tests (``normals``, ``offsets`` and
+        ``points`` None), for a walk that may keep no block pair; :func:`with_planes` adds them.
     """
     k, p, m = mid_near.shape[:3]
     n = m - 1
     # cells and their five planes (mid plane, then the lateral ones), every state and plate
     if cells is None:
         cells = plate_cells(mid_near, mid_far, offsets)
-    centre, normal, planes = cells[0], cells[1], cells[2:]
-    normals = np.stack([normal] + [nrm for _, nrm in planes], axis=-2)  # (k, p, n, 5, 3)
-    plane_offsets = np.stack(
-        [dot(centre, normal)] + [dot(base, nrm) for base, nrm in planes], axis=-1
-    )  # (k, p, n, 5)
+    normal = cells[1]
 
     # cell blocks: a box (in the frame of the middle cell) around the hull of what their
     # lateral tests accept up to the reach
     cell_block = index_blocks(n, CELLS)  # (J, CELLS)
     nj = len(cell_block)
-    hull = cell_hulls(cells, tol, height)[:, :, cell_block].reshape(k, p, nj, -1, 3)
-    cell_box = oriented_boxes(hull, cell_frames(mid_near, normal, cell_block[:, CELLS // 2]), tol)
-    # the five planes of the cells of every block: normals (plane, cell) and offsets
-    block_normals = normals[:, :, cell_block].swapaxes(3, 4).reshape(-1, 5 * CELLS, 3)
-    block_offsets = plane_offsets[:, :, cell_block].swapaxes(3, 4)[..., None]
+    corners, directions = cell_corners(cells, tol)  # (k, p, n, 4, 3) each
+    if n % CELLS:
+        corners, directions = corners[:, :, cell_block], directions[:, :, cell_block]
+    corners, directions = (x.reshape(k, p, nj, 4 * CELLS, 3) for x in (corners, directions))
+    axes = cell_frames(mid_near, normal, cell_block[:, CELLS // 2])
+    up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
+    cell_box = bounded_boxes(*hull_bounds(corners, directions, axes, up_to), axes, tol)
 
     # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
     # near / far row, then the ruling): the vertices and the rulings between them (vertex
@@ -150,16 +155,16 @@ def plate_blocks(
     local = np.arange(2)[:, None, None] * (2 * m) + np.arange(2)[None, :, None] * m
     local = (local[None] + column[:, None, None, :]).reshape(ni, 4 * RULINGS)
     points = faces.reshape(k, p, nv, 3)
-    block_points = points[:, :, local]  # (k, p, I, 4 RULINGS, 3)
     frames = cell_frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
-    vertex_box = oriented_boxes(block_points, frames, tol)
     # a pair whose one row is all on their hinge meets the other row only (no crossing test):
-    # boxes of the near rows and of the far rows too, and which box each hinge meets
+    # boxes of the near rows and of the far rows too, and which box each hinge meets; the
+    # box of both rows spans the union of their extents (the same frame)
     rows = local.reshape(ni, 2, 2, RULINGS)
-    boxes = [vertex_box] + [
-        oriented_boxes(points[:, :, rows[:, :, r].reshape(ni, -1)], frames, tol) for r in (0, 1)
-    ]
-    boxes = [np.stack(parts).reshape(-1, *parts[0].shape[3:]) for parts in zip(*boxes)]
+    near, far = (point_bounds(points[:, :, rows[:, :, r].reshape(ni, -1)], frames) for r in (0, 1))
+    both = np.minimum(near[0], far[0]), np.maximum(near[1], far[1])
+    vertex_box = bounded_boxes(*both, frames, tol)
+    boxes = [vertex_box] + [bounded_boxes(*bounds, frames, tol) for bounds in (near, far)]
+    boxes = [np.concatenate(parts) for parts in zip(*boxes)]  # (3 k, p, I, ...)
     masks = table.masks
     on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
     row_box = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
@@ -167,22 +172,51 @@ def plate_blocks(
     def frame(cells):
         return cell_frames(mid_near, normal, np.minimum(cells, n - 1))
 
+    def frames3(cells):  # the same frames for the three trees of rows
+        return np.concatenate([frame(cells)] * 3)
+
     def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
         return lambda level, node: ((2 * node + 1) << level) * size // 2
 
-    return Blocks(
+    blocks = Blocks(
         plates=p,
         cell_block=cell_block,
         local=local,
-        planes=planes,
-        normals=block_normals,
-        offsets=block_offsets.reshape(-1, 5, CELLS, 1),
-        points=block_points.reshape(-1, 4 * RULINGS, 3),
+        planes=cells[2:],
+        normals=None,
+        offsets=None,
+        points=None,
         cell_tree=box_tree(cell_box, middle(CELLS), frame, tol),
-        ruling_tree=box_tree(vertex_box, middle(RULINGS), frame, tol),
-        rows=pack_boxes(tuple(boxes)).reshape(15, -1),
+        ruling_tree=box_tree(tuple(boxes), middle(RULINGS), frames3, tol),
         row_box=row_box,
         skip=masks[:, local],
+    )
+    return with_planes(blocks, cells, faces) if planes else blocks
+
+
+def with_planes(blocks: Blocks, cells, faces) -> Blocks:
+    """``blocks`` with the planes and points of the exact tests: the five planes of the cells
+    of every cell block, normals (plane, cell) and offsets, and the face vertices of every
+    vertex block.
+
+    Parameters
+    ----------
+    blocks : Blocks
+    cells : tuple
+        :func:`compas_ccu.thickness.cells.plate_cells` of the (k, p, n) cells.
+    faces : (k, p, 2, 2n + 2, 3) float
+    """
+    centre, normal, planes = cells[0], cells[1], cells[2:]
+    cell_block = blocks.cell_block
+    normals = [normal] + [nrm for _, nrm in planes]
+    offsets = [dot(centre, normal)] + [dot(base, nrm) for base, nrm in planes]
+    normals = np.stack([x[:, :, cell_block] for x in normals], axis=3)  # (k, p, J, 5, CELLS, 3)
+    offsets = np.stack([x[:, :, cell_block] for x in offsets], axis=3)  # (k, p, J, 5, CELLS)
+    points = faces.reshape(*faces.shape[:2], -1, 3)[:, :, blocks.local]  # (k, p, I, 4 R, 3)
+    return blocks._replace(
+        normals=normals.reshape(-1, 5 * CELLS, 3),
+        offsets=offsets.reshape(-1, 5, CELLS, 1),
+        points=points.reshape(-1, 4 * RULINGS, 3),
     )
 
 
@@ -212,20 +246,15 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     keep = row_box[pair] >= 0
     qq = pair[keep]
     node_a = state[keep] * p + table.pairs[qq, 0]  # (state, plate, node) at the current levels
-    node_b = state[keep] * p + table.pairs[qq, 1]
+    kp = cell_tree[-1][0].shape[1]  # states x plates: one root each
+    # the tree of both rows, or for a hinged pair the tree of its free row
+    node_b = row_box[qq] * kp + state[keep] * p + table.pairs[qq, 1]
     la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
-    rows = blocks.rows
-    kpi = rows.shape[1] // 3
     while True:
         (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
         keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
         qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
-        if la == 0 and lb == 0:  # the leaves: for hinged pairs, the box of the free row
-            plate_b, ii = np.divmod(node_b, ni)
-            b_of = rows.take(row_box[qq] * kpi + plate_b * len(blocks.local) + ii, axis=1)
-        else:
-            b_of = box_b.take(node_b, axis=1)
-        keep = ~separated(box_a.take(node_a, axis=1), b_of)
+        keep = ~separated(box_a.take(node_a, axis=1), box_b.take(node_b, axis=1))
         qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
         if la == 0 and lb == 0:
             break
@@ -240,6 +269,7 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
         la, lb = la - split_a, lb - split_b
     plate_a, jj = np.divmod(node_a, nj)
     plate_b, ii = np.divmod(node_b, ni)
+    plate_b %= kp  # (state, plate) whatever the tree of rows
     cell_id = plate_a * len(blocks.cell_block) + jj  # (state, plate, block) without padding
     ruling_id = plate_b * len(blocks.local) + ii
     return qq, cell_id, ruling_id
@@ -279,20 +309,25 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
     vertices = blocks.local[ib]  # (N, 4 RULINGS)
     x = blocks.points.take(ruling_id, axis=0)  # (N, 4 RULINGS, 3)
     # heights (N, plane, cell, vertex) by the same matrix products as the brute force
-    heights = blocks.normals.take(cell_id, axis=0) @ x.swapaxes(1, 2)
+    # (the points transposed into a contiguous operand: the same BLAS kernel, faster packing)
+    heights = blocks.normals.take(cell_id, axis=0) @ np.ascontiguousarray(x.swapaxes(1, 2))
     heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
     heights -= blocks.offsets.take(cell_id, axis=0)
-    lateral = heights[:, 1] >= -tol
-    for plane in (2, 3, 4):
-        lateral &= heights[:, plane] >= -tol
+    # inside every lateral half-space: the lowest of the four heights (NaN: not inside)
+    low = np.minimum(heights[:, 1], heights[:, 2])
+    np.minimum(low, heights[:, 3], out=low)
+    np.minimum(low, heights[:, 4], out=low)
+    lateral = low >= -tol
     hinge = table.hinge[pair]  # -1: the all-False last row of the masks
     lateral &= ~blocks.skip.reshape(-1, 4 * RULINGS).take(
         np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib, axis=0
     )[:, None]
     # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
-    size = np.abs(heights[:, 0])
-    size[~lateral] = np.inf
-    gap = size.min(axis=1) - half
+    size = np.where(lateral, np.abs(heights[:, 0]), np.inf)
+    gap = np.minimum(size[:, 0], size[:, 1])
+    for cell in range(2, CELLS):
+        np.minimum(gap, size[:, cell], out=gap)
+    gap -= half
     best = gap.argmin(axis=1)  # the first of the smallest gaps: the lowest vertex number
     rows = np.arange(count)
     value = gap[rows, best]

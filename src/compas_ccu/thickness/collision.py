@@ -61,6 +61,7 @@ from compas_ccu.thickness.candidate_search import (
     block_pairs,
     exact_tests,
     plate_blocks,
+    with_planes,
 )
 from compas_ccu.thickness.cells import in_footprint, plane_heights, plate_cells, point_gaps
 from compas_ccu.thickness.report_pairs import report_heights
@@ -212,12 +213,13 @@ def plate_contacts(
         if not len(pair):
             continue
         chunk = (mid_near[states], mid_far[states], offsets[states], faces[states])
-        height, cells = half + reach, None
+        height, cells = half + reach, plate_cells(*chunk[:3])
         if smallest is not None:  # only what a report needs: a height per state
-            cells = plate_cells(*chunk[:3])
             height = report_heights(cells, chunk[3], table, state, pair, smallest, half, reach)
-        blocks = plate_blocks(*chunk, table, tol, height, cells)
+        blocks = plate_blocks(*chunk, table, tol, height, cells, planes=False)
         qq, cell_id, ruling_id = block_pairs(blocks, table, state, pair)
+        if len(qq):  # the planes and points of the exact tests, only where they run
+            blocks = with_planes(blocks, cells, chunk[3])
         found = [
             exact_tests(blocks, table, qq[part], cell_id[part], ruling_id[part], half, reach, tol)
             for part in (slice(i, i + BATCH) for i in range(0, len(qq), BATCH))

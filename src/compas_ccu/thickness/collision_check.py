@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.errors import SelfIntersectionError
+from compas_ccu.thickness.axis_shift import offset_faces
 from compas_ccu.thickness.collision import plate_contacts
 
 __all__ = [
@@ -141,8 +142,8 @@ def path_collisions(thick, alphas, tolerance: float, method: str) -> CollisionRe
     (degrees; :meth:`ThickModel.collisions`)."""
     alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
     st = thick.place(alphas)
-    faces = thick.faces_local(st)
     mid_near, mid_far = thick.corrected_boundaries(st)
+    faces = offset_faces(mid_near, mid_far, st.offsets, thick.thickness)  # thick.faces_local(st)
     pairs, rows, neighbours = thick.contact_pairs()
     index = thick.model.plates
     depth, clear, crossing, where = plate_contacts(

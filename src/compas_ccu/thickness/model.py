@@ -27,7 +27,7 @@ import numpy as np
 from compas.data import Data
 
 from compas_ccu.errors import GeometryError
-from compas_ccu.geometry import unit
+from compas_ccu.geometry import unit, unit3
 from compas_ccu.kinematics.plates import stack_rows
 from compas_ccu.materials import DesignFactors, Material, MaterialError
 from compas_ccu.thickness.actuation import Actuation, path_actuation, radial_feet
@@ -204,7 +204,7 @@ class ThickModel(Data):
         """The near and far boundaries of the mid-surfaces of placed states ``st``, each
         vertex moved along its ruling into the plate by its shift: (k, p, n + 1, 3) each
         (local frame, mechanism order; the plates' cells in the collision checks)."""
-        ruling = unit(st.far - st.near)
+        ruling = unit3(st.far - st.near)
         shift_near, shift_far = self.shift_rows()
         mid_near = st.near + shift_near[None, :, :, None] * ruling
         mid_far = st.far - shift_far[None, :, :, None] * ruling
