@@ -85,3 +85,18 @@ def test_a_dome_is_held_by_a_ring_through_its_feet(tmp_path, capsys):
     assert "with 49.61 N/m: ring compression 81.73 N" in out  # 21 states
     vault = ThickModel(load_model("examples/vault.toml")).actuation([15.0, 30.0])
     assert vault.ring_length is None and vault.ring_tension is None  # a vault has its tie
+
+
+def test_the_series_of_phi2_is_taken_only_where_it_is_used():
+    """``_phi2`` evaluates its series on the small ``x`` only (issue 31, item 3): every value
+    is the one it has alone, series or closed form, bit for bit."""
+    from compas_ccu.thickness import actuation
+
+    x = np.r_[np.linspace(-0.5, 0.5, 41), np.linspace(-0.012, 0.012, 25), 0.0, 0.00999]
+    whole = actuation._phi2(x)
+    alone = np.array([float(actuation._phi2(np.array([v]))[0]) for v in x])
+    assert whole.tobytes() == alone.tobytes()
+    assert actuation._phi2(0.0) == pytest.approx(0.5) and np.ndim(actuation._phi2(0.3)) == 0
+    small = np.abs(x) < 1e-2
+    series = sum((-1) ** k * (k - 1) / k * x ** (k - 2) for k in range(2, 10))
+    assert (whole[small] == series[small]).all()

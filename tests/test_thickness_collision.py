@@ -12,6 +12,7 @@ from compas_ccu.errors import SelfIntersectionError
 from compas_ccu.model import CCUModel, load_model
 from compas_ccu.thickness import ThickModel, solid_faces, vertex_offsets
 from compas_ccu.thickness.collision import _contacts_all, plate_contacts
+from compas_ccu.thickness.collision_check import first_contact, path_collisions
 from compas_ccu.tolerances import EXACT_RELATIVE
 from conftest import EXAMPLES, captured_plate_contacts, make_design
 
@@ -89,6 +90,20 @@ def test_funnel_collides_near_its_limit(funnel):
     assert first["depth"] > 1e-6
     with pytest.raises(SelfIntersectionError, match=rf"plates {a} and {b} .* at alpha = "):
         funnel.check_collisions(alphas)
+
+
+@pytest.mark.parametrize("alphas", [np.linspace(0.0, 77.3, 25), [77.0], [40.0]])
+def test_the_first_contact_is_the_reports_first_without_the_clearances(funnel, alphas):
+    """The thick scan's first contact (issue 31, item 3) looks only up to half the thickness
+    over a cell and measures no clearance: its first interpenetration is the full report's,
+    bit for bit, on the vault (clear), the funnel and the 2-plate cone (no clearance pair)."""
+    cone = ThickModel(load_model(EXAMPLES / "cone.toml"), thickness=0.05)
+    firsts = [first_contact(thick, alphas) for thick in (funnel, cone)]
+    for thick, first in zip((funnel, cone), firsts):
+        assert repr(first) == repr(path_collisions(thick, alphas, 1e-6, "cells").first)
+    assert (firsts[0] is None) == (alphas[0] == 40.0)  # the funnel collides near its limit
+    vault = ThickModel(load_model(EXAMPLES / "vault.toml"), thickness=T)
+    assert first_contact(vault, np.linspace(0.0, 60.0, 13)) is None
 
 
 def test_funnel_path_to_design_is_clear(funnel):

@@ -19,7 +19,7 @@ from compas_ccu.strips.rulings import vertex_reflection_angles
 from compas_ccu.structure import Structure
 from compas_ccu.tolerances import DIVISION_FLOOR
 
-__all__ = ["StateRecords", "state_structure", "path_structures"]
+__all__ = ["StateRecords", "state_structure", "path_structures", "leading_span"]
 
 #: Crease vertices per batch of the crease relations: bounds the temporaries (~20 arrays of
 #: this many 3-vectors) of a long path while amortising NumPy's per-call overhead.
@@ -31,6 +31,22 @@ def _bounding_box(deployed: np.ndarray) -> list:
     # inner axis is ~15 times slower than along a long one, and max / min are exact either way
     xyz = np.ascontiguousarray(deployed.reshape(-1, 3).T)
     return (np.maximum.reduce(xyz, axis=1) - np.minimum.reduce(xyz, axis=1)).tolist()
+
+
+def leading_span(states, k: int) -> float:
+    """The ``span`` of the metrics of state ``k`` of placed mechanism ``states``: the distance
+    in plan (local x-y) between the ends of the leading crease, m.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> round(leading_span(model.mechanism.deploy(np.radians([40.0])), 0), 6)
+    2.619468
+    """
+    lead_near = states.near[k, 0]
+    return float(np.linalg.norm(lead_near[-1, :2] - lead_near[0, :2]))
 
 
 class StateRecords:
@@ -132,7 +148,7 @@ class StateRecords:
             bounding_box = _bounding_box(model.state_vertices(states, k))
         lead_near, lead_far = states.near[k, 0], states.far[k, 0]
         chord = lead_near[-1, :2] - lead_near[0, :2]
-        span = float(np.linalg.norm(chord))
+        span = leading_span(states, k)
         normal2d = np.array([-chord[1], chord[0]]) / max(span, DIVISION_FLOOR)
         rise = float(np.abs((lead_near[:, :2] - lead_near[0, :2]) @ normal2d).max())
         rulings = lead_far - lead_near

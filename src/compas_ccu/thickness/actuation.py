@@ -37,6 +37,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from compas_ccu.model.checks import check_path
+from compas_ccu.model.records import leading_span
 from compas_ccu.strips.curvature import plate_curvature
 from compas_ccu.thickness.bending import bending_angles
 from compas_ccu.tolerances import ZERO_LENGTH
@@ -182,9 +184,11 @@ def _phi2(x):
     x = np.asarray(x, dtype=float)
     small = np.abs(x) < 1e-2
     xs = np.where(small, 1.0, x)
-    closed = (np.log1p(xs) - xs / (1.0 + xs)) / xs**2
-    series = sum((-1) ** k * (k - 1) / k * x ** (k - 2) for k in range(2, 10))
-    return np.where(small, series, closed)
+    out = np.asarray((np.log1p(xs) - xs / (1.0 + xs)) / xs**2)
+    if small.any():  # the series only where it is used (its powers are slow)
+        t = x[small]
+        out[small] = sum((-1) ** k * (k - 1) / k * t ** (k - 2) for k in range(2, 10))
+    return out
 
 
 def actuation_force(alphas, energy, span) -> np.ndarray:
@@ -308,12 +312,14 @@ def path_actuation(thick, alphas=None) -> Actuation:
     if alphas is None:
         alphas = np.linspace(0.0, thick.model.alpha_design, 21)
     alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
-    structures = thick.model.path(alphas, check=False)
-    vertices = np.array([st.deployed for st in structures])
-    angles = bending_angles(thick.model.flat(), math.radians(thick.grain))
+    model = thick.model
+    check_path(model, len(alphas))  # as CCUModel.path, whose vertices and spans these are
+    states = model.mechanism.deploy(np.radians(alphas))
+    vertices = np.array([model.state_vertices(states, k) for k in range(len(alphas))])
+    angles = bending_angles(model.flat(), math.radians(thick.grain))
     rigidity = thick.material.plate_rigidity(thick.thickness, angles)
     energy = bending_energy(vertices, rigidity)
-    span = np.array([st.metrics["span"] for st in structures])
+    span = np.array([leading_span(states, k) for k in range(len(alphas))])
     ring = radial_feet(thick.model, vertices)
     feet = (None, None, None) if ring is None else foot_ring(vertices, *ring)
     return Actuation(alphas, energy, span, actuation_force(alphas, energy, span), *feet)

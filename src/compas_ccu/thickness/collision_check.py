@@ -25,6 +25,7 @@ __all__ = [
     "path_collisions",
     "checked_collisions",
     "scan_first_collision",
+    "first_contact",
 ]
 
 
@@ -137,16 +138,15 @@ def ordered_pairs(index, joined) -> tuple:
     return pairs, rows, neighbours
 
 
-def path_collisions(thick, alphas, tolerance: float, method: str) -> CollisionReport:
-    """The :class:`CollisionReport` of ``thick`` (a ThickModel) at reference angles ``alphas``
-    (degrees; :meth:`ThickModel.collisions`)."""
-    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+def _contacts(thick, alphas, method: str, smallest):
+    """:func:`compas_ccu.thickness.collision.plate_contacts` of ``thick`` at ``alphas``
+    (degrees): the placed faces (k, p, 2, 2n + 2, 3), the pairs and ``depth, clear,
+    crossing, where`` (k, P)."""
     st = thick.place(alphas)
     mid_near, mid_far = thick.corrected_boundaries(st)
     faces = offset_faces(mid_near, mid_far, st.offsets, thick.thickness)  # thick.faces_local(st)
-    pairs, rows, neighbours = thick.contact_pairs()
-    index = thick.model.plates
-    depth, clear, crossing, where = plate_contacts(
+    pairs, rows, _ = thick.contact_pairs()
+    found = plate_contacts(
         mid_near,
         mid_far,
         st.offsets,
@@ -155,36 +155,58 @@ def path_collisions(thick, alphas, tolerance: float, method: str) -> CollisionRe
         pairs=pairs,
         hinged=rows,
         method=method,
-        smallest=~neighbours,
+        smallest=smallest,
     )
+    return faces, pairs, found
+
+
+def _located(thick, alphas, faces, pairs, where, k, q, what, value) -> dict:
+    """The record of pair ``q`` in state ``k``: alpha, plates (ids), vertex, point (world)."""
+    a, b = (int(x) for x in pairs[q])
+    index = thick.model.plates
+    v = int(where[k, q])
+    point = thick.model.to_world(faces[k, b].reshape(-1, 3)[v][None])[0]
+    return {
+        "alpha": float(alphas[k]),
+        "plates": [index.output_id(a), index.output_id(b)],
+        "vertex": v,
+        "point": point.tolist(),
+        what: float(value),
+    }
+
+
+def _first(thick, alphas, faces, pairs, found, tolerance) -> dict | None:
+    """The first pair of the first state in which two plates interpenetrate (deeper than
+    ``tolerance``) or cross, or None."""
+    depth, _, crossing, where = found
+    bad = (depth > tolerance) | crossing
+    if not bad.any():
+        return None
+    k = int(np.flatnonzero(bad.any(axis=1))[0])
+    q = int(np.flatnonzero(bad[k])[0])
+    first = _located(thick, alphas, faces, pairs, where, k, q, "depth", depth[k, q])
+    first["crossing"] = bool(crossing[k, q])
+    return first
+
+
+def path_collisions(thick, alphas, tolerance: float, method: str) -> CollisionReport:
+    """The :class:`CollisionReport` of ``thick`` (a ThickModel) at reference angles ``alphas``
+    (degrees; :meth:`ThickModel.collisions`)."""
+    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+    neighbours = thick.contact_pairs()[2]
+    faces, pairs, found = _contacts(thick, alphas, method, ~neighbours)
+    depth, clear, crossing, where = found
     penetration = np.maximum(depth.max(axis=1), 0.0)
     others = clear[:, ~neighbours] if (~neighbours).any() else np.full((len(alphas), 1), np.inf)
     clearance = others.min(axis=1)
-
-    def where_(k, q, what, value):
-        a, b = (int(x) for x in pairs[q])
-        v = int(where[k, q])
-        point = thick.model.to_world(faces[k, b].reshape(-1, 3)[v][None])[0]
-        return {
-            "alpha": float(alphas[k]),
-            "plates": [index.output_id(a), index.output_id(b)],
-            "vertex": v,
-            "point": point.tolist(),
-            what: float(value),
-        }
-
-    bad = (depth > tolerance) | crossing
-    first = None
-    if bad.any():
-        k = int(np.flatnonzero(bad.any(axis=1))[0])
-        q = int(np.flatnonzero(bad[k])[0])
-        first = where_(k, q, "depth", depth[k, q])
-        first["crossing"] = bool(crossing[k, q])
+    first = _first(thick, alphas, faces, pairs, found, tolerance)
     closest = None
     if np.isfinite(clearance).any():
         masked = np.where(neighbours[None], np.inf, clear)
         k, q = np.unravel_index(np.argmin(masked), masked.shape)
-        closest = where_(int(k), int(q), "clearance", masked[k, q])
+        closest = _located(
+            thick, alphas, faces, pairs, where, int(k), int(q), "clearance", masked[k, q]
+        )
     return CollisionReport(
         alphas,
         penetration,
@@ -195,6 +217,18 @@ def path_collisions(thick, alphas, tolerance: float, method: str) -> CollisionRe
         tolerance,
         clearance_pairs=int((~neighbours).sum()) // 2,
     )
+
+
+def first_contact(thick, alphas, tolerance: float = 1e-6, method: str = "cells") -> dict | None:
+    """The ``first`` of :func:`path_collisions` (the first state in which the thick plates
+    interpenetrate or cross, and where), the same bit for bit, without the clearances: the
+    candidate search looks only up to half the thickness over a cell, where every penetration
+    and crossing lies (:mod:`compas_ccu.thickness.report_pairs`, with no pair whose clearance
+    counts)."""
+    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+    none = np.zeros(len(thick.contact_pairs()[0]), dtype=bool)
+    faces, pairs, found = _contacts(thick, alphas, method, none)
+    return _first(thick, alphas, faces, pairs, found, tolerance)
 
 
 def checked_collisions(thick, alphas=None, **options) -> CollisionReport:
@@ -223,14 +257,14 @@ def scan_first_collision(thick, upto, states: int, bisections: int) -> tuple:
     if upto is None:
         upto = min(thick.model.alpha_limit, thick.model.collision_free_alpha)
     alphas = np.linspace(0.0, float(upto), states)
-    first = thick.collisions(alphas).first
+    first = first_contact(thick, alphas)
     if first is None:
         return float(upto), None
     k = int(np.searchsorted(alphas, first["alpha"]))
     lo, hi = (alphas[k - 1] if k > 0 else 0.0), first["alpha"]
     for _ in range(bisections if k > 0 else 0):
         mid = 0.5 * (lo + hi)
-        hit = thick.collisions([mid]).first
+        hit = first_contact(thick, [mid])
         if hit is None:
             lo = mid
         else:

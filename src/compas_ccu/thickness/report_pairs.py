@@ -92,12 +92,16 @@ def probe_bounds(cells, faces, table: PairTable, state, pair, marked, half):
 
 def report_heights(cells, faces, table: PairTable, state, pair, marked, half, reach):
     """(k, 1, 1, 1) the height over a cell's mid plane up to which the candidate search of
-    each state looks: ``t/2 + U`` with ``U`` of :func:`probe_bounds` (between 0 and the reach),
+    each state looks: ``t/2 + U`` with ``U`` of :func:`probe_bounds` (between 0 and the reach;
+    0 when no pair is ``marked``: no clearance counts, only the penetrations and crossings),
     widened by ``1e-9`` of itself for round-off.
 
     Parameters as :func:`probe_bounds`, and the contact reach ``reach`` (m).
     """
-    bound = probe_bounds(cells, faces, table, state, pair, marked, half)
+    if np.any(marked):
+        bound = probe_bounds(cells, faces, table, state, pair, marked, half)
+    else:  # no clearance counts: penetrations and crossings only, U = 0
+        bound = np.zeros(faces.shape[0])
     height = half + np.clip(bound, 0.0, reach)
     height = np.where(np.isfinite(bound), height * (1.0 + EXACT_RELATIVE), half + reach)
     return height[:, None, None, None]

@@ -1,0 +1,288 @@
+"""The events of the interpenetration certificate in a run of placed states
+(:class:`compas_ccu.kinematics.interference.PathCertificate`, whose docstring defines them):
+crossings in a state and pass-throughs between neighbouring states.
+
+The quads of every plate are grouped in blocks of :data:`BLOCK` and the vertices in blocks of
+``BLOCK + 1`` rulings; a quad block and a vertex block of another plate are a candidate pair
+in a step when their boxes over the step, widened by the touch tolerance and the step's largest
+displacement, overlap. An event needs, for one quad, vertices of the block strictly on both
+sides of its plane (in the state after the step for a crossing, one vertex in each state for a
+pass-through) and a crossing point or vertex within the quad's circumradius and the step's
+reach of its centre: the candidates without (almost all of them; the heights of a block
+computed once for both steps it belongs to, compared with the tolerance loosened by far more
+than their rounding) hold no event and are left out. The exact tests run on the others, in the
+batches and the order of all candidates, so the events are those of the exact tests on every
+candidate, bit for bit (tests/test_kinematics_interference.py).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from compas_ccu.kinematics.plates import plate_quads
+
+__all__ = ["BLOCK", "path_events"]
+
+
+def _quads(vertices, n):
+    """The quads of (k, p, 2n + 2, 3) plate vertices: corners (k, p, n, 4, 3), unit normals
+    (k, p, n, 3), plane offsets (k, p, n), centres (k, p, n, 3) and squared circumradii
+    (k, p, n) (the planes of their edges: :func:`_edge_planes`, for the quads that need them).
+    The corners run counter-clockwise about the normal (the normal is the cross product of the
+    diagonals)."""
+    corners = vertices[:, :, plate_quads(n)]
+    normal = np.cross(
+        corners[..., 2, :] - corners[..., 0, :], corners[..., 3, :] - corners[..., 1, :]
+    )
+    length = np.linalg.norm(normal, axis=-1, keepdims=True)
+    normal = normal / np.where(length > 0.0, length, 1.0)
+    offset = np.einsum("...i,...i->...", normal, corners[..., 0, :])
+    centre = corners.mean(axis=-2)
+    radius2 = ((corners - centre[..., None, :]) ** 2).sum(axis=-1).max(axis=-1)
+    return corners, normal, offset, centre, radius2
+
+
+#: Quads (and rulings) per block of the candidate search.
+BLOCK = 8
+
+#: Candidate block pairs tested in one batch (bounds the memory of a scan).
+_BATCH = 4096
+
+
+def _blocks(n):
+    """Quad blocks (J, BLOCK) and ruling blocks (I, BLOCK + 1) of a plate of ``n`` quads (the
+    last block padded with its last index), and the local edges of a ruling block (E, 2)."""
+    count = -(-n // BLOCK)
+    start = np.arange(count)[:, None] * BLOCK
+    quads = np.minimum(start + np.arange(BLOCK), n - 1)
+    rulings = np.minimum(start + np.arange(BLOCK + 1), n)
+    r = BLOCK + 1  # block vertices: the near row's r, then the far row's r
+    j = np.arange(BLOCK)
+    edges = np.concatenate(
+        [np.c_[j, j + 1], np.c_[r + j, r + j + 1], np.c_[np.arange(r), r + np.arange(r)]]
+    )
+    return quads, rulings, edges
+
+
+def _inside(points, inward, sides, tol):
+    """(N,) bool: the foot of ``points`` (N, 3) inside the quads whose edge planes are
+    ``inward`` (N, 4, 3) and ``sides`` (N, 4) by more than ``tol`` (float or (N,); outside by
+    less than ``-tol`` if negative)."""
+    tol = np.asarray(tol, dtype=float)
+    return (np.einsum("nei,ni->ne", inward, points) - sides > tol[..., None]).all(axis=-1)
+
+
+def _boxes(points, axis):
+    """Bounding boxes (lo, hi) of ``points`` over ``axis`` (and the last but one axis)."""
+    return points.min(axis=axis), points.max(axis=axis)
+
+
+def path_events(vertices, n, excluded, tol):
+    """Events in states (k, p, 2n + 2, 3): crossings in states ``1 .. k - 1`` and
+    pass-throughs between neighbouring states, earliest first.
+
+    Returns
+    -------
+    events : list of (int, str, int, int, (3,) float)
+        ``(state, kind, a, b, point)``: plates ``a`` and ``b`` meet at or before ``state``.
+    tolerance : float
+        The largest touch tolerance used (m): ``tol``, or twice a quad's own non-planarity.
+    """
+    k, p = vertices.shape[:2]
+    if k < 2:
+        return [], tol
+    corners, normal, offset, centre, radius2 = _quads(vertices, n)
+    # touching is within the tolerance or the quads' own planarity (radial and inclined
+    # layouts mirror across fitted planes: their quads are planar to a few 1e-6 of the size)
+    planarity = np.abs(np.einsum("...ci,...i->...c", corners, normal) - offset[..., None])
+    touch = np.maximum(tol, 2.0 * planarity.max(axis=-1))  # (k, p, n): per quad
+    # the largest displacement of a vertex in every step
+    reach = np.linalg.norm(np.diff(vertices, axis=0), axis=-1).max(axis=(1, 2))
+    quad_block, ruling_block, edges = _blocks(n)
+    m = n + 1
+    local = np.concatenate([ruling_block, m + ruling_block], axis=1)  # (I, 2 BLOCK + 2)
+    # boxes of every block over the step from state i to i + 1, widened by the touch tolerance
+    qc = corners[:, :, quad_block].reshape(k, p, len(quad_block), -1, 3)
+    qlo, qhi = _boxes(np.concatenate([qc[:-1], qc[1:]], axis=3), axis=3)
+    vc = vertices[:, :, local]
+    vlo, vhi = _boxes(np.concatenate([vc[:-1], vc[1:]], axis=3), axis=3)
+    widen = (touch.max() + reach)[:, None, None, None]
+    qlo, vlo = qlo - widen, vlo - widen
+    overlap = np.all(
+        (qlo[:, :, :, None, None] <= vhi[:, None, None])
+        & (vlo[:, None, None] <= qhi[:, :, :, None, None]),
+        axis=-1,
+    )  # (k - 1, p, J, p, I)
+    idx = np.arange(p)
+    overlap[:, idx, :, idx] = False
+    candidates = np.nonzero(overlap)
+    geometry = _Geometry(vertices, corners, normal, offset, centre, radius2, touch, reach)
+    live = _sided(geometry, candidates, overlap.shape, quad_block, local, excluded)
+    found = []
+    for start in range(0, len(live), _BATCH):  # the batches of every candidate, in order
+        rows = start + np.flatnonzero(live[start : start + _BATCH])
+        if len(rows):
+            block = tuple(c[rows] for c in candidates)
+            found += _batch_events(geometry, block, quad_block, local, edges, excluded)
+    found.sort(key=lambda e: e[0])
+    return found, float(touch.max())
+
+
+@dataclass(frozen=True)
+class _Geometry:
+    """The arrays of :func:`path_events` that its candidate tests read."""
+
+    vertices: np.ndarray  # (k, p, 2n + 2, 3)
+    corners: np.ndarray  # (k, p, n, 4, 3)
+    normal: np.ndarray  # (k, p, n, 3)
+    offset: np.ndarray  # (k, p, n)
+    centre: np.ndarray  # (k, p, n, 3)
+    radius2: np.ndarray  # (k, p, n)
+    touch: np.ndarray  # (k, p, n)
+    reach: np.ndarray  # (k - 1,)
+
+
+def _heights(g, states, a, quads, b, verts):
+    """Heights (N, V, BLOCK) of the vertices ``verts`` (N, V) of plates ``b`` over the planes
+    of the quads ``quads`` (N, BLOCK) of plates ``a`` in ``states`` (N,), and the vertices."""
+    nrm = g.normal[states[:, None], a[:, None], quads]  # (N, BLOCK, 3)
+    off = g.offset[states[:, None], a[:, None], quads]  # (N, BLOCK)
+    x = g.vertices[states[:, None], b[:, None], verts]  # (N, V, 3)
+    return x @ nrm.swapaxes(1, 2) - off[:, None, :], x
+
+
+def _sided(g, candidates, shape, quad_block, local, excluded):
+    """(N,) bool: the candidate block pairs (state, a, J, b, I) of :func:`path_events` that may hold
+    an event: for some quad, a vertex of the block strictly above its plane and one strictly
+    below it (in the state after the step for a crossing, in either state for a
+    pass-through). Only these need the full tests: the others have none.
+
+    Each block's heights are computed once for both steps it belongs to, and compared with the
+    touch tolerance loosened by far more than their rounding, so no block with an event is
+    left out whatever the order of the arithmetic."""
+    ks, a, jb, b, ib = candidates
+    if not len(ks):
+        return np.zeros(0, dtype=bool)
+    shape = (shape[0] + 1,) + shape[1:]  # (k, p, J, p, I): the blocks in every state
+    before = np.ravel_multi_index((ks, a, jb, b, ib), shape)
+    after = np.ravel_multi_index((ks + 1, a, jb, b, ib), shape)
+    needed = np.zeros(int(np.prod(shape)), dtype=bool)
+    needed[before] = needed[after] = True
+    blocks = np.flatnonzero(needed)
+    where = np.zeros(len(needed), dtype=np.intp)
+    where[blocks] = np.arange(len(blocks))
+    s, ba, bj, bb, bi = np.unravel_index(blocks, shape)
+    k, p, n = g.offset.shape
+    quads = (s * p + ba)[:, None] * n + quad_block[bj]  # (M, BLOCK) into (k, p, n)
+    verts = local[bi]  # (M, V)
+    x = np.take(g.vertices.reshape(-1, 3), (s * p + bb)[:, None] * (2 * n + 2) + verts, axis=0)
+    nrm = np.take(g.normal.reshape(-1, 3), quads, axis=0)
+    # heights (V, M, BLOCK): the vertex axis first, so that its extremes are quick
+    h = np.empty((verts.shape[1], len(blocks), quad_block.shape[1]))
+    np.matmul(x, nrm.swapaxes(1, 2), out=h.transpose(1, 0, 2))
+    h -= np.take(g.offset, quads)
+    skip = excluded[ba[:, None], bb[:, None], verts]  # (M, V)
+    h[skip.T] = 0.0  # the hinge: neither side
+    margin = 1e-12 * float(np.abs(g.vertices).max())  # >> the rounding of a height
+    t = np.maximum(np.take(g.touch, quads) - margin, 0.0)  # (M, BLOCK); the touch is > 0
+    up, down = h.max(axis=0) > t, h.min(axis=0) < -t
+    up0, down0 = up[where[before]], down[where[before]]
+    up1, down1 = up[where[after]], down[where[after]]
+    sided = (up1 & down1) | (up0 & down1) | (down0 & up1)  # (N, BLOCK)
+    rows = np.flatnonzero(sided.any(axis=1))
+    # and near the quad: a crossing point (on an edge of the block's vertices off the hinge)
+    # within the quad's circumradius of its centre, a vertex passing through within that and
+    # the step's reach (in the state after the step): the centre within that of their box
+    block = where[after[rows]]
+    x, off = np.take(x, block, axis=0), np.take(skip, block, axis=0)[..., None]  # (R, V, .)
+    at = quads[block]  # (R, BLOCK)
+    centre = np.take(g.centre.reshape(-1, 3), at, axis=0)  # (R, BLOCK, 3)
+    lo = np.where(off, np.inf, x).min(axis=1)[:, None]
+    hi = np.where(off, -np.inf, x).max(axis=1)[:, None]
+    gap = np.maximum(lo - centre, 0.0) + np.maximum(centre - hi, 0.0)
+    reach = np.sqrt(np.take(g.radius2, at)) + g.reach[ks[rows]][:, None] + margin
+    sided[rows] &= (gap**2).sum(axis=-1) <= reach**2
+    return sided.any(axis=1)
+
+
+def _edge_planes(g, at):
+    """The planes of the four edges of the quads ``at`` (an index of (k, p, n)) that contain
+    their normals: inward unit normals (N, 4, 3) and offsets (N, 4), so that ``inward . x -
+    offset`` is the distance of the foot of ``x`` inside edge ``i`` (the corners run
+    counter-clockwise about the normal)."""
+    corners = g.corners[at]
+    inward = np.cross(g.normal[at][..., None, :], np.roll(corners, -1, axis=-2) - corners)
+    size = np.linalg.norm(inward, axis=-1, keepdims=True)
+    inward = inward / np.where(size > 0.0, size, 1.0)
+    return inward, np.einsum("...i,...i->...", inward, corners)
+
+
+def _batch_events(g, block, quad_block, local, edges, excluded):
+    """The events of candidate block pairs ``block`` ((N,) state, a, J, b, I) of
+    :func:`path_events`: crossings, then pass-throughs, each in the order of the candidates."""
+    kq, aq, jq, bq, iq = block
+    touch, centre, radius2, reach = g.touch, g.centre, g.radius2, g.reach
+    quads = quad_block[jq]  # (N, BLOCK)
+    verts = local[iq]  # (N, V)
+    skip = excluded[aq[:, None], bq[:, None], verts]  # (N, V)
+    heights = []
+    for step in (0, 1):
+        kk = kq + step
+        h, x = _heights(g, kk, aq, quads, bq, verts)  # (N, V, BLOCK), (N, V, 3)
+        t = touch[kk[:, None], aq[:, None], quads][:, None, :]  # (N, 1, BLOCK)
+        heights.append((h, x, (h > t) & ~skip[..., None], (h < -t) & ~skip[..., None]))
+    (h0, x0, up0, dn0), (h1, x1, up1, dn1) = heights
+    found = []
+    # crossings in state k + 1: an edge of b from one side of a quad's plane to the other,
+    # the crossing point inside the quad
+    e0, e1 = edges[:, 0], edges[:, 1]
+    nn, ee, qq = np.nonzero((up1[:, e0] & dn1[:, e1]) | (dn1[:, e0] & up1[:, e1]))
+    if len(nn):
+        ha, hb = h1[nn, e0[ee], qq], h1[nn, e1[ee], qq]
+        pa, pb = x1[nn, e0[ee]], x1[nn, e1[ee]]
+        point = pa + (ha / (ha - hb))[:, None] * (pb - pa)
+        at = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        near = ((point - centre[at]) ** 2).sum(axis=-1) <= radius2[at]
+        nn, qq, point = nn[near], qq[near], point[near]
+        at = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        hit = _inside(point, *_edge_planes(g, at), -touch[at])  # the closed quad
+        for i in np.flatnonzero(hit):
+            found.append((int(kq[nn[i]]) + 1, "crossing", int(aq[nn[i]]), int(bq[nn[i]]), point[i]))
+    # pass-throughs: a vertex over a quad in both states, on both sides of it (its height
+    # changes by at most its own and the quad's displacement in the step)
+    step = reach[kq][:, None, None]
+    flip = ((up0 & dn1) | (dn0 & up1)) & (np.abs(h1 - h0) <= 3.0 * step)
+    nn, vv, qq = np.nonzero(flip)
+    if len(nn):
+        at0 = (kq[nn], aq[nn], quads[nn, qq])
+        at1 = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        dk = reach[kq[nn]]
+        x0v, x1v = x0[nn, vv], x1[nn, vv]
+        near = ((x0v - centre[at0]) ** 2).sum(axis=-1) <= (np.sqrt(radius2[at0]) + dk) ** 2
+        near &= ((x1v - centre[at1]) ** 2).sum(axis=-1) <= (np.sqrt(radius2[at1]) + dk) ** 2
+        nn, vv, qq, dk, x0v, x1v = nn[near], vv[near], qq[near], dk[near], x0v[near], x1v[near]
+        at0 = (kq[nn], aq[nn], quads[nn, qq])
+        at1 = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        # the foot may move on to the next quad within the step: inside the quad in one
+        # state, and within the step's largest displacement of it in the other
+        inward0, sides0 = _edge_planes(g, at0)
+        inward1, sides1 = _edge_planes(g, at1)
+        d0 = np.einsum("nei,ni->ne", inward0, x0v) - sides0
+        d1 = np.einsum("nei,ni->ne", inward1, x1v) - sides1
+        t0, t1 = touch[at0][:, None], touch[at1][:, None]
+        in0, in1 = (d0 > t0).all(axis=1), (d1 > t1).all(axis=1)
+        near0, near1 = (d0 > -dk[:, None]).all(axis=1), (d1 > -dk[:, None]).all(axis=1)
+        inside = (in0 & near1) | (near0 & in1)
+        for i in np.flatnonzero(inside):
+            found.append(
+                (
+                    int(kq[nn[i]]) + 1,
+                    "pass-through",
+                    int(aq[nn[i]]),
+                    int(bq[nn[i]]),
+                    x1[nn[i], vv[i]],
+                )
+            )
+    return found
