@@ -179,15 +179,16 @@ def _sided(g, candidates, shape, quad_block, local, excluded):
     verts = local[bi]  # (M, V)
     x = np.take(g.vertices.reshape(-1, 3), (s * p + bb)[:, None] * (2 * n + 2) + verts, axis=0)
     nrm = np.take(g.normal.reshape(-1, 3), quads, axis=0)
-    # heights (V, M, BLOCK): the vertex axis first, so that its extremes are quick
+    skip = excluded[ba[:, None], bb[:, None], verts]  # (M, V)
+    x[skip] = np.nan  # on the hinge: neither side (left out of the extremes below)
+    # x . normal (V, M, BLOCK): the vertex axis first, so that its extremes are quick
     h = np.empty((verts.shape[1], len(blocks), quad_block.shape[1]))
     np.matmul(x, nrm.swapaxes(1, 2), out=h.transpose(1, 0, 2))
-    h -= np.take(g.offset, quads)
-    skip = excluded[ba[:, None], bb[:, None], verts]  # (M, V)
-    h[skip.T] = 0.0  # the hinge: neither side
     margin = 1e-12 * float(np.abs(g.vertices).max())  # >> the rounding of a height
-    t = np.maximum(np.take(g.touch, quads) - margin, 0.0)  # (M, BLOCK); the touch is > 0
-    up, down = h.max(axis=0) > t, h.min(axis=0) < -t
+    offset = np.take(g.offset, quads)  # (M, BLOCK)
+    t = np.take(g.touch, quads) - margin
+    up = np.fmax.reduce(h, axis=0) > offset + t  # a height above the touch tolerance
+    down = np.fmin.reduce(h, axis=0) < offset - t
     up0, down0 = up[where[before]], down[where[before]]
     up1, down1 = up[where[after]], down[where[after]]
     sided = (up1 & down1) | (up0 & down1) | (down0 & up1)  # (N, BLOCK)
