@@ -205,9 +205,11 @@ def _assert_same_report(args, kwargs, marked):
             for x, y in zip(got, expected):
                 np.testing.assert_array_equal(np.asarray(x, dtype=float), np.asarray(y, float))
     # what it keeps, it keeps exactly: every penetration and crossing, every gap up to the
-    # smallest clearance of its state
+    # smallest clearance of its state (none when no pair's clearance counts: the first contact
+    # of a path, or two plates with one hinge)
     np.testing.assert_array_equal(pruned[2], full[2])
-    kept = (full[0] >= 0.0) | (-full[0] <= _report(full, marked, 0.0)[2][:, None])
+    bound = _report(full, marked, 0.0)[2] if marked.any() else np.zeros(len(full[0]))
+    kept = (full[0] >= 0.0) | (-full[0] <= bound[:, None])
     for x, y in zip(pruned, full):
         np.testing.assert_array_equal(x[kept], y[kept])
     return pruned, full

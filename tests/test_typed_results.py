@@ -46,7 +46,9 @@ NOT_RESULTS = {
         "fea/record.py:last_validation", "ghpython/components.py:crease_design",
         "structure.py:to_contract", "studio/documents.py:parse_document",
         "studio/session.py:document", "studio/session.py:valid_document",
-        "thickness/summary.py:thick_summary", "viz/record.py:design_record",
+        "thickness/summary.py:thick_summary",
+        "thickness/collision_check.py:first_contact",  # a CollisionReport's ``first``
+        "viz/record.py:design_record",
         "viz/record.py:read_fabrication", "viz/record.py:read_sheets",
         "viz/viewer_ground.py:sheet_document",
     ),

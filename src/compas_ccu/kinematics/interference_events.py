@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.kinematics.plates import plate_quads
+from compas_ccu.tolerances import ZERO_LENGTH
 
 __all__ = ["BLOCK", "path_events"]
 
@@ -184,7 +185,7 @@ def _sided(g, candidates, shape, quad_block, local, excluded):
     # x . normal (V, M, BLOCK): the vertex axis first, so that its extremes are quick
     h = np.empty((verts.shape[1], len(blocks), quad_block.shape[1]))
     np.matmul(x, nrm.swapaxes(1, 2), out=h.transpose(1, 0, 2))
-    margin = 1e-12 * float(np.abs(g.vertices).max())  # >> the rounding of a height
+    margin = ZERO_LENGTH * float(np.abs(g.vertices).max())  # >> the rounding of a height
     offset = np.take(g.offset, quads)  # (M, BLOCK)
     t = np.take(g.touch, quads) - margin
     up = np.fmax.reduce(h, axis=0) > offset + t  # a height above the touch tolerance
