@@ -336,6 +336,7 @@ def test_an_undoing_that_does_not_converge_is_refused_with_the_way_out(dome_plat
     assert "ccu import --as-drawn" in text and "tried every crease of the folder" in text
 
 
+@pytest.mark.slow  # a fabrication and an import (~1 s); the cone's round trip is quick
 def test_ccu_import_leading_pair_only_keeps_the_single_crease_design(tmp_path, capsys):
     model = load_model(EXAMPLES / "cone.toml")
     fabricate(model, tmp_path / "fab", workshop=SHELF)

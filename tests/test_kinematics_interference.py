@@ -210,7 +210,12 @@ def every_event(certificate, sided: bool) -> list:
 
 
 @pytest.mark.parametrize(
-    "path", [EXAMPLES / "quadrants.toml", DATA / "catalog" / "fig11c-alternating.toml"]
+    "path",
+    [
+        EXAMPLES / "quadrants.toml",
+        # every block pair of its whole range tested (~4 s)
+        pytest.param(DATA / "catalog" / "fig11c-alternating.toml", marks=pytest.mark.slow),
+    ],
 )
 def test_the_blocks_left_out_hold_no_event(path):
     """The scan tests only the block pairs with vertices on both sides of a quad's plane near

@@ -3,11 +3,10 @@
 
 from __future__ import annotations
 
-import io
-import tokenize
 from pathlib import Path
 
 from compas_ccu.tolerances import DIVISION_FLOOR
+from parsed import float_literals
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "compas_ccu"
 
@@ -20,12 +19,9 @@ def number_literals(root: Path, keep) -> list:
     for path in sorted(root.rglob("*.py")):
         if path.name == "tolerances.py":
             continue
-        text = path.read_text(encoding="utf-8")
-        for token in tokenize.generate_tokens(io.StringIO(text).readline):
-            if token.type == tokenize.NUMBER and not token.string.endswith(("j", "J")):
-                value = token.string.replace("_", "")
-                if any(c in value for c in ".eE") and keep(float(value)):
-                    found.append((f"{path.relative_to(root)}:{token.start[0]}", token.string))
+        for line, literal in float_literals(path):
+            if keep(float(literal.replace("_", ""))):
+                found.append((f"{path.relative_to(root)}:{line}", literal))
     return found
 
 

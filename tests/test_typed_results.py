@@ -10,6 +10,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+from parsed import parse
+
 SRC = Path(__file__).resolve().parents[1] / "src" / "compas_ccu"
 CORE = ("curves", "strips", "kinematics", "model")
 #: The names whose dict is a document written to a file (JSON / TOML), not a result.
@@ -97,7 +99,7 @@ def bare_dict_results(root: Path, packages=CORE) -> list:
     folders = [root] if packages is None else [root / p for p in packages]
     for folder in folders:
         for path in sorted(folder.rglob("*.py")):
-            tree = ast.parse(path.read_text(encoding="utf-8"))
+            tree = parse(path)
             for node in ast.walk(tree):
                 if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                     continue

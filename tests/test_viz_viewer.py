@@ -545,7 +545,21 @@ def plans(vault_model, overbent_model, vault22, dome22):
     """model name -> (model, plan): the design's sheets (the vault's 3.05 x 1.525 m take its
     plates whole; the 8 mm overbent vault is spliced on the default 2.5 x 1.25 m), by shelves."""
     models = (vault_model, overbent_model, vault22, dome22)
-    return {m.design.name: (m, _plan(m)) for m in models}
+    return _Plans({m.design.name: m for m in models})
+
+
+class _Plans(dict):
+    """model name -> (model, plan), each plan made when a test first asks for it (a process
+    of a parallel run makes only its tests' plans)."""
+
+    def __init__(self, models):
+        super().__init__()
+        self.models = models
+
+    def __missing__(self, name):
+        model = self.models[name]
+        value = self[name] = (model, _plan(model))
+        return value
 
 
 def _split(trace) -> list:
