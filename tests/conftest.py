@@ -138,8 +138,8 @@ def captured_plate_contacts(thick, alphas, *, report=False):
 
 
 #: docstring examples that fabricate a design with the default true-shape nesting (seconds
-#: each): slow, their behaviour has fast tests (tests/test_fabrication_importing.py: the cone's
-#: round trip)
+#: each): slow, their behaviour has fast tests (tests/test_design_patterns.py: the cone's round
+#: trip through ``ccu import``)
 SLOW_DOCTESTS = {
     "compas_ccu.fabrication.import_documents.import_design",
     "compas_ccu.fabrication.import_documents.import_structure",

@@ -35,7 +35,14 @@ def write(tmp_path, layout, plates, segments):
     return str(path)
 
 
-@pytest.mark.parametrize("case", list(SMALL))
+@pytest.mark.parametrize(
+    "case",
+    # the two smallest of one kind each in the quick loop (~0.7 s a case)
+    [
+        c if c in ("two segments", "two plates") else pytest.param(c, marks=pytest.mark.slow)
+        for c in SMALL
+    ],
+)
 def test_info_deploy_and_fabricate_accept_the_smallest_designs(tmp_path, capsys, case):
     design = write(tmp_path, *SMALL[case])
     assert main(["info", design]) == 0

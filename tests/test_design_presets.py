@@ -54,7 +54,7 @@ def test_a_preset_loads_deploys_and_its_info_runs(preset, tmp_path, capsys):
 
 
 @pytest.mark.parametrize(
-    "preset", _slow([p for p in PRESETS if p != "quadrants"], {"dome", "funnel", "vault"})
+    "preset", _slow([p for p in PRESETS if p != "quadrants"], {"cone", "dome", "funnel", "vault"})
 )
 def test_a_preset_passes_ccu_fabricate(preset, tmp_path, capsys):
     """Every check of the workshop passes: the bending of the plates and of the splices (the

@@ -106,6 +106,7 @@ def test_hand_drawn_circular_crease_deploys_to_the_cone(tmp_path):
     assert np.abs(da - db).max() < 1e-12
 
 
+@pytest.mark.slow  # ~1.3 s; the quick loop's cone round trip: test_design_patterns.py
 def test_round_trip_cone_fabricate_import_deploy(tmp_path):
     model = load_model(EXAMPLES / "cone.toml")
     fabricate(model, tmp_path / "fab", workshop=SHELF)
