@@ -15,7 +15,7 @@ orientation of that frame, so two engines with different local axes compare dire
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -78,14 +78,7 @@ class StressSummary:
 
     def to_dict(self) -> dict:
         """Plain data (``validation.json`` ``stresses``), the fields in order."""
-        return {
-            "max_tension_MPa": self.max_tension_MPa,
-            "max_compression_MPa": self.max_compression_MPa,
-            "max_von_mises_MPa": self.max_von_mises_MPa,
-            "max_bending_MPa": self.max_bending_MPa,
-            "max_membrane_MPa": self.max_membrane_MPa,
-            "max_moment_Nm_per_m": self.max_moment_Nm_per_m,
-        }
+        return asdict(self)
 
 
 def surface_stresses(forces: np.ndarray, *, thickness: float) -> SurfaceStresses:

@@ -10,7 +10,7 @@ neighbouring plates of the stack in every state of the path
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -56,16 +56,8 @@ class SpliceStack:
     mass: float
 
     def to_dict(self) -> dict:
-        """Plain data (strict JSON), the fields in order."""
-        return {
-            "stack_height": self.stack_height,
-            "stack_height_plates": self.stack_height_plates,
-            "max_pile": self.max_pile,
-            "pile_point": None if self.pile_point is None else list(self.pile_point),
-            "count": self.count,
-            "area": self.area,
-            "mass": self.mass,
-        }
+        """Plain data (strict JSON), the fields in order (copies)."""
+        return asdict(self)
 
 
 def stack_with_splices(thick, splices) -> SpliceStack:
