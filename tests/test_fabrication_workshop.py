@@ -210,16 +210,14 @@ def test_splice_bending_is_the_plates_times_the_three_layers(vault_model, vault_
             strength_factor=bend.factors.strength_factor,
         )  # fmt: skip
         check = plan.splice_bending
-        assert check["factor"] == pytest.approx(factor, rel=1e-15)
-        assert {c["plate"]: [c["ruling"]] for c in check["cuts"]} == VAULT_CUTS
+        assert check.factor == pytest.approx(factor, rel=1e-15)
+        assert {c.plate: [c.ruling] for c in check.cuts} == VAULT_CUTS
         # the vault's plates bend uniformly: 1.229 at the cut as everywhere
-        for c in check["cuts"]:
-            assert c["plate_utilisation"] == pytest.approx(1.2289, abs=2e-4)
-            assert c["utilisation"] == pytest.approx(factor * c["plate_utilisation"], rel=1e-15)
-            assert c["utilisation_characteristic"] == pytest.approx(0.5 * c["utilisation"])
-        assert check["exceeded"] and check["max_utilisation"] == pytest.approx(
-            1.2289 * factor, 1e-3
-        )
+        for c in check.cuts:
+            assert c.plate_utilisation == pytest.approx(1.2289, abs=2e-4)
+            assert c.utilisation == pytest.approx(factor * c.plate_utilisation, rel=1e-15)
+            assert c.utilisation_characteristic == pytest.approx(0.5 * c.utilisation)
+        assert check.exceeded and check.max_utilisation == pytest.approx(1.2289 * factor, 1e-3)
         # thinner splice plates go on sheets of their own thickness; masses follow
         assert {s["thickness"] for s in plan.sheets} == sheets_t
         for s in plan.sheets:
@@ -227,7 +225,7 @@ def test_splice_bending_is_the_plates_times_the_three_layers(vault_model, vault_
         b = plan.bom
         expected = sum(p.area * (0.008 if p.kind == "plate" else ts or 0.008) for p in plan.parts)
         assert b["mass_kg"] == pytest.approx(500.0 * expected, rel=1e-12)
-        assert plan.summary()["splice_bending"] is check
+        assert plan.summary()["splice_bending"] == check.to_dict()
 
 
 def test_splice_bending_takes_the_worst_vertex_under_the_splice_only():
@@ -242,12 +240,18 @@ def test_splice_bending_takes_the_worst_vertex_under_the_splice_only():
     u[0, 4 + 6] = 0.9  # 0.1 m from the cut: beside it
     o = WorkshopOptions(splice_thickness=0.005)
     check = splice_bending(data, {4: [2]}, u, o, strength_factor=0.5)
-    assert check["cuts"] == [
-        {"plate": 4, "ruling": 2, "plate_utilisation": 0.5, "utilisation": 1.0,
-         "utilisation_characteristic": 0.5}
+    assert check.to_dict() == {
+        "factor": 2.0, "thickness": 0.01, "splice_thickness": 0.005,
+        "cuts": [{"plate": 4, "ruling": 2, "plate_utilisation": 0.5, "utilisation": 1.0,
+                  "utilisation_characteristic": 0.5}],
+        "max_utilisation": 1.0, "max_utilisation_characteristic": 0.5, "exceeded": False,
+    }  # fmt: skip
+    assert list(check.to_dict()) == [
+        "factor", "thickness", "splice_thickness", "cuts", "max_utilisation",
+        "max_utilisation_characteristic", "exceeded",
     ]  # fmt: skip
-    assert not check["exceeded"]  # 1.0 is at the limit, not above it
-    assert splice_bending(data, {}, u, o)["max_utilisation"] == 0.0  # nothing split
+    assert not check.exceeded  # 1.0 is at the limit, not above it
+    assert splice_bending(data, {}, u, o).max_utilisation == 0.0  # nothing split
 
 
 @pytest.mark.slow  # the vault's workshop plan (~14 s, shared)

@@ -133,8 +133,13 @@ def test_the_kinematic_bending_stress_is_never_below_the_fe(cone_runs):
 @pytest.mark.slow
 def test_engines_agree_on_the_cone_pair_to_three_digits(cone_runs):
     a = agreement(cone_runs["kratos"], cone_runs["opensees"])
-    assert a["position_max_percent"] <= 1e-2  # 1e-4 of the span (measured 2.5e-5)
-    assert a["moment_max_relative"] <= 1e-3  # 3 digits (measured 3e-4)
+    assert a.engines == ["kratos", "opensees"]
+    assert a.position_max_percent <= 1e-2  # 1e-4 of the span (measured 2.5e-5)
+    assert a.moment_max_relative <= 1e-3  # 3 digits (measured 3e-4)
+    assert list(a.to_dict()) == [
+        "engines", "position_max_m", "position_max_percent", "deviation_max_percent",
+        "deviation_max_relative", "moment_max_Nm_per_m", "moment_max_relative", "wall_time_s",
+    ]  # fmt: skip
     ka, ko = (cone_runs[e] for e in ("kratos", "opensees"))
     ma = np.abs(principal(ka.result.forces[-1][:, 3:])).max(axis=1)
     mo = np.abs(principal(ko.result.forces[-1][:, 3:])).max(axis=1)

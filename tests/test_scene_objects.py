@@ -162,11 +162,11 @@ def test_the_notebook_scene_of_the_vault_makes_at_most_50_widget_models(vault_mo
 def test_the_notebook_buffers_of_a_flat_cone(cone_model):
     items = ccu_scene.draw_items(cone_model, state="flat")
     buffers = objects_module.notebook_buffers(items)
-    positions, colors, index = buffers["faces"]
+    positions, colors, index = buffers.faces
     assert positions.dtype == np.float32 and index.dtype == np.uint16
     assert set(np.asarray(positions)[:, 2].tolist()) == {0.0}
     assert index.max() < len(positions)
-    assert objects_module.notebook_buffers([])["faces"] is None
+    assert objects_module.notebook_buffers([]) == objects_module.NotebookBuffers(None, None)
     # a mesh whose vertex keys are not 0 .. n - 1: the faces and outline index its vertices
     mesh = Mesh()
     for key, xyz in zip((7, 3, 9, 5), ([0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0])):
@@ -174,7 +174,7 @@ def test_the_notebook_buffers_of_a_flat_cone(cone_model):
     mesh.add_face([7, 3, 9, 5])
     piece = ccu_scene.DrawItem("plate", "plate_0", mesh, Color(0.5, 0.5, 0.5))
     buffers = objects_module.notebook_buffers([piece])
-    positions, _, index = buffers["faces"]
+    positions, _, index = buffers.faces
     assert positions[index].tolist() == [
         [0, 0, 0],
         [1, 0, 0],
@@ -183,7 +183,7 @@ def test_the_notebook_buffers_of_a_flat_cone(cone_model):
         [1, 1, 0],
         [0, 1, 0],
     ]
-    positions, _, index = buffers["lines"]
+    positions, _, index = buffers.lines
     assert sorted(map(tuple, positions[index.reshape(-1, 2)].sum(axis=1).tolist())) == sorted(
         [(1, 0, 0), (2, 1, 0), (1, 2, 0), (0, 1, 0)]
     )

@@ -145,8 +145,9 @@ def test_views_carry_span_and_rise_dimensions_from_the_key_figures(vault, tmp_pa
         s = load_model(EXAMPLES / f"{name}.toml").deploy()
         d = dimension_points(s.deployed, len(s.deployed[0]) // 2 - 1)
         f = state_figures(s)
-        assert np.linalg.norm(d["span"][1] - d["span"][0]) == pytest.approx(f["crease_span"])
-        assert np.linalg.norm(d["rise"][1] - d["rise"][0]) == pytest.approx(f["crease_rise"])
+        assert d.span.shape == d.rise.shape == (2, 3)
+        assert np.linalg.norm(d.span[1] - d.span[0]) == pytest.approx(f["crease_span"])
+        assert np.linalg.norm(d.rise[1] - d.rise[0]) == pytest.approx(f["crease_rise"])
     # SVG text as <text>, not outlines: read with the standard library's XML parser
     (svg,) = save_figure(fig, tmp_path / "v", formats=("svg",))
     root = ElementTree.parse(svg).getroot()

@@ -127,6 +127,11 @@ def parse_limit(text: str) -> tuple:
     return name, number
 
 
-def apply(texts) -> dict:
-    """The limits of ``--limit`` texts as keyword arguments of :func:`raised`."""
+def apply(texts) -> dict[str, int | float]:
+    """The limits of ``--limit`` texts as keyword arguments of :func:`raised`: name -> value,
+    the names given only.
+
+    >>> apply(["segments=100000", "memory_gib=2.5"])
+    {'segments': 100000, 'memory_gib': 2.5}
+    """
     return dict(parse_limit(t) for t in texts or ())

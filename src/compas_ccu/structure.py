@@ -139,9 +139,9 @@ class Structure(Data):
         )
         return max(self.metrics[k] for k in keys)
 
-    def crease_kind_counts(self) -> dict:
+    def crease_kind_counts(self) -> dict[str, int]:
         """Number of creases of each kind, in the order the kinds first appear."""
-        counts: dict = {}
+        counts: dict[str, int] = {}
         for c in self.creases:
             counts[c["kind"]] = counts.get(c["kind"], 0) + 1
         return counts

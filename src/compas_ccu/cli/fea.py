@@ -88,7 +88,7 @@ def validate(args) -> int:
         progress(args, f"cross-checking with {other} ...")
         w = run_validation(model, **{**options, "engine": other})
         w.write(out / other, figures=False)
-        summary["agreement"] = agreement(v, w)
+        summary["agreement"] = agreement(v, w).to_dict()
         write_json(out / "validation.json", summary)
     remember(args.design, summary, getattr(args, "final_out", out))
     for line in _summary_lines(summary):

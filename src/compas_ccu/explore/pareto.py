@@ -61,7 +61,7 @@ def pareto_mask(values: np.ndarray, senses, *, chunk: int = 512) -> np.ndarray:
     return mask
 
 
-def violations(row: dict, constraints: dict) -> dict:
+def violations(row: dict, constraints: dict) -> dict[str, float | None]:
     """How far ``row`` is from meeting each constraint.
 
     Parameters
@@ -73,11 +73,12 @@ def violations(row: dict, constraints: dict) -> dict:
 
     Returns
     -------
-    dict
-        Metric -> violation: <= 0 met (a range's negative value is the slack), > 0 missed by
-        that much relative to the bound (``(value - max) / |max|``, ``(min - value) / |min|``;
-        a bound of 0 counts absolutely), 1.0 for a wrong bool; None where the metric was not
-        measured (None or NaN).
+    dict of str to float or None
+        Metric -> violation, every metric of ``constraints`` in its order: <= 0 met (a
+        range's negative value is the slack), > 0 missed by that much relative to the bound
+        (``(value - max) / |max|``, ``(min - value) / |min|``; a bound of 0 counts
+        absolutely), 1.0 for a wrong bool; None where the metric was not measured (None or
+        NaN).
 
     Examples
     --------

@@ -42,6 +42,7 @@ from __future__ import annotations
 import hashlib
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from compas_ccu import __version__, limits
 from compas_ccu.design.document import read_toml
@@ -64,6 +65,9 @@ from compas_ccu.explore.parsing import (
     round_setting,
     table,
 )
+
+if TYPE_CHECKING:  # optuna is imported when a study samples, not with this module
+    from optuna.distributions import BaseDistribution
 
 __all__ = ["Study", "load_study", "SAMPLERS"]
 
@@ -197,10 +201,11 @@ class Study:
         """The design document of ``variant``: the base with its parameter values."""
         return apply_settings(self.base_document, variant, self.base_path)
 
-    def distributions(self) -> dict:
-        """Optuna's distribution of every parameter (needs optuna): ranges are float or int
-        distributions (step, log), values and section tables categorical over their table
-        values (labels for tables, JSON text for lists)."""
+    def distributions(self) -> dict[str, BaseDistribution]:
+        """Optuna's distribution of every parameter (needs optuna), parameter name ->
+        distribution in the study's order: ranges are float or int distributions (step, log),
+        values and section tables categorical over their table values (labels for tables, JSON
+        text for lists)."""
         from optuna.distributions import (
             CategoricalDistribution,
             FloatDistribution,
@@ -218,11 +223,11 @@ class Study:
                 out[p.name] = FloatDistribution(p.low, p.high, log=p.log, step=p.step)
         return out
 
-    def settings_of(self, params: dict) -> dict:
-        """Design values of the parameter values a sampler proposed (``trial.params``):
-        continuous values rounded to :data:`DIGITS` significant digits (stepped ones to 12:
-        ``0.1 + 3 * 0.05`` is 0.25) and kept in their range, integers as int, choices
-        decoded.
+    def settings_of(self, params: dict) -> dict[str, Any]:
+        """Design values of the parameter values a sampler proposed (``trial.params``),
+        parameter name -> value in the study's order: continuous values rounded to
+        :data:`DIGITS` significant digits (stepped ones to 12: ``0.1 + 3 * 0.05`` is 0.25) and
+        kept in their range, integers as int, choices decoded.
 
         >>> study = Study({"study": {"base": "vault.toml"},
         ...                "parameters": {"plates.thickness": {"min": 0.004, "max": 0.02}},

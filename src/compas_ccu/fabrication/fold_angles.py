@@ -138,7 +138,7 @@ def oriented_faces(data, flips) -> np.ndarray:
     return faces
 
 
-def crease_fold_angles(data) -> dict:
+def crease_fold_angles(data) -> dict[int, np.ndarray]:
     """Signed FOLD fold angle of every crease segment, measured at the design state.
 
     The plates are oriented consistently (:func:`sheet_orientation`); the angle of segment ``k`` is
@@ -152,7 +152,7 @@ def crease_fold_angles(data) -> dict:
 
     Returns
     -------
-    dict
+    dict of int to ndarray
         ``{crease id: (m - 1,) float}``, degrees: positive valley, negative mountain, 0 when the
         sign is ambiguous. About ``180 - fold_angle`` in magnitude.
     """

@@ -128,7 +128,9 @@ def _draw_strip(msp, s, dx: float, dy: float) -> None:
     label.set_placement(tuple(where), align=TextEntityAlignment.MIDDLE_CENTER)
 
 
-def write_hinge_dxf(strips, path, *, name: str = "hinges", gap: float | None = None) -> dict:
+def write_hinge_dxf(
+    strips, path, *, name: str = "hinges", gap: float | None = None
+) -> dict[int, tuple[float, float]]:
     """Write every hinge strip into one DXF in millimetres, laid out without overlaps.
 
     Each strip keeps its orientation and is only translated (:func:`strip_layout`): top to
@@ -147,7 +149,7 @@ def write_hinge_dxf(strips, path, *, name: str = "hinges", gap: float | None = N
 
     Returns
     -------
-    dict
+    dict of int to tuple of float
         ``{crease_id: (dx, dy)}``, the translation of every strip in metres: its DXF
         coordinates are ``1000 * (centre + (dx, dy))``. The same translation (in mm) is in the
         XDATA ``COMPAS_CCU`` of its ``HINGE_CUT`` and ``HINGE_CREASE`` polylines.

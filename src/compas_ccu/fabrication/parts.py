@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.fabrication.plan import Part, WorkshopOptions
+from compas_ccu.fabrication.plan import Part, SpliceBending, SpliceCutBending, WorkshopOptions
 from compas_ccu.fabrication.splices import (
     splice_rectangle,
     stagger_cuts,
@@ -95,7 +95,7 @@ def make_parts(data, options: WorkshopOptions, splits: dict | None = None) -> tu
 
 def splice_bending(
     data, splits: dict, utilisation, options: WorkshopOptions, *, strength_factor: float = 1.0
-) -> dict:
+) -> SpliceBending:
     """The bending check of the plates where the splice plates are glued across a cut.
 
     A splice plate glued to both faces bends with the plate: the three layers take the
@@ -119,10 +119,9 @@ def splice_bending(
 
     Returns
     -------
-    dict
+    SpliceBending
         ``factor`` (t + 2 t_s) / t, ``thickness`` and ``splice_thickness`` (m), ``cuts`` (per
-        cut: ``plate``, ``ruling``, ``plate_utilisation``, ``utilisation``,
-        ``utilisation_characteristic``), ``max_utilisation`` and
+        cut a :class:`~compas_ccu.fabrication.plan.SpliceCutBending`), ``max_utilisation`` and
         ``max_utilisation_characteristic`` (0 without cuts) and ``exceeded``.
 
     Examples
@@ -134,7 +133,7 @@ def splice_bending(
     >>> flat = np.array([[0.0, 0], [1, 0], [2, 0], [0, 1], [1, 1], [2, 1]])
     >>> data = SimpleNamespace(thickness=0.008, segments=2, plate_ids=[0], flat=[flat])
     >>> check = splice_bending(data, {0: [1]}, np.full((1, 6), 0.5), WorkshopOptions())
-    >>> check["factor"], check["max_utilisation"], check["exceeded"]
+    >>> check.factor, check.max_utilisation, check.exceeded
     (3.0, 1.5, True)
     """
     t = float(data.thickness)
@@ -152,21 +151,21 @@ def splice_bending(
             band = off <= 0.5 * options.splice_width + ZERO_LENGTH
             plate_u = float(u[i, band].max())
             cuts.append(
-                {
-                    "plate": int(pid),
-                    "ruling": int(j),
-                    "plate_utilisation": plate_u,
-                    "utilisation": plate_u * factor,
-                    "utilisation_characteristic": plate_u * factor * strength_factor,
-                }
+                SpliceCutBending(
+                    plate=int(pid),
+                    ruling=int(j),
+                    plate_utilisation=plate_u,
+                    utilisation=plate_u * factor,
+                    utilisation_characteristic=plate_u * factor * strength_factor,
+                )
             )
-    worst = max((c["utilisation"] for c in cuts), default=0.0)
-    return {
-        "factor": factor,
-        "thickness": t,
-        "splice_thickness": ts,
-        "cuts": cuts,
-        "max_utilisation": worst,
-        "max_utilisation_characteristic": worst * strength_factor,
-        "exceeded": bool(worst > 1.0),
-    }
+    worst = max((c.utilisation for c in cuts), default=0.0)
+    return SpliceBending(
+        factor=factor,
+        thickness=t,
+        splice_thickness=ts,
+        cuts=tuple(cuts),
+        max_utilisation=worst,
+        max_utilisation_characteristic=worst * strength_factor,
+        exceeded=bool(worst > 1.0),
+    )

@@ -6,7 +6,7 @@ makes it; ``fabrication.json`` ``workshop`` and ``sheets.json`` are its summarie
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
@@ -19,6 +19,8 @@ __all__ = [
     "RollNesting",
     "NestingSearch",
     "NESTING_SEARCH_KEYS",
+    "SpliceCutBending",
+    "SpliceBending",
     "outline_ring",
 ]
 
@@ -238,6 +240,64 @@ class NestingSearch:
         return {k: getattr(self, k) for k in keys}
 
 
+@dataclass(frozen=True)
+class SpliceCutBending:
+    """The bending check of one cut under its splice plates (:class:`SpliceBending`).
+
+    Attributes
+    ----------
+    plate : int
+        The plate's id.
+    ruling : int
+        The ruling the cut follows.
+    plate_utilisation : float
+        The plate's largest bending utilisation within ``splice_width / 2`` of the cut.
+    utilisation : float
+        The same times :attr:`SpliceBending.factor`: the outer fibres of the splice plates.
+    utilisation_characteristic : float
+        The same against characteristic strengths.
+    """
+
+    plate: int
+    ruling: int
+    plate_utilisation: float
+    utilisation: float
+    utilisation_characteristic: float
+
+
+@dataclass(frozen=True)
+class SpliceBending:
+    """The bending check of the plates where the splice plates are glued across a cut
+    (:func:`~compas_ccu.fabrication.parts.splice_bending`; ``fabrication.json``
+    ``workshop.splice_bending``).
+
+    Attributes
+    ----------
+    factor : float
+        ``(t + 2 t_s) / t``: the outer fibres' stress over the plate's.
+    thickness, splice_thickness : float
+        ``t`` and ``t_s``, m.
+    cuts : tuple of SpliceCutBending
+        Per cut, plates in ``data`` order.
+    max_utilisation, max_utilisation_characteristic : float
+        The largest over the cuts (0 without cuts).
+    exceeded : bool
+        :attr:`max_utilisation` above 1.
+    """
+
+    factor: float
+    thickness: float
+    splice_thickness: float
+    cuts: tuple
+    max_utilisation: float
+    max_utilisation_characteristic: float
+    exceeded: bool
+
+    def to_dict(self) -> dict:
+        """Plain data (strict JSON), the fields in order (``cuts`` a list of dicts)."""
+        return {**asdict(self), "cuts": [asdict(c) for c in self.cuts]}
+
+
 @dataclass
 class WorkshopPlan:
     """The parts, the sheets they are nested on, the hinge roll, the BOM and the assembly.
@@ -257,9 +317,10 @@ class WorkshopPlan:
         The bill of materials (:meth:`bom_rows` for its table).
     assembly : list of dict
         The assembly steps in order.
-    splice_bending : dict or None
-        The bending check of the spliced cuts (:func:`splice_bending`); None without the
-        plates' bending utilisation.
+    splice_bending : SpliceBending or None
+        The bending check of the spliced cuts
+        (:func:`~compas_ccu.fabrication.parts.splice_bending`); None without the plates'
+        bending utilisation.
     design : str or None
         The design's name (:meth:`layout` records it).
     model_plate_ids : list of int or None
@@ -282,7 +343,7 @@ class WorkshopPlan:
     roll: RollNesting
     bom: dict = field(default_factory=dict)
     assembly: list = field(default_factory=list)
-    splice_bending: dict | None = None
+    splice_bending: SpliceBending | None = None
     design: str | None = None
     model_plate_ids: list | None = None
     nesting_search: NestingSearch | None = None
@@ -317,7 +378,9 @@ class WorkshopPlan:
             "splits": {str(k): v for k, v in self.splits.items()},
             "roll": self.roll.to_dict(),
             "splice_thickness": self.parts_thickness("splice"),
-            "splice_bending": self.splice_bending,
+            "splice_bending": (
+                None if self.splice_bending is None else self.splice_bending.to_dict()
+            ),
             "bom": self.bom,
             "assembly": self.assembly,
         }

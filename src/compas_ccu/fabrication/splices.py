@@ -221,7 +221,7 @@ def shifted_cuts(flat, options, grain: float, cuts: list) -> list:
     return out
 
 
-def stagger_cuts(data, options, *, stagger: bool = True) -> dict:
+def stagger_cuts(data, options, *, stagger: bool = True) -> dict[int, list[int]]:
     """The cuts of every plate, staggered so that the splice plates do not pile up.
 
     Parameters
@@ -233,7 +233,7 @@ def stagger_cuts(data, options, *, stagger: bool = True) -> dict:
 
     Returns
     -------
-    dict
+    dict of int to list of int
         Plate id -> the rulings its cuts follow, in order (empty if it fits whole).
 
     Raises

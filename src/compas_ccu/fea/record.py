@@ -11,6 +11,7 @@ import datetime
 import hashlib
 import json
 import os
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -19,7 +20,7 @@ from compas_ccu.fea.stresses import principal
 from compas_ccu.outputs import write_json
 from compas_ccu.tolerances import DIVISION_FLOOR
 
-__all__ = ["cache_folder", "remember", "last_validation", "agreement"]
+__all__ = ["cache_folder", "remember", "last_validation", "agreement", "EngineAgreement"]
 
 
 def cache_folder() -> Path:
@@ -64,11 +65,50 @@ def last_validation(design: str) -> dict | None:
         return None
 
 
-def agreement(a, b) -> dict:
+@dataclass(frozen=True)
+class EngineAgreement:
+    """How closely two validations of the same model agree at the target state
+    (:func:`agreement`; ``validation.json`` ``agreement``). Pairs are ``[a, b]``.
+
+    Attributes
+    ----------
+    engines : list of str
+        (2,) the two engines' names.
+    position_max_m : float
+        The largest node position difference, m.
+    position_max_percent : float
+        The same in % of the span.
+    deviation_max_percent : list of float
+        (2,) each validation's peak deviation from the kinematic model, % of the span.
+    deviation_max_relative : float
+        The relative difference of the two peak deviations.
+    moment_max_Nm_per_m : list of float
+        (2,) each validation's peak principal bending moment, N m/m.
+    moment_max_relative : float
+        The relative difference of the two peak moments.
+    wall_time_s : list of float
+        (2,) each engine's wall time, s.
+    """
+
+    engines: list
+    position_max_m: float
+    position_max_percent: float
+    deviation_max_percent: list
+    deviation_max_relative: float
+    moment_max_Nm_per_m: list
+    moment_max_relative: float
+    wall_time_s: list
+
+    def to_dict(self) -> dict:
+        """Plain data (strict JSON), the fields in order (copies)."""
+        return asdict(self)
+
+
+def agreement(a, b) -> EngineAgreement:
     """How closely two validations of the same model agree (e.g. Kratos and OpenSees).
 
-    Returns the largest node position difference in % of span, and relative differences of the
-    peak deviation, peak moment and peak bending stress at the target state.
+    The largest node position difference in % of span, and relative differences of the peak
+    deviation and the peak moment at the target state (:class:`EngineAgreement`).
     """
     k = a.deployment_steps - 1
     span = float(a.spans[k])
@@ -80,13 +120,13 @@ def agreement(a, b) -> dict:
     def rel(x, y):
         return float(abs(x - y) / max(abs(x), abs(y), DIVISION_FLOOR))
 
-    return {
-        "engines": [a.result.engine, b.result.engine],
-        "position_max_m": float(dx),
-        "position_max_percent": float(100.0 * dx / span),
-        "deviation_max_percent": [float(100 * da / span), float(100 * db / span)],
-        "deviation_max_relative": rel(da, db),
-        "moment_max_Nm_per_m": [float(ma), float(mb)],
-        "moment_max_relative": rel(ma, mb),
-        "wall_time_s": [float(a.result.wall_time), float(b.result.wall_time)],
-    }
+    return EngineAgreement(
+        engines=[a.result.engine, b.result.engine],
+        position_max_m=float(dx),
+        position_max_percent=float(100.0 * dx / span),
+        deviation_max_percent=[float(100 * da / span), float(100 * db / span)],
+        deviation_max_relative=rel(da, db),
+        moment_max_Nm_per_m=[float(ma), float(mb)],
+        moment_max_relative=rel(ma, mb),
+        wall_time_s=[float(a.result.wall_time), float(b.result.wall_time)],
+    )

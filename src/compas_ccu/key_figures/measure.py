@@ -90,7 +90,7 @@ class KeyFigures(Mapping):
         """The figures of one group of :data:`GROUPS`."""
         return {f.name: self._values[f.name] for f in FIGURES if f.group == name}
 
-    def crease_kind_counts(self) -> dict:
+    def crease_kind_counts(self) -> dict[str, int]:
         """``crease_kinds`` as ``{kind: count}``."""
         text = self._values["crease_kinds"] or ""
         pairs = (item.split(" ", 1) for item in text.split(", ") if item)

@@ -156,7 +156,7 @@ def bounding_box(items) -> np.ndarray:
     return np.array([xyz.min(axis=0), xyz.max(axis=0)])
 
 
-def plate_kinds(structure: Structure) -> dict:
+def plate_kinds(structure: Structure) -> dict[int, str | None]:
     """``{plate id: kind}``: the kind of the creases of each plate.
 
     ``"mixed"`` when the creases of a plate differ in kind, ``None`` for a plate without

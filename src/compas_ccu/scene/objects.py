@@ -22,6 +22,7 @@ from __future__ import annotations
 import importlib
 import math
 import uuid
+from dataclasses import dataclass
 
 import numpy as np
 from compas.datastructures import Graph, Mesh
@@ -42,6 +43,7 @@ __all__ = [
     "frame_camera",
     "zoom_rhino_view",
     "notebook_buffers",
+    "NotebookBuffers",
 ]
 
 
@@ -243,14 +245,28 @@ class _Buffer:
         )
 
 
-def notebook_buffers(pieces) -> dict:
-    """The arrays a notebook draws: ``{"faces": (...), "lines": (...)}``.
+@dataclass(frozen=True)
+class NotebookBuffers:
+    """The arrays a notebook draws (:func:`notebook_buffers`): each ``(positions, colours,
+    index)`` with positions (k, 3) float32, colours (k, 3) float32 in 0 .. 1 and index uint16
+    (uint32 from 2**16 points) into them, or None when there is nothing of that kind.
 
-    ``pieces``: the shown :class:`~compas_ccu.scene.draw.DrawItem` s. ``faces``: the plates and
-    solids as triangles; ``lines``: the plate outlines (in the ruling colour), the rulings and
-    the creases (last, so they are drawn over the outlines), each as ``(positions (k, 3),
-    colours (k, 3) in 0 .. 1, index)``, or None when there is nothing of that kind.
+    Attributes
+    ----------
+    faces : tuple of ndarray or None
+        The plates and solids as triangles: index (3t,).
+    lines : tuple of ndarray or None
+        The plate outlines (in the ruling colour), the rulings and the creases (last, so they
+        are drawn over the outlines) as segments: index (2s,).
     """
+
+    faces: tuple | None
+    lines: tuple | None
+
+
+def notebook_buffers(pieces) -> NotebookBuffers:
+    """The arrays a notebook draws (:class:`NotebookBuffers`) of ``pieces``, the shown
+    :class:`~compas_ccu.scene.draw.DrawItem` s."""
     faces, lines = _Buffer(), _Buffer()
     outline_rgb = hex_to_rgb(RULING_COLOR)
     for piece in pieces:  # faces, and the plate outlines first among the lines
@@ -273,7 +289,7 @@ def notebook_buffers(pieces) -> dict:
             lines.add(points, [(i, i + 1) for i in range(len(points) - 1)], rgb)
         elif isinstance(geometry, Line):
             lines.add([list(geometry.start), list(geometry.end)], [(0, 1)], rgb)
-    return {"faces": faces.arrays(), "lines": lines.arrays()}
+    return NotebookBuffers(faces=faces.arrays(), lines=lines.arrays())
 
 
 class _Drawn(SceneObject):
@@ -307,7 +323,7 @@ class NotebookCCUObject(CCUSceneObject):
         shown = [p for c, p in zip(self.children, self.draw_items) if c.show]
         buffers = notebook_buffers(shown)
         guids = []
-        if buffers["faces"] is not None:
+        if buffers.faces is not None:
             material = three.MeshBasicMaterial(
                 side="DoubleSide",
                 vertexColors="VertexColors",
@@ -316,10 +332,10 @@ class NotebookCCUObject(CCUSceneObject):
                 polygonOffsetFactor=1.0,
                 polygonOffsetUnits=1.0,
             )
-            guids.append(three.Mesh(_three_geometry(three, buffers["faces"]), material))
-        if buffers["lines"] is not None:
+            guids.append(three.Mesh(_three_geometry(three, buffers.faces), material))
+        if buffers.lines is not None:
             material = three.LineBasicMaterial(vertexColors="VertexColors")
-            guids.append(three.LineSegments(_three_geometry(three, buffers["lines"]), material))
+            guids.append(three.LineSegments(_three_geometry(three, buffers.lines), material))
         self._guids = guids
         return guids
 

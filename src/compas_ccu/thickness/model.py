@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 from compas.data import Data
@@ -44,7 +44,7 @@ from compas_ccu.thickness.collision_check import (
 from compas_ccu.thickness.splice_stack import SpliceStack, splice_path_gaps, stack_with_splices
 from compas_ccu.thickness.splices import SpliceGaps
 from compas_ccu.thickness.summary import thick_summary
-from compas_ccu.thickness.thick_invariants import hinge_pairing, thick_metrics
+from compas_ccu.thickness.thick_invariants import ThickInvariants, hinge_pairing, thick_metrics
 
 __all__ = ["ThickModel", "ThickState", "CollisionReport", "collision_text", "radial_feet"]
 
@@ -283,7 +283,7 @@ class ThickModel(Data):
         metrics = self.metrics(st)
         out = []
         for k, alpha in enumerate(alphas):
-            m = {key: np.asarray(v[k]).tolist() for key, v in metrics.items()}
+            m = {f.name: np.asarray(getattr(metrics, f.name)[k]).tolist() for f in fields(metrics)}
             out.append(ThickState(float(alpha), self._world(mid[k]), self._world(faces[k]), m))
         return out
 
@@ -310,8 +310,9 @@ class ThickModel(Data):
         return [ids[i] for i in np.argsort(self.stack_position)]
 
     # -- invariants ---------------------------------------------------------------------------
-    def metrics(self, st: ThickStates) -> dict:
-        """Invariants of ``k`` thick states: (k,) arrays, and (k, c) per crease.
+    def metrics(self, st: ThickStates) -> ThickInvariants:
+        """Invariants of ``k`` thick states (:class:`ThickInvariants`): (k,) arrays, and
+        (k, c) per crease.
 
         * ``isometry``, ``quad_planarity``, ``mirror_error``: of the mid-surfaces (exact);
         * ``hinge_gap``: largest distance between the two facing faces' crease edges;

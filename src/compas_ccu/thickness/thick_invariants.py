@@ -8,16 +8,42 @@ edges, the offset planarity and the crease corrections (paper §5.3);
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from compas_ccu.kinematics.mechanism import MechanismStates
 from compas_ccu.kinematics.plates import stack_rows
 from compas_ccu.strips.curvature import plate_curvature
 
-__all__ = ["thick_metrics", "hinge_pairing"]
+__all__ = ["ThickInvariants", "thick_metrics", "hinge_pairing"]
 
 
-def thick_metrics(thick, st) -> dict:
+@dataclass(frozen=True)
+class ThickInvariants:
+    """The invariants of ``k`` thick states (:meth:`ThickModel.metrics`), m.
+
+    Attributes
+    ----------
+    isometry, quad_planarity, mirror_error : (k,) float
+        Of the mid-surfaces (exact).
+    hinge_gap : (k,) float
+        The largest distance between the two facing faces' crease edges.
+    offset_planarity : (k, c) float
+        The distance of the uncorrected offset crease from its plane, per crease.
+    correction : (k, c) float
+        The largest correction along the rulings, per crease (paper §5.3).
+    """
+
+    isometry: np.ndarray
+    quad_planarity: np.ndarray
+    mirror_error: np.ndarray
+    hinge_gap: np.ndarray
+    offset_planarity: np.ndarray
+    correction: np.ndarray
+
+
+def thick_metrics(thick, st) -> ThickInvariants:
     """:meth:`ThickModel.metrics` of ``thick`` at placed states ``st``."""
     mstates = MechanismStates(
         st.near, st.far, st.hinge_origins, st.hinge_normals, st.offset_planarity, st.tilts
@@ -33,14 +59,14 @@ def thick_metrics(thick, st) -> dict:
         fb = faces[:, b, int(sb > 0), rows_b]
         gaps.append(np.linalg.norm(fa - fb, axis=-1).max(axis=1))
     k = st.near.shape[0]
-    return {
-        "isometry": inv.isometry,
-        "quad_planarity": inv.quad_planarity,
-        "mirror_error": inv.mirror_error,
-        "hinge_gap": np.max(gaps, axis=0) if gaps else np.zeros(k),
-        "offset_planarity": st.offset_planarity,
-        "correction": np.abs(st.corrections).max(axis=2),
-    }
+    return ThickInvariants(
+        isometry=inv.isometry,
+        quad_planarity=inv.quad_planarity,
+        mirror_error=inv.mirror_error,
+        hinge_gap=np.max(gaps, axis=0) if gaps else np.zeros(k),
+        offset_planarity=st.offset_planarity,
+        correction=np.abs(st.corrections).max(axis=2),
+    )
 
 
 def hinge_pairing(thick) -> list:

@@ -14,7 +14,7 @@ from compas_ccu.viz.scene import scene_from_structure
 __all__ = ["plot_quadrants", "quadrant_pairs"]
 
 
-def quadrant_pairs(structure) -> dict:
+def quadrant_pairs(structure) -> dict[str, dict]:
     """Map ``"Q1" .. "Q4"`` to the crease record of each quadrant of a four-quadrant structure.
 
     Q2 is the synclastic CCU pair (crease convex for both plates), Q4 the anticlastic one

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from compas_ccu.errors import OptionError
@@ -13,7 +15,14 @@ from compas_ccu.viz.colour_scale import add_colorbar
 from compas_ccu.viz.render import draw_scene
 from compas_ccu.viz.scene import scene_from_structure
 
-__all__ = ["plot_views", "kind_legend_handles", "dimension_points", "readout", "DIMENSION_COLOR"]
+__all__ = [
+    "plot_views",
+    "kind_legend_handles",
+    "dimension_points",
+    "DimensionPoints",
+    "readout",
+    "DIMENSION_COLOR",
+]
 
 DIMENSION_COLOR = "#3a3a3a"
 
@@ -35,7 +44,23 @@ def readout(figures: dict, names=("crease_span", "crease_rise", "plate_length"))
     return " · ".join(parts)
 
 
-def dimension_points(vertices, segments: int) -> dict:
+@dataclass(frozen=True)
+class DimensionPoints:
+    """World points of the span and rise dimensions of a state (:func:`dimension_points`), m.
+
+    Attributes
+    ----------
+    span : (2, 3) float
+        The chord ends of the leading crease.
+    rise : (2, 3) float
+        Its crown and the crown's foot on the chord.
+    """
+
+    span: np.ndarray
+    rise: np.ndarray
+
+
+def dimension_points(vertices, segments: int) -> DimensionPoints:
     """World points of the span and rise dimensions: the leading crease (the near boundary of
     the first plate, as the key figures measure it).
 
@@ -47,7 +72,7 @@ def dimension_points(vertices, segments: int) -> dict:
 
     Returns
     -------
-    dict
+    DimensionPoints
         ``span``: (2, 3) the chord ends; ``rise``: (2, 3) the crown and its foot on the chord.
 
     Examples
@@ -55,7 +80,7 @@ def dimension_points(vertices, segments: int) -> dict:
     >>> from compas_ccu.model import load_model
     >>> s = load_model("examples/vault.toml").deploy()
     >>> d = dimension_points(s.deployed, 64)
-    >>> [round(float(np.linalg.norm(a - b)), 6) for a, b in (d["span"], d["rise"])]
+    >>> [round(float(np.linalg.norm(a - b)), 6) for a, b in (d.span, d.rise)]
     [2.5, 1.0]
     """
     pts = np.asarray(vertices, dtype=float)[0, : segments + 1]
@@ -64,19 +89,20 @@ def dimension_points(vertices, segments: int) -> dict:
     t = (pts - a) @ chord / max(float(chord @ chord), DIVISION_FLOOR)
     foot = a + t[:, None] * chord
     k = int(np.argmax(np.linalg.norm(pts - foot, axis=1)))
-    return {"span": np.array([a, b]), "rise": np.array([pts[k], foot[k]])}
+    return DimensionPoints(span=np.array([a, b]), rise=np.array([pts[k], foot[k]]))
 
 
-def _draw_dimensions(ax, points: dict, figures: dict, view, centre, size) -> bool:
+def _draw_dimensions(ax, points: DimensionPoints, figures: dict, view, centre, size) -> bool:
     """Span and rise dimension lines (arrows both ends, the value beside) in a 2D view that
     shows both in true length (an elevation); False if the view does not."""
     cam = camera(view)
-    xy = {k: cam.project(v, centre, size)[0] for k, v in points.items()}
-    for key, pts in points.items():
+    world = (points.span, points.rise)
+    xy = [cam.project(v, centre, size)[0] for v in world]
+    for pts, flat in zip(world, xy):
         true = float(np.linalg.norm(pts[1] - pts[0]))
-        if float(np.linalg.norm(xy[key][1] - xy[key][0])) < 0.98 * true:
+        if float(np.linalg.norm(flat[1] - flat[0])) < 0.98 * true:
             return False
-    (a, b), (crown, foot) = xy["span"], xy["rise"]
+    (a, b), (crown, foot) = xy
     down = foot - crown
     down /= max(float(np.linalg.norm(down)), DIVISION_FLOOR)
     off = 0.07 * size * down  # the span line below the feet, away from the crown
