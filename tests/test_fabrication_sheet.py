@@ -8,7 +8,7 @@ import pytest
 
 matplotlib = pytest.importorskip("matplotlib")
 
-from compas_ccu.fabrication.sheet import write_assembly_sheet  # noqa: E402
+from compas_ccu.fabrication.sheet import write_assembly_sheet, write_assembly_sheets  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -66,14 +66,22 @@ def test_svg_title_and_assembly(data, svg_text):
         assert f"c{c['id']}" in _texts(svg_text)  # the crease marker in the stack section
 
 
-def test_pdf(data, tmp_path):
+def test_pdf(data, tmp_path, svg_text):
     path = write_assembly_sheet(data, tmp_path / "assembly.pdf")
     blob = path.read_bytes()
     assert blob.startswith(b"%PDF")
     assert len(blob) > 10_000
     assert blob.rstrip().endswith(b"%%EOF")
+    # the page drawn once for both files gives the bytes of one drawing per file
+    both = write_assembly_sheets(data, [tmp_path / "once.svg", str(tmp_path / "once.pdf")])
+    assert both == [tmp_path / "once.svg", tmp_path / "once.pdf"]
+    assert both[1].read_bytes() == blob
+    assert both[0].read_text(encoding="utf-8") == svg_text
 
 
 def test_bad_suffix(data, tmp_path):
     with pytest.raises(ValueError, match=r"\.docx"):
         write_assembly_sheet(data, tmp_path / "assembly.docx")
+    with pytest.raises(ValueError, match=r"\.docx"):  # before anything is written
+        write_assembly_sheets(data, [tmp_path / "a.svg", tmp_path / "a.docx"])
+    assert list(tmp_path.iterdir()) == []

@@ -35,7 +35,7 @@ from compas_ccu.fabrication.hinge_dxf import write_hinge_dxf
 from compas_ccu.fabrication.hinges import hinge_strips
 from compas_ccu.fabrication.meshes import write_gltf, write_obj
 from compas_ccu.fabrication.rhino import write_3dm
-from compas_ccu.fabrication.sheet import write_assembly_sheet
+from compas_ccu.fabrication.sheet import write_assembly_sheets
 from compas_ccu.fabrication.splices import splice_summary
 from compas_ccu.fabrication.workshop import (
     WorkshopOptions,
@@ -276,8 +276,12 @@ def _write_files(
     write_gltf(data, out / "solids.glb", state="deployed")
     write_obj(data, out / "stack.obj", state="stack")
     (out / f"{files.stem}.fold").write_text(fold, encoding="utf-8")
-    for name in ("assembly.svg", "assembly.pdf"):
-        write_assembly_sheet(data, out / name, steps=plan.assembly, stack=manifest["splices"])
+    write_assembly_sheets(
+        data,
+        [out / "assembly.svg", out / "assembly.pdf"],
+        steps=plan.assembly,
+        stack=manifest["splices"],
+    )
     (out / "fabrication.json").write_text(text, encoding="utf-8")
 
 
