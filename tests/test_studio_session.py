@@ -6,8 +6,6 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import subprocess
-import sys
 import time
 
 import numpy as np
@@ -16,6 +14,7 @@ from hypothesis import HealthCheck, given, settings
 
 import strategies
 from compas_ccu.catalog import catalog_path
+from compas_ccu.cli import main
 from compas_ccu.design.document import parse_toml
 from compas_ccu.design.schema import SCHEMA
 from compas_ccu.errors import DesignError, LimitError, OptionError
@@ -102,7 +101,7 @@ def test_values_round_trip_through_the_text_of_a_field():
 
 # -- editing ----------------------------------------------------------------------------------
 def test_an_invalid_value_names_the_key_as_the_cli_does_and_keeps_the_last_model(
-    session, folders, tmp_path
+    session, folders, tmp_path, capsys
 ):
     model = session.model
     problem = session.edit("crease", "rise", -1.0)
@@ -112,11 +111,9 @@ def test_an_invalid_value_names_the_key_as_the_cli_does_and_keeps_the_last_model
     # the ccu command prints the same message for the same file
     bad = tmp_path / "bad.toml"
     bad.write_text(session.fields_text())
-    run = subprocess.run(
-        [sys.executable, "-m", "compas_ccu.cli", "info", str(bad)], capture_output=True, text=True
-    )
-    assert run.returncode == 2
-    assert problem.message in run.stderr
+    capsys.readouterr()
+    assert main(["info", str(bad)]) == 2  # (in this process: test_cli_process runs ccu's own)
+    assert problem.message in capsys.readouterr().err
     problem = session.edit("crease", "rise", "abc")
     assert problem.message == "crease.rise: must be a finite number, got 'abc'"
     assert session.edit("crease", "rise", 0.8) is None
@@ -172,7 +169,7 @@ def test_removing_a_key_with_an_empty_field(session):
 
 
 # -- saving -----------------------------------------------------------------------------------
-def test_save_keeps_comments_and_ccu_info_reads_the_new_values(session, folders):
+def test_save_keeps_comments_and_ccu_info_reads_the_new_values(session, folders, capsys):
     design, _ = folders
     session.edit("crease", "rise", 0.9)
     session.edit("layout", "plates", 6)
@@ -181,13 +178,13 @@ def test_save_keeps_comments_and_ccu_info_reads_the_new_values(session, folders)
     text = path.read_text()
     assert "# m, chord of the leading (ridge) crease" in text  # the comments are kept
     assert parse_toml(text)["crease"]["rise"] == 0.9
-    run = subprocess.run(
-        [sys.executable, "-m", "compas_ccu.cli", "info", str(path)], capture_output=True, text=True
-    )
-    assert run.returncode == 0, run.stderr
+    capsys.readouterr()
+    assert main(["info", str(path)]) == 0
+    said = capsys.readouterr()
+    assert said.err == ""
     figures = key_figures(load_model(path))
     assert figures.plates == 6 and abs(figures.crease_rise - 0.9) < 1e-12
-    assert f"crease rise       {figures.crease_rise:.4f}" in run.stdout or "0.9" in run.stdout
+    assert f"crease rise       {figures.crease_rise:.4f}" in said.out or "0.9" in said.out
 
 
 def test_save_as_writes_inside_the_design_folder_only(session, folders, tmp_path):
