@@ -4,8 +4,6 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
 
@@ -114,17 +112,10 @@ def test_another_study_in_the_folder_is_refused_and_seed_is_another_study(tmp_pa
     assert "study small: 12 trials (tpe, seed 5)" in capsys.readouterr().out
 
 
-def test_the_command_is_declared_and_building_the_parser_imports_no_optuna():
+def test_the_command_is_declared():
+    """(Building the parser, with compas_ccu.explore.optimize imported, imports no optuna:
+    tests/test_cli.py::test_the_commands_are_declared_once_and_help_needs_no_extra, in a fresh
+    process.)"""
     parser = build_parser()
     args = parser.parse_args(["optimize", "s.toml", "--out", "o", "--trials", "5"])
     assert (args.trials, args.workers, args.scheduler, args.spec.staged) == (5, None, None, False)
-    code = (
-        "import sys, compas_ccu, compas_ccu.explore, compas_ccu.explore.optimize; "
-        "from compas_ccu.cli import build_parser; build_parser(); "
-        "print(sorted(m for m in ('optuna', 'distributed', 'pyarrow', 'matplotlib') "
-        "if m in sys.modules))"
-    )
-    out = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, check=True
-    ).stdout
-    assert out.strip() == "[]"
