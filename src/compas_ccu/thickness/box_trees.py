@@ -146,11 +146,15 @@ def box_bounds(box, axes):
 
 
 def pack_boxes(box):
-    """Boxes as columns ``(centre, axes (row by row), half-extents)`` of 15 numbers: (15, ...),
-    so that the separating-axis test runs on contiguous rows."""
+    """Boxes as columns ``(centre, axes (row by row), half-extents)`` of 15 numbers: (15, t x
+    k x p x nodes) from centres and half-extents (t, k, p, nodes, 3) and axes (k, p, nodes,
+    3, 3), the same for every ``t``, so that the separating-axis test runs on contiguous rows."""
     centre, axes, half = box
-    rows = np.concatenate([centre, axes.reshape(*axes.shape[:-2], 9), half], axis=-1)
-    return np.moveaxis(rows, -1, 0)
+    out = np.empty((15,) + centre.shape[:-1])
+    out[:3] = np.moveaxis(centre, -1, 0)
+    out[3:12] = np.moveaxis(axes.reshape(axes.shape[:-2] + (9,)), -1, 0)[:, None]
+    out[12:] = np.moveaxis(half, -1, 0)
+    return out.reshape(15, -1)
 
 
 def separated(box_a, box_b):
@@ -183,35 +187,60 @@ def index_blocks(count, size):
     return np.minimum(np.arange(blocks * size).reshape(blocks, size), count - 1)
 
 
-def box_tree(box, middle, frame, tol):
-    """Boxes of a binary tree over the leaf boxes of every plate (leaves along axis 2).
+def box_tree(box, frames, tol):
+    """Boxes of binary trees over the leaf boxes of every plate (leaves along axis 3).
 
-    ``middle(level, node)`` is the cell whose frame a node takes, ``frame(cells)`` the frames
-    of cells; a parent's box holds its children's boxes (their extents along its axes,
-    :func:`box_bounds`: the tree is refitted level by level, O(nodes) array operations). Leaves
-    are padded to a power of two with empty ones. Returns the levels from the leaves up, each
-    the packed boxes (15, states x plates x nodes) and which nodes are not padding.
+    Parameters
+    ----------
+    box : tuple
+        The leaf boxes: centres (t, k, p, c, 3) of ``t`` trees, their axes (k, p, c, 3, 3),
+        the same for every tree, and half-extents (t, k, p, c, 3).
+    frames : callable
+        ``frames(level)``: the axes (k, p, nodes, 3, 3) of the nodes of ``level`` (1 above the
+        leaves), the same for every tree.
+    tol : float
+
+    A parent's box holds its children's boxes (their extents along its axes,
+    :func:`box_bounds`: the trees are refitted level by level, O(nodes) array operations; the
+    children's axes along the parent's, ``|u . axis_j|``, are the same for every tree). Leaves
+    are padded to a power of two with empty ones, and a parent of one empty child spans its
+    other child alone. Returns the levels from the leaves up, each the packed boxes (15,
+    trees x states x plates x nodes) and which nodes are not padding.
     """
-    count = box[0].shape[2]
+    count = box[1].shape[2]
     size = 1 << max(count - 1, 0).bit_length()
     pad = size - count
     valid = np.r_[np.ones(count, dtype=bool), np.zeros(pad, dtype=bool)]
-    box = tuple(np.concatenate([x, np.repeat(x[:, :, -1:], pad, axis=2)], axis=2) for x in box)
-    levels = [(box, valid)]
+    if pad:  # empty leaves: copies of the last one (never looked at)
+        centre, axes, half = box
+        centre, half = (
+            np.concatenate([x, np.repeat(x[..., -1:, :], pad, axis=-2)], axis=-2)
+            for x in (centre, half)
+        )
+        axes = np.concatenate([axes, np.repeat(axes[:, :, -1:], pad, axis=2)], axis=2)
+        box = centre, axes, half
+    levels = [(pack_boxes(box), valid)]
     level = 0
     while size > 1:
         size //= 2
         level += 1
+        centre, axes, half = box
+        shape = axes.shape[:2] + (size, 2)
+        children = (
+            centre.reshape(centre.shape[:3] + shape[2:] + (3,)),
+            axes.reshape(shape + (3, 3)),
+            half.reshape(half.shape[:3] + shape[2:] + (3,)),
+        )
+        parent = frames(level)  # (k, p, size, 3, 3)
+        lo, hi = box_bounds(children, parent[:, :, :, None])
+        lo_box, hi_box = (
+            np.minimum(lo[..., 0, :], lo[..., 1, :]),
+            np.maximum(hi[..., 0, :], hi[..., 1, :]),
+        )
         pair = valid.reshape(size, 2)
-        # an empty child takes its sibling's box (a parent of two empty ones is empty)
-        own = np.arange(2 * size).reshape(size, 2)
-        twin = np.where(pair, own, own[:, ::-1])
-        axes = frame(middle(level, np.arange(size)))  # (k, p, size, 3, 3)
-        children = tuple(x[:, :, twin.reshape(-1)] for x in box)
-        lo, hi = box_bounds(children, np.repeat(axes, 2, axis=2))
-        lo = np.minimum(lo[:, :, 0::2], lo[:, :, 1::2])
-        hi = np.maximum(hi[:, :, 0::2], hi[:, :, 1::2])
-        box = bounded_boxes(lo, hi, axes, tol)
+        alone = np.flatnonzero(pair[:, 0] & ~pair[:, 1])  # the second child empty
+        lo_box[..., alone, :], hi_box[..., alone, :] = lo[..., alone, 0, :], hi[..., alone, 0, :]
+        box = bounded_boxes(lo_box, hi_box, parent, tol)
         valid = pair.any(axis=1)
-        levels.append((box, valid))
-    return [(pack_boxes(box).reshape(15, -1), valid) for box, valid in levels]
+        levels.append((pack_boxes(box), valid))
+    return levels

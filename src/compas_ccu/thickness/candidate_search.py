@@ -138,46 +138,35 @@ def plate_blocks(
     # lateral tests accept up to the reach
     cell_block = index_blocks(n, CELLS)  # (J, CELLS)
     nj = len(cell_block)
+    column = index_blocks(m, RULINGS)  # (I, RULINGS)
+    ni = len(column)
+    frame = _frames(mid_near, normal, nj, ni)
     corners, directions = cell_corners(cells, tol)  # (k, p, n, 4, 3) each
     if n % CELLS:
         corners, directions = corners[:, :, cell_block], directions[:, :, cell_block]
     corners, directions = (x.reshape(k, p, nj, 4 * CELLS, 3) for x in (corners, directions))
-    axes = cell_frames(mid_near, normal, cell_block[:, CELLS // 2])
+    axes = frame(CELLS, 0)
     up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
     cell_box = bounded_boxes(*hull_bounds(corners, directions, axes, up_to), axes, tol)
 
     # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
     # near / far row, then the ruling): the vertices and the rulings between them (vertex
     # numbers grow along a block); a box in the frame of the middle cell
-    column = index_blocks(m, RULINGS)  # (I, RULINGS)
-    ni = len(column)
     nv = 2 * faces.shape[3]
     local = np.arange(2)[:, None, None] * (2 * m) + np.arange(2)[None, :, None] * m
     local = (local[None] + column[:, None, None, :]).reshape(ni, 4 * RULINGS)
     points = faces.reshape(k, p, nv, 3)
-    frames = cell_frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
+    frames = frame(RULINGS, 0)
     # a pair whose one row is all on their hinge meets the other row only (no crossing test):
     # boxes of the near rows and of the far rows too, and which box each hinge meets; the
     # box of both rows spans the union of their extents (the same frame)
     rows = local.reshape(ni, 2, 2, RULINGS)
     near, far = (point_bounds(points[:, :, rows[:, :, r].reshape(ni, -1)], frames) for r in (0, 1))
-    both = np.minimum(near[0], far[0]), np.maximum(near[1], far[1])
-    vertex_box = bounded_boxes(*both, frames, tol)
-    boxes = [vertex_box] + [bounded_boxes(*bounds, frames, tol) for bounds in (near, far)]
-    boxes = [np.concatenate(parts) for parts in zip(*boxes)]  # (3 k, p, I, ...)
+    lo = np.stack([np.minimum(near[0], far[0]), near[0], far[0]])  # both rows, near, far
+    hi = np.stack([np.maximum(near[1], far[1]), near[1], far[1]])
     masks = table.masks
     on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
     row_box = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
-
-    def frame(cells):
-        return cell_frames(mid_near, normal, np.minimum(cells, n - 1))
-
-    def frames3(cells):  # the same frames for the three trees of rows
-        return np.concatenate([frame(cells)] * 3)
-
-    def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
-        return lambda level, node: ((2 * node + 1) << level) * size // 2
-
     blocks = Blocks(
         plates=p,
         cell_block=cell_block,
@@ -186,12 +175,49 @@ def plate_blocks(
         normals=None,
         offsets=None,
         points=None,
-        cell_tree=box_tree(cell_box, middle(CELLS), frame, tol),
-        ruling_tree=box_tree(tuple(boxes), middle(RULINGS), frames3, tol),
+        cell_tree=box_tree(_trees(cell_box), lambda level: frame(CELLS, level), tol),
+        ruling_tree=box_tree(
+            bounded_boxes(lo, hi, frames, tol), lambda level: frame(RULINGS, level), tol
+        ),
         row_box=row_box,
         skip=masks[:, local],
     )
     return with_planes(blocks, cells, faces) if planes else blocks
+
+
+def _trees(box):
+    """A box of one tree: the centres and half-extents with a leading tree axis."""
+    centre, axes, half = box
+    return centre[None], axes, half[None]
+
+
+def _frames(mid_near, normal, nj, ni):
+    """``frame(size, level)``: the frames (k, p, nodes, 3, 3) of the middle cells of the nodes
+    of ``level`` of the trees over blocks of ``size`` cells or rulings (``nj`` cell blocks, ``ni``
+    ruling blocks), every frame computed once (:func:`cell_frames`)."""
+    n = normal.shape[2]
+
+    def middle(size, level):  # the middle cells of the nodes of ``level`` (padding above 0)
+        leaves = nj if size == CELLS else ni
+        nodes = (1 << max(leaves - 1, 0).bit_length()) >> level if level else leaves
+        return np.minimum(((2 * np.arange(nodes) + 1) << level) * size // 2, n - 1)
+
+    tops = [(1 << max(x - 1, 0).bit_length()).bit_length() for x in (nj, ni)]
+    every = np.unique(
+        np.concatenate(
+            [
+                middle(size, level)
+                for size, top in zip((CELLS, RULINGS), tops)
+                for level in range(top)
+            ]
+        )
+    )
+    table = cell_frames(mid_near, normal, every)
+
+    def frame(size, level):
+        return table[:, :, np.searchsorted(every, middle(size, level))]
+
+    return frame
 
 
 def with_planes(blocks: Blocks, cells, faces) -> Blocks:
@@ -313,17 +339,20 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
     heights = blocks.normals.take(cell_id, axis=0) @ np.ascontiguousarray(x.swapaxes(1, 2))
     heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
     heights -= blocks.offsets.take(cell_id, axis=0)
-    # inside every lateral half-space: the lowest of the four heights (NaN: not inside)
-    low = np.minimum(heights[:, 1], heights[:, 2])
-    np.minimum(low, heights[:, 3], out=low)
-    np.minimum(low, heights[:, 4], out=low)
-    lateral = low >= -tol
+    # inside every lateral half-space (all four heights >= -tol; NaN: not inside), as the
+    # brute force's lowest of the four: outside where any is not, or the vertex is on the hinge
+    up = heights[:, 1:] >= -tol  # (N, 4 planes, cell, vertex)
+    outside = up[:, 0] & up[:, 1]
+    outside &= up[:, 2]
+    outside &= up[:, 3]
+    np.logical_not(outside, out=outside)
     hinge = table.hinge[pair]  # -1: the all-False last row of the masks
-    lateral &= ~blocks.skip.reshape(-1, 4 * RULINGS).take(
+    outside |= blocks.skip.reshape(-1, 4 * RULINGS).take(
         np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib, axis=0
     )[:, None]
     # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
-    size = np.where(lateral, np.abs(heights[:, 0]), np.inf)
+    size = np.abs(heights[:, 0])
+    np.copyto(size, np.inf, where=outside)
     gap = np.minimum(size[:, 0], size[:, 1])
     for cell in range(2, CELLS):
         np.minimum(gap, size[:, cell], out=gap)
