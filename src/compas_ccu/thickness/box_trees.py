@@ -121,7 +121,10 @@ def bounded_boxes(lo, hi, axes, tol):
         half = 0.5 * (hi - lo) + EXACT_RELATIVE * (np.abs(lo) + np.abs(hi)) + tol
     bad = ~np.isfinite(half).all(axis=-1)
     mid[bad], half[bad] = 0.0, np.inf
-    centre = np.einsum("...ij,...j->...i", axes, mid)
+    # axes @ mid in the order of einsum's contiguous sums of three, (0 + 2) + 1
+    centre = axes[..., :, 0] * mid[..., None, 0]
+    centre += axes[..., :, 2] * mid[..., None, 2]
+    centre += axes[..., :, 1] * mid[..., None, 1]
     return centre, axes, half
 
 
@@ -138,7 +141,9 @@ def box_bounds(box, axes):
     ``centre . u ± sum_j half_j |axis_j . u|`` (the extreme corners, without the corners)."""
     centre, box_axes, half = box
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = np.einsum("...ij,...i->...j", axes, centre)
+        mid = axes[..., 0, :] * centre[..., 0, None]  # axes^T @ centre, term by term
+        mid += axes[..., 1, :] * centre[..., 1, None]
+        mid += axes[..., 2, :] * centre[..., 2, None]
         size = np.abs(np.swapaxes(axes, -1, -2) @ box_axes)  # |u_c . axis_j|
         reach = size[..., 0] * half[..., 0, None] + size[..., 1] * half[..., 1, None]
         reach += size[..., 2] * half[..., 2, None]
@@ -161,23 +166,29 @@ def separated(box_a, box_b):
     """(N,) bool: packed boxes ``a`` and ``b`` (15, N) are disjoint by a face axis of either
     (the separating axis test on those six axes; False where undecided)."""
     d = box_b[:3] - box_a[:3]
-    a, b = box_a[3:12], box_b[3:12]  # axes[row, column] at 3 row + column
+    a, b = box_a[3:12].reshape(3, 3, -1), box_b[3:12].reshape(3, 3, -1)  # [row, column]
     ha, hb = box_a[12:], box_b[12:]
-    # |a_i . b_j| and the projections of d on the axes a_i and b_j
-    r = [
-        [np.abs(a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j]) for j in range(3)]
-        for i in range(3)
-    ]
-    da = [np.abs(a[i] * d[0] + a[3 + i] * d[1] + a[6 + i] * d[2]) for i in range(3)]
-    db = [np.abs(b[j] * d[0] + b[3 + j] * d[1] + b[6 + j] * d[2]) for j in range(3)]
+    # |a_i . b_j| (3, 3, N) and the projections of d on the axes a_i and b_j (3, N), every
+    # one the sum of its three products in turn
+    r = a[0][:, None] * b[0][None]
+    r += a[1][:, None] * b[1][None]
+    r += a[2][:, None] * b[2][None]
+    np.abs(r, out=r)
+    da, db = a[0] * d[0], b[0] * d[0]
+    for x, y in ((a, da), (b, db)):
+        y += x[1] * d[1]
+        y += x[2] * d[2]
+        np.abs(y, out=y)
     with np.errstate(invalid="ignore"):
         slack = EXACT_RELATIVE * (norm3(d.T) + ha.sum(axis=0) + hb.sum(axis=0))
-        out = np.zeros(d.shape[1], dtype=bool)
-        for i in range(3):
-            out |= da[i] > ha[i] + r[i][0] * hb[0] + r[i][1] * hb[1] + r[i][2] * hb[2] + slack
-        for j in range(3):
-            out |= db[j] > hb[j] + r[0][j] * ha[0] + r[1][j] * ha[1] + r[2][j] * ha[2] + slack
-    return out
+        # the half-extents' reach along a_i (3, N) and along b_j (3, N), left to right
+        ra, rb = ha + r[:, 0] * hb[0], hb + r[0] * ha[0]
+        for c in (1, 2):
+            ra += r[:, c] * hb[c]
+            rb += r[c] * ha[c]
+        ra += slack
+        rb += slack
+        return (da > ra).any(axis=0) | (db > rb).any(axis=0)
 
 
 def index_blocks(count, size):

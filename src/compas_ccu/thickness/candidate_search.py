@@ -67,7 +67,7 @@ from compas_ccu.thickness.box_trees import (
     separated,
 )
 from compas_ccu.thickness.broad_phase import PairTable
-from compas_ccu.thickness.cells import plate_cells
+from compas_ccu.thickness.cells import accepted_from, plate_cells
 
 __all__ = [
     "CELLS",
@@ -79,6 +79,7 @@ __all__ = [
     "block_pairs",
     "Found",
     "exact_tests",
+    "all_exact_tests",
 ]
 
 #: Cells per cell block and rulings per vertex block of the candidate search.
@@ -97,9 +98,10 @@ class Blocks(NamedTuple):
     local: np.ndarray  # (I, 4 RULINGS) face vertices of every vertex block
     planes: list  # the four lateral planes (base, normal), each (k, p, n, 3)
     normals: np.ndarray  # (k p J, 5 CELLS, 3) plane normals of every cell block
-    offsets: np.ndarray  # (k p J, 5, CELLS, 1) and their offsets
+    offsets: np.ndarray  # (k p J, CELLS, 1) the mid planes' offsets
+    accepted: np.ndarray  # (k p J, 4, CELLS, 1) the lowest heights the lateral tests accept
     points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block (these
-    # three None until :func:`with_planes`)
+    # four None until :func:`with_planes`)
     cell_tree: list  # levels of packed boxes over the cell blocks, leaves first
     ruling_tree: list  # the same over the vertex blocks: both rows, near rows, far rows
     row_box: np.ndarray  # (H + 1,) which ruling tree a hinged pair meets (-1: none)
@@ -174,6 +176,7 @@ def plate_blocks(
         planes=cells[2:],
         normals=None,
         offsets=None,
+        accepted=None,
         points=None,
         cell_tree=box_tree(_trees(cell_box), lambda level: frame(CELLS, level), tol),
         ruling_tree=box_tree(
@@ -182,7 +185,7 @@ def plate_blocks(
         row_box=row_box,
         skip=masks[:, local],
     )
-    return with_planes(blocks, cells, faces) if planes else blocks
+    return with_planes(blocks, cells, faces, tol) if planes else blocks
 
 
 def _trees(box):
@@ -220,9 +223,11 @@ def _frames(mid_near, normal, nj, ni):
     return frame
 
 
-def with_planes(blocks: Blocks, cells, faces) -> Blocks:
+def with_planes(blocks: Blocks, cells, faces, tol) -> Blocks:
     """``blocks`` with the planes and points of the exact tests: the five planes of the cells
-    of every cell block, normals (plane, cell) and offsets, and the face vertices of every
+    of every cell block, normals (plane, cell), the offsets of the mid planes and the lowest
+    heights the lateral tests accept
+    (:func:`compas_ccu.thickness.cells.accepted_from`), and the face vertices of every
     vertex block.
 
     Parameters
@@ -231,17 +236,26 @@ def with_planes(blocks: Blocks, cells, faces) -> Blocks:
     cells : tuple
         :func:`compas_ccu.thickness.cells.plate_cells` of the (k, p, n) cells.
     faces : (k, p, 2, 2n + 2, 3) float
+    tol : float
+        Lateral tolerance, m.
     """
     centre, normal, planes = cells[0], cells[1], cells[2:]
+    k, p, n = normal.shape[:3]
     cell_block = blocks.cell_block
-    normals = [normal] + [nrm for _, nrm in planes]
-    offsets = [dot(centre, normal)] + [dot(base, nrm) for base, nrm in planes]
-    normals = np.stack([x[:, :, cell_block] for x in normals], axis=3)  # (k, p, J, 5, CELLS, 3)
-    offsets = np.stack([x[:, :, cell_block] for x in offsets], axis=3)  # (k, p, J, 5, CELLS)
+    nj = len(cell_block)
+
+    def by_block(x):  # (k, p, n, ...) -> (k, p, J, CELLS, ...), a view where no cell repeats
+        if n % CELLS:
+            return x[:, :, cell_block]
+        return x.reshape(k, p, nj, CELLS, *x.shape[3:])
+
+    normals = np.stack([by_block(x) for x in [normal] + [nrm for _, nrm in planes]], axis=3)
+    lateral = np.stack([by_block(dot(base, nrm)) for base, nrm in planes], axis=3)
     points = faces.reshape(*faces.shape[:2], -1, 3)[:, :, blocks.local]  # (k, p, I, 4 R, 3)
     return blocks._replace(
-        normals=normals.reshape(-1, 5 * CELLS, 3),
-        offsets=offsets.reshape(-1, 5, CELLS, 1),
+        normals=normals.reshape(-1, 5 * CELLS, 3),  # (k, p, J, 5, CELLS, 3)
+        offsets=by_block(dot(centre, normal)).reshape(-1, CELLS, 1),
+        accepted=accepted_from(lateral, tol).reshape(-1, 4, CELLS, 1),
         points=points.reshape(-1, 4 * RULINGS, 3),
     )
 
@@ -310,7 +324,9 @@ class Found(NamedTuple):
     crossing: np.ndarray  # (C,) state * pairs + pair of every crossing found
 
 
-def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half, reach, tol):
+def exact_tests(
+    blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half, reach, tol, *, row=None
+):
     """The brute force's exact tests on one batch of block pairs (module docstring).
 
     Parameters
@@ -321,6 +337,9 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
         From :func:`block_pairs`.
     half, reach, tol : float
         Half the thickness, the contact reach and the lateral tolerance, m.
+    row : {None, 0, 1}
+        None: both rows of the vertex blocks; 0 (near) or 1 (far): that row only, for pairs
+        joined by a hinge on the other row (left out of their tests, no crossing test).
 
     Returns
     -------
@@ -330,28 +349,37 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
     p, npairs = blocks.plates, len(table.pairs)
     ni, nj = len(blocks.local), len(blocks.cell_block)
     count = len(pair)
-    kb, ab = np.divmod(cell_id // nj, p)  # state and plate a
+    kb = cell_id // nj // p  # state
     ib = ruling_id % ni
-    vertices = blocks.local[ib]  # (N, 4 RULINGS)
-    x = blocks.points.take(ruling_id, axis=0)  # (N, 4 RULINGS, 3)
+    hinge = table.hinge[pair]  # -1: the all-False last row of the masks
+    mask = np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib
+    if row is None:
+        vertices, skip = blocks.local[ib], blocks.skip.reshape(-1, 4 * RULINGS).take(mask, axis=0)
+        x = blocks.points.take(ruling_id, axis=0)  # (N, 4 RULINGS, 3)
+    else:  # both faces of one row, the vertex numbers still growing
+        columns = np.arange(4 * RULINGS).reshape(2, 2, RULINGS)[:, row].reshape(-1)
+        vertices = blocks.local.reshape(-1).take(ib[:, None] * (4 * RULINGS) + columns)
+        skip = blocks.skip.reshape(-1).take(mask[:, None] * (4 * RULINGS) + columns)
+        at = ruling_id[:, None] * (4 * RULINGS) + columns
+        x = blocks.points.reshape(-1, 3).take(at, axis=0)  # (N, 2 RULINGS, 3)
     # heights (N, plane, cell, vertex) by the same matrix products as the brute force
     # (the points transposed into a contiguous operand: the same BLAS kernel, faster packing)
     heights = blocks.normals.take(cell_id, axis=0) @ np.ascontiguousarray(x.swapaxes(1, 2))
-    heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
-    heights -= blocks.offsets.take(cell_id, axis=0)
-    # inside every lateral half-space (all four heights >= -tol; NaN: not inside), as the
-    # brute force's lowest of the four: outside where any is not, or the vertex is on the hinge
-    up = heights[:, 1:] >= -tol  # (N, 4 planes, cell, vertex)
+    heights = heights.reshape(count, 5, CELLS, x.shape[1])
+    # inside every lateral half-space (all four heights minus their offsets >= -tol, as the
+    # brute force's lowest of the four; NaN: not inside): every height at least the lowest
+    # one each test accepts (``accepted_from``, the same booleans without the
+    # subtractions); outside where any is not, or the vertex is on the hinge
+    up = heights[:, 1:] >= blocks.accepted.take(cell_id, axis=0)  # (N, 4 planes, cell, vertex)
     outside = up[:, 0] & up[:, 1]
     outside &= up[:, 2]
     outside &= up[:, 3]
     np.logical_not(outside, out=outside)
-    hinge = table.hinge[pair]  # -1: the all-False last row of the masks
-    outside |= blocks.skip.reshape(-1, 4 * RULINGS).take(
-        np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib, axis=0
-    )[:, None]
-    # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
-    size = np.abs(heights[:, 0])
+    outside |= skip[:, None]
+    # the heights over the mid planes; the smallest |d| - t/2 over the lateral cells: the
+    # smallest |d| (rounding is monotone)
+    d = heights[:, 0] - blocks.offsets.take(cell_id, axis=0)  # (N, cell, vertex)
+    size = np.abs(d)
     np.copyto(size, np.inf, where=outside)
     gap = np.minimum(size[:, 0], size[:, 1])
     for cell in range(2, CELLS):
@@ -363,24 +391,59 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
     near = value <= reach
     keys = kb * npairs + pair
     found = Found(keys[near], vertices[rows, best][near], value[near], keys[:0])
-    # crossings: a ruling of b (near row -> far row) through a's mid plane inside the cell
     test = hinge < 0
-    if not test.any():
+    if row is not None or not test.any():
         return found
-    d = heights[test, 0].reshape(-1, CELLS, 2, 2, RULINGS)  # (N, cell, face, row, ruling)
+    if not test.all():
+        d, x, cell_id, keys = d[test], x[test], cell_id[test], keys[test]
+    return found._replace(crossing=_crossings(blocks, d, x, cell_id, keys, tol))
+
+
+def _crossings(blocks: Blocks, d, x, cell_id, keys, tol):
+    """The keys of the block pairs in which a ruling of b (near row -> far row) passes through
+    a's mid plane inside a cell: heights ``d`` (N, cell, 4 RULINGS) over the mid planes of
+    the cells ``cell_id`` (N,) of the vertices ``x`` (N, 4 RULINGS, 3)."""
+    d = d.reshape(-1, CELLS, 2, 2, RULINGS)  # (N, cell, face, row, ruling)
     d0, d1 = d[:, :, :, 0], d[:, :, :, 1]
     change = np.nonzero((d0 * d1) < 0.0)  # (N, cell, face, ruling)
     if not len(change[0]):
-        return found
+        return keys[:0]
+    p, nj = blocks.plates, len(blocks.cell_block)
     nb, c, f, r = change
     d0, d1 = d0[change], d1[change]
-    xs = x[test].reshape(-1, 2, 2, RULINGS, 3)
+    xs = x.reshape(-1, 2, 2, RULINGS, 3)
     x0, x1 = xs[nb, f, 0, r], xs[nb, f, 1, r]
     s = d0 / (d0 - d1)
     point = x0 + s[:, None] * (x1 - x0)
-    cell = blocks.cell_block[cell_id[test] % nj][nb, c]
-    ks, as_ = kb[test][nb], ab[test][nb]
+    cell = blocks.cell_block[cell_id % nj][nb, c]
+    ks, as_ = np.divmod(cell_id // nj, p)
+    ks, as_ = ks[nb], as_[nb]
     inside = np.ones(len(s), dtype=bool)
     for base, plane in blocks.planes:
         inside &= dot(point - base[ks, as_, cell], plane[ks, as_, cell]) >= tol
-    return found._replace(crossing=keys[test][nb][inside])
+    return keys[nb][inside]
+
+
+def all_exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half, reach, tol):
+    """:func:`exact_tests` of every block pair of :func:`block_pairs` in batches of about
+    :data:`BATCH` block pairs of both rows, those of a hinged pair that meets one row of the
+    vertex blocks only on that row (``row``; twice as many in a batch): a list of Found."""
+    row = blocks.row_box[table.hinge][pair]  # the tree walked: 0 both rows, 1 near, 2 far
+    found = []
+    for tree, size in ((0, BATCH), (1, 2 * BATCH), (2, 2 * BATCH)):
+        at = np.flatnonzero(row == tree)
+        for part in (at[i : i + size] for i in range(0, len(at), size)):
+            found.append(
+                exact_tests(
+                    blocks,
+                    table,
+                    pair[part],
+                    cell_id[part],
+                    ruling_id[part],
+                    half,
+                    reach,
+                    tol,
+                    row=None if tree == 0 else tree - 1,
+                )
+            )
+    return found

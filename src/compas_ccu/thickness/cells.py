@@ -18,7 +18,7 @@ import numpy as np
 from compas_ccu.geometry import cross3, dot, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
-__all__ = ["plate_cells", "plane_heights", "in_footprint", "point_gaps"]
+__all__ = ["plate_cells", "plane_heights", "in_footprint", "accepted_from", "point_gaps"]
 
 
 def plate_cells(mid_near, mid_far, offsets):
@@ -95,3 +95,60 @@ def point_gaps(points, mid_near, mid_far, offsets, thickness, *, tol=EXACT_RELAT
     lateral = in_footprint(points, cells, tol)  # (k, P, n)
     d = plane_heights(points, centre, normal)
     return np.where(lateral, np.abs(d) - 0.5 * thickness, np.inf).min(axis=2)
+
+
+def accepted_from(offset, tol):
+    """The lowest height ``h`` (a float) with ``h - offset >= -tol`` in floating point, for
+    every ``offset``: a lateral test of the brute force, ``fl(h - offset) >= -tol``, is ``h >=
+    accepted`` (NaN where no height passes), the same booleans without the subtraction.
+
+    ``fl(h - offset)`` grows with ``h`` (rounding is monotone), so the heights that pass are
+    those from one float up. It is ``fl(offset - tol)`` or its neighbour, mostly (``h -
+    offset`` is exact near ``offset - tol`` unless ``offset`` is within a few ``tol`` of 0);
+    else a bisection over the floats between -inf (fails) and ``offset`` (passes) finds it.
+    """
+    offset = np.asarray(offset, dtype=float)
+    with np.errstate(invalid="ignore", over="ignore"):
+        out = np.full(offset.shape, np.nan)
+        out[offset == -np.inf] = np.nextafter(-np.inf, 0.0)  # every finite height passes
+        work = np.flatnonzero(np.isfinite(offset))
+        off = offset.reshape(-1)[work]
+        low = off - tol
+        for _ in range(2):  # one step down or up from fl(offset - tol)
+            passes = (low - off) >= -tol
+            below = np.nextafter(low, -np.inf)
+            down = passes & ((below - off) >= -tol)
+            done = passes & ~down
+            out.reshape(-1)[work[done]] = low[done]
+            low = np.where(down, below, np.nextafter(low, np.inf))[~done]
+            work, off = work[~done], off[~done]
+        if len(work):
+            out.reshape(-1)[work] = _bisected(off, tol)
+    return out
+
+
+def _ordered(x):
+    """int64 keys of floats in their order (-0.0 and 0.0 both 0)."""
+    bits = x.view(np.int64)
+    return np.where(bits < 0, -(bits & np.int64(0x7FFFFFFFFFFFFFFF)), bits)
+
+
+def _unordered(key):
+    """The floats of :func:`_ordered` keys."""
+    bits = np.where(key < 0, (-key) | np.int64(-0x8000000000000000), key)
+    return bits.view(np.float64)
+
+
+def _bisected(off, tol):
+    """:func:`accepted_from` of finite offsets by bisection over the floats."""
+    lo = _ordered(np.full(off.shape, -np.inf))  # fails
+    hi = _ordered(off.copy())  # passes: fl(offset - offset) = 0
+    while True:
+        open_ = hi > lo + 1
+        if not open_.any():
+            return _unordered(hi)
+        mid = (lo >> 1) + (hi >> 1) + (lo & hi & 1)
+        with np.errstate(invalid="ignore", over="ignore"):
+            passes = (_unordered(mid) - off) >= -tol
+        hi = np.where(open_ & passes, mid, hi)
+        lo = np.where(open_ & ~passes, mid, lo)
