@@ -36,32 +36,60 @@ __all__ = [
 ]
 
 
+def _components(vectors):
+    """(3, ..., r) the coordinates of r vector arrays (..., 3), coordinate by coordinate."""
+    out = np.empty((3,) + vectors[0].shape[:-1] + (len(vectors),))
+    for r, v in enumerate(vectors):
+        out[..., r] = np.moveaxis(v, -1, 0)
+    return out
+
+
+def _dot(u, v):
+    """``dot`` of vectors stored coordinate by coordinate (3, ...), in the order of
+    :func:`compas_ccu.geometry.dot` on contiguous vectors (einsum's sums of three, (0 + 2) +
+    1), so the same values."""
+    out = u[0] * v[0]
+    out += u[2] * v[2]
+    out += u[1] * v[1]
+    return out
+
+
+def _cross(u, v):
+    """:func:`compas_ccu.geometry.cross3` of vectors stored coordinate by coordinate."""
+    out = np.empty(np.broadcast_shapes(u.shape, v.shape))
+    np.subtract(u[1] * v[2], u[2] * v[1], out=out[0])
+    np.subtract(u[2] * v[0], u[0] * v[2], out=out[1])
+    np.subtract(u[0] * v[1], u[1] * v[0], out=out[2])
+    return out
+
+
 def cell_corners(cells, tol):
-    """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (..., n, 4,
-    3) in the mid plane and directions ``w`` (..., n, 4, 3), the corner at height ``h`` over
-    the mid plane being ``X(0) + h w`` (:func:`cell_hulls`; ``X(0)`` infinite where the cell
-    is unbounded)."""
+    """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (3, ..., n,
+    4) in the mid plane and directions ``w`` (3, ..., n, 4), coordinate by coordinate, the
+    corner at height ``h`` over the mid plane being ``X(0) + h w`` (:func:`cell_hulls`;
+    ``X(0)`` infinite where the cell is unbounded)."""
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
-    # the lateral planes in turn round the cell (near, side 0, far, side 1), with the last one
-    # before and the first two after them (..., 6, 3): each one's offset moved out by tol and
-    # its line's direction in the planes parallel to the mid plane; corner i where the lines of
-    # planes i and i + 1 meet (slices [1:5] the planes, [2:6] the next, [0:4] the previous)
-    ring = np.stack([s1, e_near, s0, e_far, s1, e_near], axis=-2)
-    offset = dot(np.stack([b, a, a, d, b, a], axis=-2), ring)[..., None] - tol
-    up = normal[..., None, :]
-    line = cross3(up, ring)
-    plane, after, before = ring[..., 1:5, :], ring[..., 2:6, :], ring[..., 0:4, :]
+    # the lateral planes in turn round the cell (near, side 0, far, side 1), the next one and
+    # the one before each: each one's offset moved out by tol and its line's direction in the
+    # planes parallel to the mid plane; corner i where the lines of planes i and i + 1 meet
+    plane = _components([e_near, s0, e_far, s1])
+    after = _components([s0, e_far, s1, e_near])
+    before = _components([s1, e_near, s0, e_far])
+    offset = _dot(_components([a, a, d, b]), plane) - tol
+    up = np.moveaxis(normal, -1, 0)[..., None]
+    line = _cross(up, plane)
+    turn = [1, 2, 3, 0]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        axis = cross3(plane, after)
-        det = dot(up, axis)[..., None]
+        axis = _cross(plane, after)
+        det = _dot(up, axis)
         # cross3(next, normal) = -line of the next plane, exactly
-        x0 = offset[..., 2:6, :] * line[..., 1:5, :] - offset[..., 1:5, :] * line[..., 2:6, :]
-        x0 = (x0 + dot(centre, normal)[..., None, None] * axis) / det
+        x0 = offset[..., turn] * line - offset * line[..., turn]
+        x0 += _dot(np.moveaxis(centre, -1, 0), up[..., 0])[..., None] * axis
+        x0 /= det
         w = axis / det
     # each line bounded from opposite sides by the lines of its two neighbours
-    line = line[..., 1:5, :]
-    bounded = dot(after, line) * dot(before, line) < 0.0
-    x0[~bounded.all(axis=-1)] = np.inf
+    bounded = _dot(after, line) * _dot(before, line) < 0.0
+    x0[:, ~bounded.all(axis=-1)] = np.inf
     return x0, w
 
 
@@ -75,7 +103,7 @@ def cell_hulls(cells, tol, height):
     line, its two neighbours bound it from opposite sides. Where that fails, or a corner line
     never meets those planes (a degenerate cell), the points are infinite.
     """
-    x0, w = cell_corners(cells, tol)
+    x0, w = (np.moveaxis(x, 0, -1) for x in cell_corners(cells, tol))
     with np.errstate(invalid="ignore", over="ignore"):
         step = (np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height) * w
         out = np.stack([x0 - step, x0 + step], axis=-2)  # (..., 4 corners, 2, 3)
@@ -83,14 +111,14 @@ def cell_hulls(cells, tol, height):
 
 
 def hull_bounds(corners, directions, axes, height):
-    """The lowest and highest coordinates (..., 3) each of the hulls of cell corners (...,
-    s, 3) with their directions (..., s, 3) up to ``height`` (:func:`cell_corners`) along
-    the columns of ``axes`` (..., 3, 3): the segment ``X(0) + h w``, ``|h| <= height``, spans
+    """The lowest and highest coordinates (..., 3) each of the hulls of cell corners (..., 3,
+    s) with their directions (..., 3, s) up to ``height`` (:func:`cell_corners`) along the
+    columns of ``axes`` (..., 3, 3): the segment ``X(0) + h w``, ``|h| <= height``, spans
     ``X(0) . u ± height |w . u|`` (the hull's points, without the points)."""
     turn = np.swapaxes(axes, -1, -2)
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = turn @ np.swapaxes(corners, -1, -2)  # (..., 3, s)
-        size = np.abs(turn @ np.swapaxes(directions, -1, -2)) * height
+        mid = turn @ corners  # (..., 3, s)
+        size = np.abs(turn @ directions) * height
         return (mid - size).min(axis=-1), (mid + size).max(axis=-1)
 
 

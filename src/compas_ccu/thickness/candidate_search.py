@@ -143,10 +143,12 @@ def plate_blocks(
     column = index_blocks(m, RULINGS)  # (I, RULINGS)
     ni = len(column)
     frame = _frames(mid_near, normal, nj, ni)
-    corners, directions = cell_corners(cells, tol)  # (k, p, n, 4, 3) each
+    corners, directions = cell_corners(cells, tol)  # (3, k, p, n, 4) each
     if n % CELLS:
-        corners, directions = corners[:, :, cell_block], directions[:, :, cell_block]
-    corners, directions = (x.reshape(k, p, nj, 4 * CELLS, 3) for x in (corners, directions))
+        corners, directions = corners[:, :, :, cell_block], directions[:, :, :, cell_block]
+    corners, directions = (
+        np.moveaxis(x.reshape(3, k, p, nj, 4 * CELLS), 0, -2) for x in (corners, directions)
+    )  # (k, p, J, 3, 4 CELLS)
     axes = frame(CELLS, 0)
     up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
     cell_box = bounded_boxes(*hull_bounds(corners, directions, axes, up_to), axes, tol)
