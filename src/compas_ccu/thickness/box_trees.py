@@ -111,7 +111,7 @@ def cell_hulls(cells, tol, height):
 
 
 def hull_bounds(corners, directions, axes, height):
-    """The lowest and highest coordinates (..., 3) each of the hulls of cell corners (..., 3,
+    """The lowest and highest coordinates (3, ...) each of the hulls of cell corners (..., 3,
     s) with their directions (..., 3, s) up to ``height`` (:func:`cell_corners`) along the
     columns of ``axes`` (..., 3, 3): the segment ``X(0) + h w``, ``|h| <= height``, spans
     ``X(0) . u ± height |w . u|`` (the hull's points, without the points)."""
@@ -119,7 +119,8 @@ def hull_bounds(corners, directions, axes, height):
     with np.errstate(invalid="ignore", over="ignore"):
         mid = turn @ corners  # (..., 3, s)
         size = np.abs(turn @ directions) * height
-        return (mid - size).min(axis=-1), (mid + size).max(axis=-1)
+        lo, hi = (mid - size).min(axis=-1), (mid + size).max(axis=-1)
+    return np.moveaxis(lo, -1, 0), np.moveaxis(hi, -1, 0)
 
 
 def cell_frames(mid_near, normal, cell):
@@ -132,61 +133,73 @@ def cell_frames(mid_near, normal, cell):
 
 
 def point_bounds(points, axes):
-    """The lowest and highest coordinates (..., 3) each of point sets (..., s, 3) along the
+    """The lowest and highest coordinates (3, ...) each of point sets (..., s, 3) along the
     columns of the frames ``axes`` (..., 3, 3) (non-finite where a point is not finite): one
     batched product of the transposed frames with the transposed points."""
     with np.errstate(invalid="ignore", over="ignore"):
         along = np.swapaxes(axes, -1, -2) @ np.swapaxes(points, -1, -2)  # (..., 3, s)
-    return along.min(axis=-1), along.max(axis=-1)
+    return np.moveaxis(along.min(axis=-1), -1, 0), np.moveaxis(along.max(axis=-1), -1, 0)
+
+
+def _rows(axes):
+    """(3, 3, ...) frames (..., 3, 3) entry by entry: ``[i, j]`` row i, column j."""
+    return np.ascontiguousarray(np.moveaxis(axes, (-2, -1), (0, 1)))
 
 
 def bounded_boxes(lo, hi, axes, tol):
-    """Oriented boxes from the coordinates ``lo``, ``hi`` (..., 3) they span along the columns
-    of ``axes`` (..., 3, 3): centres (..., 3), the axes and the half-extents (..., 3), widened
-    by ``1e-9`` of the coordinates plus ``tol`` for round-off (inf where not finite)."""
+    """Oriented boxes from the coordinates ``lo``, ``hi`` (3, t, ..., s) they span along the
+    columns of ``axes`` (..., s, 3, 3; the same for every ``t``): centres (3, t, ..., s), the
+    axes and the half-extents (3, t, ..., s), widened by ``1e-9`` of the coordinates plus
+    ``tol`` for round-off (inf where not finite). Boxes hold their centres and half-extents
+    coordinate by coordinate (long contiguous rows), their axes as frames (for BLAS)."""
     with np.errstate(invalid="ignore", over="ignore"):
         mid = 0.5 * (lo + hi)
         half = 0.5 * (hi - lo) + EXACT_RELATIVE * (np.abs(lo) + np.abs(hi)) + tol
-    bad = ~np.isfinite(half).all(axis=-1)
-    mid[bad], half[bad] = 0.0, np.inf
+    bad = ~np.isfinite(half).all(axis=0)
+    mid[:, bad], half[:, bad] = 0.0, np.inf
     # axes @ mid in the order of einsum's contiguous sums of three, (0 + 2) + 1
-    centre = axes[..., :, 0] * mid[..., None, 0]
-    centre += axes[..., :, 2] * mid[..., None, 2]
-    centre += axes[..., :, 1] * mid[..., None, 1]
+    rows = _rows(axes)[:, :, None]  # (3, 3, 1, ..., s)
+    centre = rows[:, 0] * mid[0]
+    centre += rows[:, 2] * mid[2]
+    centre += rows[:, 1] * mid[1]
     return centre, axes, half
 
 
 def oriented_boxes(points, axes, tol):
     """Oriented boxes around point sets (..., s, 3) in the frames ``axes`` (..., 3, 3): centres
-    (..., 3), the axes and the half-extents (..., 3), widened for round-off (inf where a point
-    is not finite; :func:`point_bounds`, :func:`bounded_boxes`)."""
-    return bounded_boxes(*point_bounds(points, axes), axes, tol)
+    (3, 1, ...), the axes and the half-extents (3, 1, ...), widened for round-off (inf where
+    a point is not finite; :func:`point_bounds`, :func:`bounded_boxes`)."""
+    lo, hi = point_bounds(points, axes)
+    return bounded_boxes(lo[:, None], hi[:, None], axes, tol)
 
 
 def box_bounds(box, axes):
-    """The lowest and highest coordinates (..., 3) each of oriented boxes along the columns of
-    the frames ``axes`` (..., 3, 3): the support of a box along a unit vector ``u`` is
-    ``centre . u ± sum_j half_j |axis_j . u|`` (the extreme corners, without the corners)."""
+    """The lowest and highest coordinates (3, t, ...) each of oriented boxes (centres and
+    half-extents (3, t, ...), axes (..., 3, 3)) along the columns of the frames ``axes``
+    (..., 3, 3): the support of a box along a unit vector ``u`` is ``centre . u ± sum_j
+    half_j |axis_j . u|`` (the extreme corners, without the corners)."""
     centre, box_axes, half = box
+    rows = _rows(axes)[:, :, None]  # (3, 3, 1, ...)
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = axes[..., 0, :] * centre[..., 0, None]  # axes^T @ centre, term by term
-        mid += axes[..., 1, :] * centre[..., 1, None]
-        mid += axes[..., 2, :] * centre[..., 2, None]
-        size = np.abs(np.swapaxes(axes, -1, -2) @ box_axes)  # |u_c . axis_j|
-        reach = size[..., 0] * half[..., 0, None] + size[..., 1] * half[..., 1, None]
-        reach += size[..., 2] * half[..., 2, None]
+        mid = rows[0] * centre[0]  # axes^T @ centre, term by term
+        mid += rows[1] * centre[1]
+        mid += rows[2] * centre[2]
+        size = _rows(np.abs(np.swapaxes(axes, -1, -2) @ box_axes))[:, :, None]  # |u_c . axis_j|
+        reach = size[:, 0] * half[0]
+        reach += size[:, 1] * half[1]
+        reach += size[:, 2] * half[2]
         return mid - reach, mid + reach
 
 
 def pack_boxes(box):
     """Boxes as columns ``(centre, axes (row by row), half-extents)`` of 15 numbers: (15, t x
-    k x p x nodes) from centres and half-extents (t, k, p, nodes, 3) and axes (k, p, nodes,
+    k x p x nodes) from centres and half-extents (3, t, k, p, nodes) and axes (k, p, nodes,
     3, 3), the same for every ``t``, so that the separating-axis test runs on contiguous rows."""
     centre, axes, half = box
-    out = np.empty((15,) + centre.shape[:-1])
-    out[:3] = np.moveaxis(centre, -1, 0)
-    out[3:12] = np.moveaxis(axes.reshape(axes.shape[:-2] + (9,)), -1, 0)[:, None]
-    out[12:] = np.moveaxis(half, -1, 0)
+    out = np.empty((15,) + centre.shape[1:])
+    out[:3] = centre
+    out[3:12] = _rows(axes).reshape((9, 1) + axes.shape[:-2])
+    out[12:] = half
     return out.reshape(15, -1)
 
 
@@ -227,13 +240,13 @@ def index_blocks(count, size):
 
 
 def box_tree(box, frames, tol):
-    """Boxes of binary trees over the leaf boxes of every plate (leaves along axis 3).
+    """Boxes of binary trees over the leaf boxes of every plate.
 
     Parameters
     ----------
     box : tuple
-        The leaf boxes: centres (t, k, p, c, 3) of ``t`` trees, their axes (k, p, c, 3, 3),
-        the same for every tree, and half-extents (t, k, p, c, 3).
+        The leaf boxes (:func:`bounded_boxes`): centres (3, t, k, p, c) of ``t`` trees, their
+        axes (k, p, c, 3, 3), the same for every tree, and half-extents (3, t, k, p, c).
     frames : callable
         ``frames(level)``: the axes (k, p, nodes, 3, 3) of the nodes of ``level`` (1 above the
         leaves), the same for every tree.
@@ -253,8 +266,7 @@ def box_tree(box, frames, tol):
     if pad:  # empty leaves: copies of the last one (never looked at)
         centre, axes, half = box
         centre, half = (
-            np.concatenate([x, np.repeat(x[..., -1:, :], pad, axis=-2)], axis=-2)
-            for x in (centre, half)
+            np.concatenate([x, np.repeat(x[..., -1:], pad, axis=-1)], -1) for x in (centre, half)
         )
         axes = np.concatenate([axes, np.repeat(axes[:, :, -1:], pad, axis=2)], axis=2)
         box = centre, axes, half
@@ -263,22 +275,13 @@ def box_tree(box, frames, tol):
     while size > 1:
         size //= 2
         level += 1
-        centre, axes, half = box
-        shape = axes.shape[:2] + (size, 2)
-        children = (
-            centre.reshape(centre.shape[:3] + shape[2:] + (3,)),
-            axes.reshape(shape + (3, 3)),
-            half.reshape(half.shape[:3] + shape[2:] + (3,)),
-        )
         parent = frames(level)  # (k, p, size, 3, 3)
-        lo, hi = box_bounds(children, parent[:, :, :, None])
-        lo_box, hi_box = (
-            np.minimum(lo[..., 0, :], lo[..., 1, :]),
-            np.maximum(hi[..., 0, :], hi[..., 1, :]),
-        )
+        lo, hi = box_bounds(box, np.repeat(parent, 2, axis=2))  # (3, t, k, p, 2 size)
+        lo_box = np.minimum(lo[..., 0::2], lo[..., 1::2])
+        hi_box = np.maximum(hi[..., 0::2], hi[..., 1::2])
         pair = valid.reshape(size, 2)
         alone = np.flatnonzero(pair[:, 0] & ~pair[:, 1])  # the second child empty
-        lo_box[..., alone, :], hi_box[..., alone, :] = lo[..., alone, 0, :], hi[..., alone, 0, :]
+        lo_box[..., alone], hi_box[..., alone] = lo[..., 2 * alone], hi[..., 2 * alone]
         box = bounded_boxes(lo_box, hi_box, parent, tol)
         valid = pair.any(axis=1)
         levels.append((pack_boxes(box), valid))

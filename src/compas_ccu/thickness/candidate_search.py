@@ -151,7 +151,8 @@ def plate_blocks(
     )  # (k, p, J, 3, 4 CELLS)
     axes = frame(CELLS, 0)
     up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
-    cell_box = bounded_boxes(*hull_bounds(corners, directions, axes, up_to), axes, tol)
+    lo, hi = hull_bounds(corners, directions, axes, up_to)  # (3, k, p, J) each
+    cell_box = bounded_boxes(lo[:, None], hi[:, None], axes, tol)  # one tree
 
     # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
     # near / far row, then the ruling): the vertices and the rulings between them (vertex
@@ -166,8 +167,8 @@ def plate_blocks(
     # box of both rows spans the union of their extents (the same frame)
     rows = local.reshape(ni, 2, 2, RULINGS)
     near, far = (point_bounds(points[:, :, rows[:, :, r].reshape(ni, -1)], frames) for r in (0, 1))
-    lo = np.stack([np.minimum(near[0], far[0]), near[0], far[0]])  # both rows, near, far
-    hi = np.stack([np.maximum(near[1], far[1]), near[1], far[1]])
+    lo = np.stack([np.minimum(near[0], far[0]), near[0], far[0]], axis=1)  # both rows, near,
+    hi = np.stack([np.maximum(near[1], far[1]), near[1], far[1]], axis=1)  # far (3, 3, k, p, I)
     masks = table.masks
     on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
     row_box = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
@@ -180,7 +181,7 @@ def plate_blocks(
         offsets=None,
         accepted=None,
         points=None,
-        cell_tree=box_tree(_trees(cell_box), lambda level: frame(CELLS, level), tol),
+        cell_tree=box_tree(cell_box, lambda level: frame(CELLS, level), tol),
         ruling_tree=box_tree(
             bounded_boxes(lo, hi, frames, tol), lambda level: frame(RULINGS, level), tol
         ),
@@ -188,12 +189,6 @@ def plate_blocks(
         skip=masks[:, local],
     )
     return with_planes(blocks, cells, faces, tol) if planes else blocks
-
-
-def _trees(box):
-    """A box of one tree: the centres and half-extents with a leading tree axis."""
-    centre, axes, half = box
-    return centre[None], axes, half[None]
 
 
 def _frames(mid_near, normal, nj, ni):
