@@ -119,7 +119,7 @@ def hull_bounds(corners, directions, axes, height):
     with np.errstate(invalid="ignore", over="ignore"):
         mid = turn @ corners  # (..., 3, s)
         size = np.abs(turn @ directions) * height
-        lo, hi = (mid - size).min(axis=-1), (mid + size).max(axis=-1)
+        lo, hi = _lowest(mid - size, np.minimum), _lowest(mid + size, np.maximum)
     return np.moveaxis(lo, -1, 0), np.moveaxis(hi, -1, 0)
 
 
@@ -138,7 +138,18 @@ def point_bounds(points, axes):
     batched product of the transposed frames with the transposed points."""
     with np.errstate(invalid="ignore", over="ignore"):
         along = np.swapaxes(axes, -1, -2) @ np.swapaxes(points, -1, -2)  # (..., 3, s)
-    return np.moveaxis(along.min(axis=-1), -1, 0), np.moveaxis(along.max(axis=-1), -1, 0)
+    lo, hi = _lowest(along, np.minimum), _lowest(along, np.maximum)
+    return np.moveaxis(lo, -1, 0), np.moveaxis(hi, -1, 0)
+
+
+def _lowest(values, lower):
+    """The lowest of ``values`` (..., s) along the last axis by ``lower`` (np.minimum, or
+    np.maximum for the highest), column by column: the reduction's values (NaN where one is
+    NaN) without its short rows."""
+    out = values[..., 0].copy()
+    for i in range(1, values.shape[-1]):
+        lower(out, values[..., i], out=out)
+    return out
 
 
 def _rows(axes):
