@@ -85,6 +85,8 @@ __all__ = [
 #: Cells per cell block and rulings per vertex block of the candidate search.
 CELLS = 4
 RULINGS = 8
+#: Node pairs per batch of the walk's box tests (bounds the temporaries).
+WALK = 16384
 #: Block pairs per batch of the exact tests (bounds the temporaries: ~1 MB per 100 pairs).
 BATCH = 512
 
@@ -291,7 +293,9 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
         (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
         keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
         qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
-        keep = ~separated(box_a.take(node_a, axis=1), box_b.take(node_b, axis=1))
+        keep = np.empty(len(qq), dtype=bool)
+        for at in (slice(i, i + WALK) for i in range(0, len(qq), WALK)):
+            keep[at] = ~separated(box_a.take(node_a[at], axis=1), box_b.take(node_b[at], axis=1))
         qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
         if la == 0 and lb == 0:
             break
