@@ -318,10 +318,12 @@ def test_candidate_search_on_random_hinged_strips(seed, plates, n):
 def test_accepted_heights_are_the_lateral_tests_without_the_subtraction(tol):
     """``h >= accepted_from(offset, tol)`` is ``fl(h - offset) >= -tol`` for every height:
     the floats at and next to the threshold, signed zeros, infinities and NaN, offsets of
-    every scale, near 0 and near ``tol`` (where ``h - offset`` is not exact)."""
+    every scale, near 0 and near ``tol`` (where ``h - offset`` is not exact), at ``4 tol``."""
     rng = np.random.default_rng(7)
     scale = 10.0 ** rng.integers(-14, 4, 20000)
-    special = [0.0, -0.0, tol, -tol, 2 * tol, 5e-324, -5e-324, 1e-300, 1e308, -1e308]
+    special = [0.0, -0.0, tol, -tol, 2 * tol, 5e-324, -5e-324, 1e-300, 1e308, -1e308, 1e8, -1e20]
+    special += [np.nextafter(4 * tol, to) for to in (0.0, 1.0)] + [4 * tol, -4 * tol]
+    special += [-s for s in special[-4:]] + list(np.arange(-12, 13) * tol)
     offset = np.r_[rng.standard_normal(20000) * scale, special, np.inf, -np.inf, np.nan]
     accepted = accepted_from(offset, tol)
     heights = [np.full_like(offset, v) for v in (np.inf, -np.inf, np.nan, 0.0, -0.0)]

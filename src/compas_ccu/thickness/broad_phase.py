@@ -152,8 +152,9 @@ def candidate_pairs(lo, hi, table: PairTable, plates: int):
     key = np.concatenate([a * plates + b, b * plates + a])  # both orders
     wanted = table.pairs[:, 0] * plates + table.pairs[:, 1]
     order = np.argsort(wanted, kind="stable")
-    left = np.searchsorted(wanted, key, side="left", sorter=order)
-    count = np.searchsorted(wanted, key, side="right", sorter=order) - left
+    wanted = wanted[order]
+    left = np.searchsorted(wanted, key, side="left")
+    count = np.searchsorted(wanted, key, side="right") - left
     step = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
     pair = order[np.repeat(left, count) + step]  # every pair of the table with that key
     state = np.repeat(state, count)

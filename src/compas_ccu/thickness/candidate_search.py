@@ -250,7 +250,7 @@ def with_planes(blocks: Blocks, cells, faces, tol) -> Blocks:
 
     normals = np.stack([by_block(x) for x in [normal] + [nrm for _, nrm in planes]], axis=3)
     lateral = np.stack([by_block(dot(base, nrm)) for base, nrm in planes], axis=3)
-    points = faces.reshape(*faces.shape[:2], -1, 3)[:, :, blocks.local]  # (k, p, I, 4 R, 3)
+    points = faces.reshape(*faces.shape[:2], -1, 3).take(blocks.local, axis=2)  # (k, p, I, 4R, 3)
     return blocks._replace(
         normals=normals.reshape(-1, 5 * CELLS, 3),  # (k, p, J, 5, CELLS, 3)
         offsets=by_block(dot(centre, normal)).reshape(-1, CELLS, 1),

@@ -103,27 +103,43 @@ def accepted_from(offset, tol):
     accepted`` (NaN where no height passes), the same booleans without the subtraction.
 
     ``fl(h - offset)`` grows with ``h`` (rounding is monotone), so the heights that pass are
-    those from one float up. It is ``fl(offset - tol)`` or its neighbour, mostly (``h -
-    offset`` is exact near ``offset - tol`` unless ``offset`` is within a few ``tol`` of 0);
-    else a bisection over the floats between -inf (fails) and ``offset`` (passes) finds it.
+    those from one float up. Where ``|offset| >= 4 tol`` the subtraction is exact for every
+    ``h`` near ``offset - tol`` (Sterbenz), so that float is ``x = fl(offset - tol)`` if ``x``
+    passes, else the next float up (``x`` is the nearest float to ``offset - tol``). Else a
+    step or two from ``x``, or a bisection over the floats, finds it.
     """
     offset = np.asarray(offset, dtype=float)
     with np.errstate(invalid="ignore", over="ignore"):
-        out = np.full(offset.shape, np.nan)
-        out[offset == -np.inf] = np.nextafter(-np.inf, 0.0)  # every finite height passes
-        work = np.flatnonzero(np.isfinite(offset))
-        off = offset.reshape(-1)[work]
-        low = off - tol
-        for _ in range(2):  # one step down or up from fl(offset - tol)
-            passes = (low - off) >= -tol
-            below = np.nextafter(low, -np.inf)
-            down = passes & ((below - off) >= -tol)
-            done = passes & ~down
-            out.reshape(-1)[work[done]] = low[done]
-            low = np.where(down, below, np.nextafter(low, np.inf))[~done]
-            work, off = work[~done], off[~done]
-        if len(work):
-            out.reshape(-1)[work] = _bisected(off, tol)
+        out = offset - tol
+        size = np.abs(offset)
+        exact = (size >= 4.0 * tol) & (size <= np.finfo(float).max)
+        up = np.flatnonzero(exact & ((out - offset) < -tol))
+        if len(up):  # the next float up of a finite x, 0 < |x| (tol > 0 here)
+            bits = out.reshape(-1)[up].view(np.int64)
+            out.reshape(-1)[up] = (bits + np.where(bits >= 0, 1, -1)).view(np.float64)
+        rest = np.flatnonzero(~exact)
+        if len(rest):
+            out.reshape(-1)[rest] = _near_zero(offset.reshape(-1)[rest], tol)
+    return out
+
+
+def _near_zero(offset, tol):
+    """:func:`accepted_from` of offsets (m,) that are not finite or within ``4 tol`` of 0."""
+    out = np.full(offset.shape, np.nan)
+    out[offset == -np.inf] = np.nextafter(-np.inf, 0.0)  # every finite height passes
+    work = np.flatnonzero(np.isfinite(offset))
+    off = offset[work]
+    low = off - tol
+    for _ in range(2):  # one step down or up from fl(offset - tol)
+        passes = (low - off) >= -tol
+        below = np.nextafter(low, -np.inf)
+        down = passes & ((below - off) >= -tol)
+        done = passes & ~down
+        out[work[done]] = low[done]
+        low = np.where(down, below, np.nextafter(low, np.inf))[~done]
+        work, off = work[~done], off[~done]
+    if len(work):
+        out[work] = _bisected(off, tol)
     return out
 
 

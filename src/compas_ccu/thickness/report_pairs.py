@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.geometry import norm3
 from compas_ccu.thickness.broad_phase import PairTable
 from compas_ccu.thickness.cells import in_footprint, plane_heights
 from compas_ccu.tolerances import EXACT_RELATIVE
@@ -71,8 +72,10 @@ def probe_bounds(cells, faces, table: PairTable, state, pair, marked, half):
     state, pair = state[use], pair[use]
     a, b = table.pairs[pair, 0], table.pairs[pair, 1]
     centroid = faces.reshape(k, p, -1, 3).mean(axis=2)
-    score = np.linalg.norm(centroid[state, b] - centroid[state, a], axis=1)
-    order = np.lexsort((score, state))
+    score = norm3(centroid[state, b] - centroid[state, a])  # np.linalg.norm's values
+    # by state, then score (a chunk of one state: its stable sort by score)
+    one = state[0] == state[-1]
+    order = np.argsort(score, kind="stable") if one else np.lexsort((score, state))
     ranked = state[order]
     first = np.searchsorted(ranked, ranked, side="left")
     probe = order[np.arange(len(order)) - first < PROBES]
