@@ -71,14 +71,10 @@ def probe_bounds(cells, faces, table: PairTable, state, pair, marked, half):
         return bound
     state, pair = state[use], pair[use]
     a, b = table.pairs[pair, 0], table.pairs[pair, 1]
-    centroid = faces.reshape(k, p, -1, 3).mean(axis=2)
-    score = norm3(centroid[state, b] - centroid[state, a])  # np.linalg.norm's values
-    # by state, then score (a chunk of one state: its stable sort by score)
-    one = state[0] == state[-1]
-    order = np.argsort(score, kind="stable") if one else np.lexsort((score, state))
-    ranked = state[order]
-    first = np.searchsorted(ranked, ranked, side="left")
-    probe = order[np.arange(len(order)) - first < PROBES]
+    # the plates' centroids (faces.mean(axis=2), its sums in turn, over the points in rows)
+    flat = np.ascontiguousarray(np.moveaxis(faces.reshape(k, p, -1, 3), 2, 0))
+    centroid = np.add.reduce(flat, axis=0) / flat.shape[0]
+    probe = _closest(norm3(centroid[state, b] - centroid[state, a]), state)
     s, a, b = state[probe], a[probe], b[probe]
     rulings = np.unique(np.r_[np.arange(0, m, STRIDE), m - 1])
     columns = np.r_[rulings, m + rulings]
@@ -91,6 +87,21 @@ def probe_bounds(cells, faces, table: PairTable, state, pair, marked, half):
     gap = np.where(lateral, np.abs(d) - half, np.inf).min(axis=(1, 2))
     np.minimum.at(bound, s, gap)
     return bound
+
+
+def _closest(score, state):
+    """The :data:`PROBES` candidates of every state (``state`` sorted) with the smallest
+    ``score`` (the first on a tie, NaN last), in any order: those of the stable sort by state,
+    then score; with one state, those of a partition (the few up to the 4th smallest)."""
+    if state[0] == state[-1] and len(score) > PROBES:
+        kth = np.partition(score, PROBES - 1)[PROBES - 1]
+        if not np.isnan(kth):
+            few = np.flatnonzero(score <= kth)
+            return few[np.argsort(score[few], kind="stable")[:PROBES]]
+    order = np.lexsort((score, state))
+    ranked = state[order]
+    first = np.searchsorted(ranked, ranked, side="left")
+    return order[np.arange(len(order)) - first < PROBES]
 
 
 def report_heights(cells, faces, table: PairTable, state, pair, marked, half, reach):
