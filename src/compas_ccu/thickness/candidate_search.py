@@ -404,14 +404,18 @@ def _crossings(blocks: Blocks, d, x, cell_id, keys, tol):
     """The keys of the block pairs in which a ruling of b (near row -> far row) passes through
     a's mid plane inside a cell: heights ``d`` (N, cell, 4 RULINGS) over the mid planes of
     the cells ``cell_id`` (N,) of the vertices ``x`` (N, 4 RULINGS, 3)."""
-    d = d.reshape(-1, CELLS, 2, 2, RULINGS)  # (N, cell, face, row, ruling)
-    d0, d1 = d[:, :, :, 0], d[:, :, :, 1]
-    change = np.nonzero((d0 * d1) < 0.0)  # (N, cell, face, ruling)
-    if not len(change[0]):
+    # d0 * d1 < 0 of the near and far vertex of every ruling: the products of the heights
+    # RULINGS apart in one contiguous pass (the near rows' ones are those of the rulings)
+    flat = np.ascontiguousarray(d).reshape(-1)
+    product = np.zeros(flat.shape)
+    np.multiply(flat[:-RULINGS], flat[RULINGS:], out=product[:-RULINGS])
+    at = np.flatnonzero(product < 0.0)
+    at = at[at // RULINGS % 2 == 0]  # of a near row: (N, cell, face, near row, ruling)
+    if not len(at):
         return keys[:0]
     p, nj = blocks.plates, len(blocks.cell_block)
-    nb, c, f, r = change
-    d0, d1 = d0[change], d1[change]
+    d0, d1 = flat[at], flat[at + RULINGS]
+    nb, c, f, _, r = np.unravel_index(at, (len(d), CELLS, 2, 2, RULINGS))
     xs = x.reshape(-1, 2, 2, RULINGS, 3)
     x0, x1 = xs[nb, f, 0, r], xs[nb, f, 1, r]
     s = d0 / (d0 - d1)
