@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.geometry import cross3, dot, norm3, unit3
+from compas_ccu.geometry import coordinate_cross, coordinate_dot, cross3, dot, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -44,25 +44,6 @@ def _components(vectors):
     return out
 
 
-def _dot(u, v):
-    """``dot`` of vectors stored coordinate by coordinate (3, ...), in the order of
-    :func:`compas_ccu.geometry.dot` on contiguous vectors (einsum's sums of three, (0 + 2) +
-    1), so the same values."""
-    out = u[0] * v[0]
-    out += u[2] * v[2]
-    out += u[1] * v[1]
-    return out
-
-
-def _cross(u, v):
-    """:func:`compas_ccu.geometry.cross3` of vectors stored coordinate by coordinate."""
-    out = np.empty(np.broadcast_shapes(u.shape, v.shape))
-    np.subtract(u[1] * v[2], u[2] * v[1], out=out[0])
-    np.subtract(u[2] * v[0], u[0] * v[2], out=out[1])
-    np.subtract(u[0] * v[1], u[1] * v[0], out=out[2])
-    return out
-
-
 def cell_corners(cells, tol):
     """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (3, ..., n,
     4) in the mid plane and directions ``w`` (3, ..., n, 4), coordinate by coordinate, the
@@ -75,20 +56,20 @@ def cell_corners(cells, tol):
     plane = _components([e_near, s0, e_far, s1])
     after = _components([s0, e_far, s1, e_near])
     before = _components([s1, e_near, s0, e_far])
-    offset = _dot(_components([a, a, d, b]), plane) - tol
+    offset = coordinate_dot(_components([a, a, d, b]), plane) - tol
     up = np.moveaxis(normal, -1, 0)[..., None]
-    line = _cross(up, plane)
+    line = coordinate_cross(up, plane)
     turn = [1, 2, 3, 0]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        axis = _cross(plane, after)
-        det = _dot(up, axis)
+        axis = coordinate_cross(plane, after)
+        det = coordinate_dot(up, axis)
         # cross3(next, normal) = -line of the next plane, exactly
         x0 = offset[..., turn] * line - offset * line[..., turn]
-        x0 += _dot(np.moveaxis(centre, -1, 0), up[..., 0])[..., None] * axis
+        x0 += coordinate_dot(np.moveaxis(centre, -1, 0), up[..., 0])[..., None] * axis
         x0 /= det
         w = axis / det
     # each line bounded from opposite sides by the lines of its two neighbours
-    bounded = _dot(after, line) * _dot(before, line) < 0.0
+    bounded = coordinate_dot(after, line) * coordinate_dot(before, line) < 0.0
     x0[:, ~bounded.all(axis=-1)] = np.inf
     return x0, w
 

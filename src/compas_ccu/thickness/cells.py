@@ -15,29 +15,42 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.geometry import cross3, dot, unit3
+from compas_ccu.geometry import coordinate_cross, coordinate_dot, coordinate_unit, dot
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["plate_cells", "plane_heights", "in_footprint", "accepted_from", "point_gaps"]
 
 
 def plate_cells(mid_near, mid_far, offsets):
-    """Half-space description of the cells of plates (..., n cells)."""
-    a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]
-    c, d = mid_far[..., 1:, :], mid_far[..., :-1, :]
-    normal = unit3(cross3(c - a, d - b))
-    ruling = unit3(mid_far - mid_near)
-    side = unit3(cross3(ruling, offsets))  # plane of ruling j and ν_j
+    """Half-space description of the cells of plates (..., n cells): ``centre, normal, (a,
+    s0), (b, s1), (a, e_near), (d, e_far)``, each (..., n, 3), the planes as (point, unit
+    normal) with the cell on their positive side.
+
+    Computed coordinate by coordinate (long contiguous rows; the same operations as on the
+    vectors, dots in the order of :func:`compas_ccu.geometry.dot`, so the same values)."""
+    near, far, nu = (np.moveaxis(x, -1, 0) for x in (mid_near, mid_far, offsets))
+    a, b = near[..., :-1], near[..., 1:]
+    c, d = far[..., 1:], far[..., :-1]
+    normal = coordinate_unit(coordinate_cross(c - a, d - b))
+    side = coordinate_unit(
+        coordinate_cross(coordinate_unit(far - near), nu)
+    )  # plane of ruling j and ν_j
     # orient the side planes so that the cell is on their positive side
-    centre = 0.25 * (a + b + c + d)
-    s0 = side[..., :-1, :]
-    s0 = s0 * np.sign(dot(centre - a, s0))[..., None]
-    s1 = side[..., 1:, :]
-    s1 = s1 * np.sign(dot(centre - b, s1))[..., None]
-    e_near = unit3(cross3(normal, b - a))
-    e_near = e_near * np.sign(dot(centre - a, e_near))[..., None]
-    e_far = unit3(cross3(normal, c - d))
-    e_far = e_far * np.sign(dot(centre - d, e_far))[..., None]
+    centre = a + b
+    centre += c
+    centre += d
+    centre *= 0.25
+    s0 = side[..., :-1] * np.sign(coordinate_dot(centre - a, side[..., :-1]))
+    s1 = side[..., 1:] * np.sign(coordinate_dot(centre - b, side[..., 1:]))
+    e_near = coordinate_unit(coordinate_cross(normal, b - a))
+    e_near *= np.sign(coordinate_dot(centre - a, e_near))
+    e_far = coordinate_unit(coordinate_cross(normal, c - d))
+    e_far *= np.sign(coordinate_dot(centre - d, e_far))
+    centre, normal, s0, s1, e_near, e_far = (
+        np.ascontiguousarray(np.moveaxis(x, 0, -1)) for x in (centre, normal, s0, s1, e_near, e_far)
+    )
+    a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]
+    d = mid_far[..., :-1, :]
     return centre, normal, (a, s0), (b, s1), (a, e_near), (d, e_far)
 
 
