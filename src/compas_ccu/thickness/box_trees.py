@@ -37,40 +37,39 @@ __all__ = [
 
 
 def _components(vectors):
-    """(3, ..., r) the coordinates of r vector arrays (..., 3), coordinate by coordinate."""
-    out = np.empty((3,) + vectors[0].shape[:-1] + (len(vectors),))
+    """(3, r, ...) the coordinates of r vector arrays (..., 3), coordinate by coordinate."""
+    out = np.empty((3, len(vectors)) + vectors[0].shape[:-1])
     for r, v in enumerate(vectors):
-        out[..., r] = np.moveaxis(v, -1, 0)
+        out[:, r] = np.moveaxis(v, -1, 0)
     return out
 
 
 def cell_corners(cells, tol):
-    """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (3, ..., n,
-    4) in the mid plane and directions ``w`` (3, ..., n, 4), coordinate by coordinate, the
-    corner at height ``h`` over the mid plane being ``X(0) + h w`` (:func:`cell_hulls`;
-    ``X(0)`` infinite where the cell is unbounded)."""
+    """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (3, 4, ...,
+    n) in the mid plane and directions ``w`` (3, 4, ..., n), coordinate by coordinate and
+    corner by corner, the corner at height ``h`` over the mid plane being ``X(0) + h w``
+    (:func:`cell_hulls`; ``X(0)`` infinite where the cell is unbounded)."""
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
     # the lateral planes in turn round the cell (near, side 0, far, side 1), the next one and
     # the one before each: each one's offset moved out by tol and its line's direction in the
     # planes parallel to the mid plane; corner i where the lines of planes i and i + 1 meet
     plane = _components([e_near, s0, e_far, s1])
-    after = _components([s0, e_far, s1, e_near])
-    before = _components([s1, e_near, s0, e_far])
-    offset = coordinate_dot(_components([a, a, d, b]), plane) - tol
-    up = np.moveaxis(normal, -1, 0)[..., None]
+    turn, back = [1, 2, 3, 0], [3, 0, 1, 2]
+    after, before = plane.take(turn, axis=1), plane.take(back, axis=1)
+    offset = coordinate_dot(_components([a, a, d, b]), plane) - tol  # (4, ..., n)
+    up = np.ascontiguousarray(np.moveaxis(normal, -1, 0))[:, None]  # (3, 1, ..., n)
     line = coordinate_cross(up, plane)
-    turn = [1, 2, 3, 0]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         axis = coordinate_cross(plane, after)
         det = coordinate_dot(up, axis)
         # cross3(next, normal) = -line of the next plane, exactly
-        x0 = offset[..., turn] * line - offset * line[..., turn]
-        x0 += coordinate_dot(np.moveaxis(centre, -1, 0), up[..., 0])[..., None] * axis
+        x0 = offset.take(turn, axis=0) * line - offset * line.take(turn, axis=1)
+        x0 += coordinate_dot(np.moveaxis(centre, -1, 0), up[:, 0]) * axis
         x0 /= det
         w = axis / det
     # each line bounded from opposite sides by the lines of its two neighbours
     bounded = coordinate_dot(after, line) * coordinate_dot(before, line) < 0.0
-    x0[:, ~bounded.all(axis=-1)] = np.inf
+    x0[:, :, ~bounded.all(axis=0)] = np.inf
     return x0, w
 
 
@@ -84,7 +83,7 @@ def cell_hulls(cells, tol, height):
     line, its two neighbours bound it from opposite sides. Where that fails, or a corner line
     never meets those planes (a degenerate cell), the points are infinite.
     """
-    x0, w = (np.moveaxis(x, 0, -1) for x in cell_corners(cells, tol))
+    x0, w = (np.moveaxis(x, (0, 1), (-1, -2)) for x in cell_corners(cells, tol))
     with np.errstate(invalid="ignore", over="ignore"):
         step = (np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height) * w
         out = np.stack([x0 - step, x0 + step], axis=-2)  # (..., 4 corners, 2, 3)

@@ -145,12 +145,15 @@ def plate_blocks(
     column = index_blocks(m, RULINGS)  # (I, RULINGS)
     ni = len(column)
     frame = _frames(mid_near, normal, nj, ni)
-    corners, directions = cell_corners(cells, tol)  # (3, k, p, n, 4) each
+    corners, directions = cell_corners(cells, tol)  # (3, 4, k, p, n) each
     if n % CELLS:
-        corners, directions = corners[:, :, :, cell_block], directions[:, :, :, cell_block]
-    corners, directions = (
-        np.moveaxis(x.reshape(3, k, p, nj, 4 * CELLS), 0, -2) for x in (corners, directions)
-    )  # (k, p, J, 3, 4 CELLS)
+        corners, directions = corners[..., cell_block], directions[..., cell_block]
+    corners, directions = (  # (k, p, J, 3, 4 corners x CELLS cells) matrices
+        np.ascontiguousarray(x.reshape(3, 4, k, p, nj, CELLS).transpose(2, 3, 4, 0, 1, 5)).reshape(
+            k, p, nj, 3, 4 * CELLS
+        )
+        for x in (corners, directions)
+    )
     axes = frame(CELLS, 0)
     up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
     lo, hi = hull_bounds(corners, directions, axes, up_to)  # (3, k, p, J) each
