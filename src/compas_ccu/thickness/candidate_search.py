@@ -171,7 +171,9 @@ def plate_blocks(
     # boxes of the near rows and of the far rows too, and which box each hinge meets; the
     # box of both rows spans the union of their extents (the same frame)
     rows = local.reshape(ni, 2, 2, RULINGS)
-    near, far = (point_bounds(points[:, :, rows[:, :, r].reshape(ni, -1)], frames) for r in (0, 1))
+    near, far = (
+        point_bounds(points.take(rows[:, :, r].reshape(ni, -1), axis=2), frames) for r in (0, 1)
+    )
     lo = np.stack([np.minimum(near[0], far[0]), near[0], far[0]], axis=1)  # both rows, near,
     hi = np.stack([np.maximum(near[1], far[1]), near[1], far[1]], axis=1)  # far (3, 3, k, p, I)
     masks = table.masks
