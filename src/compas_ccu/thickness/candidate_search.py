@@ -296,22 +296,28 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
     while True:
         (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
-        keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
-        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        keep = None  # not padding
+        for valid, node in ((valid_a, node_a), (valid_b, node_b)):
+            if not valid.all():
+                ok = valid[node % len(valid)]
+                keep = ok if keep is None else keep & ok
+        if keep is not None:
+            qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
         keep = np.empty(len(qq), dtype=bool)
         for at in (slice(i, i + WALK) for i in range(0, len(qq), WALK)):
             keep[at] = ~separated(box_a.take(node_a[at], axis=1), box_b.take(node_b[at], axis=1))
-        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        at = np.flatnonzero(keep)
+        qq, node_a, node_b = qq[at], node_a[at], node_b[at]
         if la == 0 and lb == 0:
             break
-        split_a, split_b = la >= lb, lb >= la  # the deeper tree first, both if level
-        fan = (2 if split_a else 1) * (2 if split_b else 1)
-        qq, node_a, node_b = (np.repeat(x, fan) for x in (qq, node_a, node_b))
-        child = np.tile(np.arange(fan), len(qq) // fan)
-        if split_a:
-            node_a = 2 * node_a + child % 2
-        if split_b:
-            node_b = 2 * node_b + (child // 2 if split_a else child)
+        # the children: (a0, b0), (a1, b0), (a0, b1), (a1, b1) of every pair, the deeper tree
+        # first (both if level)
+        split_a, split_b = la >= lb, lb >= la
+        child_a, child_b = _CHILDREN[split_a, split_b]
+        fan = len(child_a)
+        qq = np.repeat(qq, fan)
+        node_a = ((1 + split_a) * node_a[:, None] + child_a).reshape(-1)
+        node_b = ((1 + split_b) * node_b[:, None] + child_b).reshape(-1)
         la, lb = la - split_a, lb - split_b
     plate_a, jj = np.divmod(node_a, nj)
     plate_b, ii = np.divmod(node_b, ni)
@@ -319,6 +325,14 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     cell_id = plate_a * len(blocks.cell_block) + jj  # (state, plate, block) without padding
     ruling_id = plate_b * len(blocks.local) + ii
     return qq, cell_id, ruling_id
+
+
+#: The children (of a, of b) of a node pair by which trees split: every pair of children.
+_CHILDREN = {
+    (True, True): (np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])),
+    (True, False): (np.array([0, 1]), np.array([0, 0])),
+    (False, True): (np.array([0, 0]), np.array([0, 1])),
+}
 
 
 class Found(NamedTuple):
