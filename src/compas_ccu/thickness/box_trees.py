@@ -8,9 +8,15 @@ what a cell's lateral test accepts (:func:`cell_corners`) and their hull up to a
 boxes (:func:`box_bounds`) along such frames, boxes from extents (:func:`bounded_boxes`) or
 around point sets (:func:`oriented_boxes`), packed as columns (:func:`pack_boxes`) for the
 separating axis test (:func:`separated`), the blocks of consecutive indices
-(:func:`index_blocks`) and the tree over the leaf boxes of every plate (:func:`box_tree`),
-refitted level by level from its children's boxes. Every product runs on whole stacks of
-boxes (one batched BLAS product or an ``einsum``, no per-box Python).
+(:func:`index_blocks`) and the trees over the leaf boxes of every plate (:func:`box_tree`),
+refitted level by level from their children's boxes. Every product runs on whole stacks of
+boxes (one batched BLAS product, or term by term on arrays, no per-box Python).
+
+**Layout.** Points, centres and extents are stored coordinate by coordinate, (3, ...) arrays
+(long contiguous rows: NumPy is several times slower on many short rows of three); frames stay
+(..., 3, 3) matrices, the operands of BLAS. Sums of three products are written term by term
+in the order of the ``einsum`` they replace (:func:`compas_ccu.geometry.coordinate_dot`), so
+every box is the same bit for bit as with vectors in rows.
 """
 
 from __future__ import annotations

@@ -35,12 +35,16 @@ them), and the exact tests run only on block pairs that can meet. What a block p
   lost: every contact within the reach, and every crossing at any distance, is found.
 * *The same numbers.* On the remaining block pairs the heights are the same BLAS matrix
   products as in the brute force (one product of the ``4 RULINGS`` vertices with the ``5 CELLS``
-  plane normals per block pair: BLAS sums the three terms of every entry the same way whatever
-  the shape of the product, which the tests check) minus the same plane offsets, and the
-  tests, minima and crossing points are the brute force's element-wise operations. The results
-  equal those of ``method="all"`` (the brute force of :func:`plate_contacts`) bit for bit; the
-  tests compare the two on many layouts. (Plates of a single cell go to the brute force:
-  their heights are matrix-vector products, which BLAS rounds differently.)
+  plane normals per block pair, of the ``2 RULINGS`` vertices of its free row for a hinged pair
+  that meets one row only: BLAS sums the three terms of every entry the same way whatever the
+  shape of the product, which the tests check). The mid planes' heights are minus the same
+  offsets; a lateral test ``fl(h - offset) >= -tol`` is ``h >= accepted``, the lowest float
+  that passes (:func:`compas_ccu.thickness.cells.accepted_from`: the same booleans without the
+  subtractions); the minima and crossing points are the brute force's element-wise
+  operations. The results equal those of ``method="all"`` (the brute force of
+  :func:`plate_contacts`) bit for bit; the tests compare the two on many layouts. (Plates of a
+  single cell go to the brute force: their heights are matrix-vector products, which BLAS
+  rounds differently.)
 
 The work is linear in the segments: a block meets a bounded number of blocks of every plate
 within the reach, and the walk tests a bounded number of node pairs per kept pair on every
@@ -128,8 +132,9 @@ def plate_blocks(
     cells : tuple, optional
         :func:`compas_ccu.thickness.cells.plate_cells` of the plates, if already computed.
     planes : bool
-        False: without the planes and points of the exact tests (``normals``, ``offsets`` and
-        ``points`` None), for a walk that may keep no block pair; :func:`with_planes` adds them.
+        False: without the planes and points of the exact tests (``normals``, ``offsets``,
+        ``accepted`` and ``points`` None), for a walk that may keep no block pair;
+        :func:`with_planes` adds them.
     """
     k, p, m = mid_near.shape[:3]
     n = m - 1
@@ -145,19 +150,7 @@ def plate_blocks(
     column = index_blocks(m, RULINGS)  # (I, RULINGS)
     ni = len(column)
     frame = _frames(mid_near, normal, nj, ni)
-    corners, directions = cell_corners(cells, tol)  # (3, 4, k, p, n) each
-    if n % CELLS:
-        corners, directions = corners[..., cell_block], directions[..., cell_block]
-    corners, directions = (  # (k, p, J, 3, 4 corners x CELLS cells) matrices
-        np.ascontiguousarray(x.reshape(3, 4, k, p, nj, CELLS).transpose(2, 3, 4, 0, 1, 5)).reshape(
-            k, p, nj, 3, 4 * CELLS
-        )
-        for x in (corners, directions)
-    )
-    axes = frame(CELLS, 0)
-    up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
-    lo, hi = hull_bounds(corners, directions, axes, up_to)  # (3, k, p, J) each
-    cell_box = bounded_boxes(lo[:, None], hi[:, None], axes, tol)  # one tree
+    cell_box = _cell_boxes(cells, cell_block, frame(CELLS, 0), tol, height)
 
     # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
     # near / far row, then the ruling): the vertices and the rulings between them (vertex
@@ -196,6 +189,24 @@ def plate_blocks(
         skip=masks[:, local],
     )
     return with_planes(blocks, cells, faces, tol) if planes else blocks
+
+
+def _cell_boxes(cells, cell_block, axes, tol, height):
+    """The boxes (one tree, :func:`bounded_boxes`) of the cell blocks ``cell_block`` (J,
+    CELLS) in the frames ``axes`` (k, p, J, 3, 3) around the hulls of what their cells'
+    lateral tests accept up to ``height`` (:func:`hull_bounds`)."""
+    k, p, nj = axes.shape[:3]
+    corners, directions = cell_corners(cells, tol)  # (3, 4, k, p, n) each
+    if corners.shape[-1] % CELLS:
+        corners, directions = corners[..., cell_block], directions[..., cell_block]
+    corners, directions = (  # (k, p, J, 3, 4 corners x CELLS cells) matrices
+        np.ascontiguousarray(x.reshape(3, 4, k, p, nj, CELLS).transpose(2, 3, 4, 0, 1, 5))
+        for x in (corners, directions)
+    )
+    shape = (k, p, nj, 3, 4 * CELLS)
+    up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
+    lo, hi = hull_bounds(corners.reshape(shape), directions.reshape(shape), axes, up_to)
+    return bounded_boxes(lo[:, None], hi[:, None], axes, tol)
 
 
 def _frames(mid_near, normal, nj, ni):

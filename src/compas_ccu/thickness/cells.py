@@ -6,8 +6,9 @@ of quad ``j`` (``|d| ≤ t/2`` along the quad normal), the two ruling-side plane
 crease-side and far-side edges that contain the quad normal. :func:`plate_cells` gives these
 planes, :func:`plane_heights` the signed distances of points from them (one batched matrix
 product), :func:`in_footprint` whether a point's foot lies inside a cell's footprint, and
-:func:`point_gaps` the gap of any points over one plate. The contact test of two plates
-(:mod:`compas_ccu.thickness.collision`) and its candidate search
+:func:`point_gaps` the gap of any points over one plate; :func:`accepted_from` turns a lateral
+test ``fl(h - offset) >= -tol`` into a comparison with the lowest float that passes. The
+contact test of two plates (:mod:`compas_ccu.thickness.collision`) and its candidate search
 (:mod:`compas_ccu.thickness.candidate_search`) are built on them.
 """
 
