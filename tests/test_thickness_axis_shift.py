@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from compas_ccu.catalog import catalog_design
 from compas_ccu.errors import DesignError, GeometryError
 from compas_ccu.materials import MaterialError
 from compas_ccu.model import CCUModel, load_model
@@ -41,6 +42,18 @@ def test_vertex_offsets_lie_on_both_offset_planes(vault_model):
     # and ν is perpendicular to its ruling
     r = (far - near) / np.linalg.norm(far - near, axis=1)[:, None]
     assert np.abs(np.einsum("ij,ij->i", nu, r)).max() < 1e-13
+
+
+@pytest.mark.parametrize("name", ["vault", "leaning", "fig12b-dome"])
+def test_placed_offsets_are_vertex_offsets_of_the_placed_plates(name, thick_vault, leaning):
+    """The face offsets of a thick placement, those of the parent plates kept from the
+    placement itself, are vertex_offsets of the placed boundaries, bit for bit."""
+    if name == "fig12b-dome":
+        thick = ThickModel(CCUModel(catalog_design(name)), thickness=0.004)
+    else:
+        thick = thick_vault if name == "vault" else leaning
+    st = thick.place(np.linspace(0.0, thick.model.alpha_design, 7))
+    np.testing.assert_array_equal(st.offsets, vertex_offsets(st.near, st.far))
 
 
 def test_flat_stack_height_is_sum_of_thicknesses(thick_vault, vault_model):

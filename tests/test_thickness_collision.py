@@ -11,6 +11,7 @@ from compas_ccu.catalog import catalog_path
 from compas_ccu.errors import SelfIntersectionError
 from compas_ccu.model import CCUModel, load_model
 from compas_ccu.thickness import ThickModel, solid_faces, vertex_offsets
+from compas_ccu.thickness.cells import accepted_from
 from compas_ccu.thickness.collision import _contacts_all, plate_contacts
 from compas_ccu.thickness.collision_check import first_contact, path_collisions
 from compas_ccu.tolerances import EXACT_RELATIVE
@@ -311,3 +312,27 @@ def test_candidate_search_on_random_hinged_strips(seed, plates, n):
     fast = plate_contacts(*args, **kwargs)
     _assert_same(fast, plate_contacts(*args, **kwargs, method="all"))
     _assert_cut_off_brute_force((args, kwargs), fast)
+
+
+@pytest.mark.parametrize("tol", [0.0, EXACT_RELATIVE, 1e-3])
+def test_accepted_heights_are_the_lateral_tests_without_the_subtraction(tol):
+    """``h >= accepted_from(offset, tol)`` is ``fl(h - offset) >= -tol`` for every height:
+    the floats at and next to the threshold, signed zeros, infinities and NaN, offsets of
+    every scale, near 0 and near ``tol`` (where ``h - offset`` is not exact), at ``4 tol``."""
+    rng = np.random.default_rng(7)
+    scale = 10.0 ** rng.integers(-14, 4, 20000)
+    special = [0.0, -0.0, tol, -tol, 2 * tol, 5e-324, -5e-324, 1e-300, 1e308, -1e308, 1e8, -1e20]
+    special += [np.nextafter(4 * tol, to) for to in (0.0, 1.0)] + [4 * tol, -4 * tol]
+    special += [-s for s in special[-4:]] + list(np.arange(-12, 13) * tol)
+    offset = np.r_[rng.standard_normal(20000) * scale, special, np.inf, -np.inf, np.nan]
+    accepted = accepted_from(offset, tol)
+    heights = [np.full_like(offset, v) for v in (np.inf, -np.inf, np.nan, 0.0, -0.0)]
+    heights.append(offset + rng.standard_normal(len(offset)) * max(tol, 1e-12))
+    with np.errstate(invalid="ignore", over="ignore"):
+        for step in (-np.inf, np.inf):
+            h = accepted
+            for _ in range(3):
+                heights.append(h)
+                h = np.nextafter(h, step)
+        for h in heights:
+            np.testing.assert_array_equal(h >= accepted, (h - offset) >= -tol)

@@ -27,6 +27,9 @@ __all__ = [
     "cross3",
     "norm3",
     "unit3",
+    "coordinate_dot",
+    "coordinate_cross",
+    "coordinate_unit",
     "reflect",
     "reflect_points",
     "fit_planes",
@@ -69,6 +72,33 @@ def norm3(v: np.ndarray) -> np.ndarray:
 def unit3(v: np.ndarray) -> np.ndarray:
     """:func:`unit` of (..., 3) arrays (the same values) by :func:`norm3`."""
     return v / norm3(v)[..., None]
+
+
+def coordinate_dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """:func:`dot` of vectors stored coordinate by coordinate, (3, ...) arrays: the same values
+    as :func:`dot` of contiguous (..., 3) vectors, whose ``einsum`` sums the three products as
+    ``(0 + 2) + 1``, on long contiguous rows."""
+    out = u[0] * v[0]
+    out += u[2] * v[2]
+    out += u[1] * v[1]
+    return out
+
+
+def coordinate_cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """:func:`cross3` of vectors stored coordinate by coordinate, (3, ...) arrays."""
+    out = np.empty(np.broadcast_shapes(u.shape, v.shape))
+    np.subtract(u[1] * v[2], u[2] * v[1], out=out[0])
+    np.subtract(u[2] * v[0], u[0] * v[2], out=out[1])
+    np.subtract(u[0] * v[1], u[1] * v[0], out=out[2])
+    return out
+
+
+def coordinate_unit(v: np.ndarray) -> np.ndarray:
+    """:func:`unit3` of vectors stored coordinate by coordinate, (3, ...) arrays."""
+    size = v[0] * v[0]
+    size += v[1] * v[1]
+    size += v[2] * v[2]
+    return v / np.sqrt(size, out=size)
 
 
 def reflect(v: np.ndarray, normal: np.ndarray) -> np.ndarray:

@@ -195,11 +195,13 @@ class HingePlanes(CreasePlanes):
         self.mid_planarity = None
         self.offset_planarity = None
         self.corrections = None
+        self.offsets = {}
 
     def begin(self, states: int, creases: int, vertices: int) -> None:
         self.mid_planarity = np.zeros((states, creases))
         self.offset_planarity = np.zeros((states, creases))
         self.corrections = np.zeros((states, creases, vertices))
+        self.offsets = {}  # plate -> its face offsets (k, n + 1, 3), once placed
 
     def planes(self, mechanism: Mechanism, creases: np.ndarray, near: np.ndarray, far: np.ndarray):
         """Hinge planes P of ``creases`` (g,): origins, normals (k, g, 3) and the largest
@@ -210,7 +212,9 @@ class HingePlanes(CreasePlanes):
         away = unit3(other - row)
         a = mechanism.crease_plate_a[creases]
         side = self.sides[creases, 0] * self.half  # (g,)
-        facing = row + side[None, :, None, None] * vertex_offsets(near[:, a], far[:, a])
+        offsets = vertex_offsets(near[:, a], far[:, a])
+        self.offsets.update((int(plate), offsets[:, i]) for i, plate in enumerate(a))
+        facing = row + side[None, :, None, None] * offsets
         origin, normal, self.mid_planarity[:, creases] = super().planes(
             mechanism, creases, near, far
         )
@@ -254,7 +258,7 @@ def place_thick(mechanism: Mechanism, s0, thickness: float, sides: np.ndarray) -
     return ThickStates(
         st.near,
         st.far,
-        vertex_offsets(st.near, st.far),
+        _all_offsets(st.near, st.far, planes.offsets),
         st.plane_origins,
         st.plane_normals,
         planes.offset_planarity,
@@ -262,6 +266,19 @@ def place_thick(mechanism: Mechanism, s0, thickness: float, sides: np.ndarray) -
         planes.mid_planarity,
         st.tilts,
     )
+
+
+def _all_offsets(near: np.ndarray, far: np.ndarray, known: dict) -> np.ndarray:
+    """:func:`vertex_offsets` (k, p, n + 1, 3) of every plate, those of the plates in ``known``
+    (the parents of creases, computed while placing: the same operations on the same rows,
+    the same values) taken from there."""
+    offsets = np.empty(near.shape)
+    rest = [plate for plate in range(near.shape[1]) if plate not in known]
+    if rest:
+        offsets[:, rest] = vertex_offsets(near[:, rest], far[:, rest])
+    for plate, value in known.items():
+        offsets[:, plate] = value
+    return offsets
 
 
 def solid_faces(

@@ -8,16 +8,22 @@ what a cell's lateral test accepts (:func:`cell_corners`) and their hull up to a
 boxes (:func:`box_bounds`) along such frames, boxes from extents (:func:`bounded_boxes`) or
 around point sets (:func:`oriented_boxes`), packed as columns (:func:`pack_boxes`) for the
 separating axis test (:func:`separated`), the blocks of consecutive indices
-(:func:`index_blocks`) and the tree over the leaf boxes of every plate (:func:`box_tree`),
-refitted level by level from its children's boxes. Every product runs on whole stacks of
-boxes (one batched BLAS product or an ``einsum``, no per-box Python).
+(:func:`index_blocks`) and the trees over the leaf boxes of every plate (:func:`box_tree`),
+refitted level by level from their children's boxes. Every product runs on whole stacks of
+boxes (one batched BLAS product, or term by term on arrays, no per-box Python).
+
+**Layout.** Points, centres and extents are stored coordinate by coordinate, (3, ...) arrays
+(long contiguous rows: NumPy is several times slower on many short rows of three); frames stay
+(..., 3, 3) matrices, the operands of BLAS. Sums of three products are written term by term
+in the order of the ``einsum`` they replace (:func:`compas_ccu.geometry.coordinate_dot`), so
+every box is the same bit for bit as with vectors in rows.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.geometry import cross3, dot, norm3, unit3
+from compas_ccu.geometry import coordinate_cross, coordinate_dot, cross3, dot, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -36,32 +42,40 @@ __all__ = [
 ]
 
 
+def _components(vectors):
+    """(3, r, ...) the coordinates of r vector arrays (..., 3), coordinate by coordinate."""
+    out = np.empty((3, len(vectors)) + vectors[0].shape[:-1])
+    for r, v in enumerate(vectors):
+        out[:, r] = np.moveaxis(v, -1, 0)
+    return out
+
+
 def cell_corners(cells, tol):
-    """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (..., n, 4,
-    3) in the mid plane and directions ``w`` (..., n, 4, 3), the corner at height ``h`` over
-    the mid plane being ``X(0) + h w`` (:func:`cell_hulls`; ``X(0)`` infinite where the cell
-    is unbounded)."""
+    """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (3, 4, ...,
+    n) in the mid plane and directions ``w`` (3, 4, ..., n), coordinate by coordinate and
+    corner by corner, the corner at height ``h`` over the mid plane being ``X(0) + h w``
+    (:func:`cell_hulls`; ``X(0)`` infinite where the cell is unbounded)."""
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
-    # the lateral planes in turn round the cell (near, side 0, far, side 1), with the last one
-    # before and the first two after them (..., 6, 3): each one's offset moved out by tol and
-    # its line's direction in the planes parallel to the mid plane; corner i where the lines of
-    # planes i and i + 1 meet (slices [1:5] the planes, [2:6] the next, [0:4] the previous)
-    ring = np.stack([s1, e_near, s0, e_far, s1, e_near], axis=-2)
-    offset = dot(np.stack([b, a, a, d, b, a], axis=-2), ring)[..., None] - tol
-    up = normal[..., None, :]
-    line = cross3(up, ring)
-    plane, after, before = ring[..., 1:5, :], ring[..., 2:6, :], ring[..., 0:4, :]
+    # the lateral planes in turn round the cell (near, side 0, far, side 1), the next one and
+    # the one before each: each one's offset moved out by tol and its line's direction in the
+    # planes parallel to the mid plane; corner i where the lines of planes i and i + 1 meet
+    plane = _components([e_near, s0, e_far, s1])
+    turn, back = [1, 2, 3, 0], [3, 0, 1, 2]
+    after, before = plane.take(turn, axis=1), plane.take(back, axis=1)
+    offset = coordinate_dot(_components([a, a, d, b]), plane) - tol  # (4, ..., n)
+    up = np.ascontiguousarray(np.moveaxis(normal, -1, 0))[:, None]  # (3, 1, ..., n)
+    line = coordinate_cross(up, plane)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        axis = cross3(plane, after)
-        det = dot(up, axis)[..., None]
+        axis = coordinate_cross(plane, after)
+        det = coordinate_dot(up, axis)
         # cross3(next, normal) = -line of the next plane, exactly
-        x0 = offset[..., 2:6, :] * line[..., 1:5, :] - offset[..., 1:5, :] * line[..., 2:6, :]
-        x0 = (x0 + dot(centre, normal)[..., None, None] * axis) / det
+        x0 = offset.take(turn, axis=0) * line - offset * line.take(turn, axis=1)
+        x0 += coordinate_dot(np.moveaxis(centre, -1, 0), up[:, 0]) * axis
+        x0 /= det
         w = axis / det
     # each line bounded from opposite sides by the lines of its two neighbours
-    line = line[..., 1:5, :]
-    bounded = dot(after, line) * dot(before, line) < 0.0
-    x0[~bounded.all(axis=-1)] = np.inf
+    bounded = coordinate_dot(after, line) * coordinate_dot(before, line) < 0.0
+    x0[:, :, ~bounded.all(axis=0)] = np.inf
     return x0, w
 
 
@@ -75,7 +89,7 @@ def cell_hulls(cells, tol, height):
     line, its two neighbours bound it from opposite sides. Where that fails, or a corner line
     never meets those planes (a degenerate cell), the points are infinite.
     """
-    x0, w = cell_corners(cells, tol)
+    x0, w = (np.moveaxis(x, (0, 1), (-1, -2)) for x in cell_corners(cells, tol))
     with np.errstate(invalid="ignore", over="ignore"):
         step = (np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height) * w
         out = np.stack([x0 - step, x0 + step], axis=-2)  # (..., 4 corners, 2, 3)
@@ -83,15 +97,16 @@ def cell_hulls(cells, tol, height):
 
 
 def hull_bounds(corners, directions, axes, height):
-    """The lowest and highest coordinates (..., 3) each of the hulls of cell corners (...,
-    s, 3) with their directions (..., s, 3) up to ``height`` (:func:`cell_corners`) along
-    the columns of ``axes`` (..., 3, 3): the segment ``X(0) + h w``, ``|h| <= height``, spans
+    """The lowest and highest coordinates (3, ...) each of the hulls of cell corners (..., 3,
+    s) with their directions (..., 3, s) up to ``height`` (:func:`cell_corners`) along the
+    columns of ``axes`` (..., 3, 3): the segment ``X(0) + h w``, ``|h| <= height``, spans
     ``X(0) . u ± height |w . u|`` (the hull's points, without the points)."""
     turn = np.swapaxes(axes, -1, -2)
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = turn @ np.swapaxes(corners, -1, -2)  # (..., 3, s)
-        size = np.abs(turn @ np.swapaxes(directions, -1, -2)) * height
-        return (mid - size).min(axis=-1), (mid + size).max(axis=-1)
+        mid = turn @ corners  # (..., 3, s)
+        size = np.abs(turn @ directions) * height
+        lo, hi = _lowest(mid - size, np.minimum), _lowest(mid + size, np.maximum)
+    return np.moveaxis(lo, -1, 0), np.moveaxis(hi, -1, 0)
 
 
 def cell_frames(mid_near, normal, cell):
@@ -104,76 +119,114 @@ def cell_frames(mid_near, normal, cell):
 
 
 def point_bounds(points, axes):
-    """The lowest and highest coordinates (..., 3) each of point sets (..., s, 3) along the
+    """The lowest and highest coordinates (3, ...) each of point sets (..., s, 3) along the
     columns of the frames ``axes`` (..., 3, 3) (non-finite where a point is not finite): one
     batched product of the transposed frames with the transposed points."""
     with np.errstate(invalid="ignore", over="ignore"):
         along = np.swapaxes(axes, -1, -2) @ np.swapaxes(points, -1, -2)  # (..., 3, s)
-    return along.min(axis=-1), along.max(axis=-1)
+    lo, hi = _lowest(along, np.minimum), _lowest(along, np.maximum)
+    return np.moveaxis(lo, -1, 0), np.moveaxis(hi, -1, 0)
+
+
+def _lowest(values, lower):
+    """The lowest of ``values`` (..., s) along the last axis by ``lower`` (np.minimum, or
+    np.maximum for the highest), column by column: the reduction's values (NaN where one is
+    NaN) without its short rows."""
+    out = values[..., 0].copy()
+    for i in range(1, values.shape[-1]):
+        lower(out, values[..., i], out=out)
+    return out
+
+
+def _rows(axes):
+    """(3, 3, ...) frames (..., 3, 3) entry by entry: ``[i, j]`` row i, column j."""
+    return np.ascontiguousarray(np.moveaxis(axes, (-2, -1), (0, 1)))
 
 
 def bounded_boxes(lo, hi, axes, tol):
-    """Oriented boxes from the coordinates ``lo``, ``hi`` (..., 3) they span along the columns
-    of ``axes`` (..., 3, 3): centres (..., 3), the axes and the half-extents (..., 3), widened
-    by ``1e-9`` of the coordinates plus ``tol`` for round-off (inf where not finite)."""
+    """Oriented boxes from the coordinates ``lo``, ``hi`` (3, t, ..., s) they span along the
+    columns of ``axes`` (..., s, 3, 3; the same for every ``t``): centres (3, t, ..., s), the
+    axes and the half-extents (3, t, ..., s), widened by ``1e-9`` of the coordinates plus
+    ``tol`` for round-off (inf where not finite). Boxes hold their centres and half-extents
+    coordinate by coordinate (long contiguous rows), their axes as frames (for BLAS)."""
     with np.errstate(invalid="ignore", over="ignore"):
         mid = 0.5 * (lo + hi)
         half = 0.5 * (hi - lo) + EXACT_RELATIVE * (np.abs(lo) + np.abs(hi)) + tol
-    bad = ~np.isfinite(half).all(axis=-1)
-    mid[bad], half[bad] = 0.0, np.inf
-    centre = np.einsum("...ij,...j->...i", axes, mid)
+    bad = ~np.isfinite(half).all(axis=0)
+    mid[:, bad], half[:, bad] = 0.0, np.inf
+    # axes @ mid in the order of einsum's contiguous sums of three, (0 + 2) + 1
+    rows = _rows(axes)[:, :, None]  # (3, 3, 1, ..., s)
+    centre = rows[:, 0] * mid[0]
+    centre += rows[:, 2] * mid[2]
+    centre += rows[:, 1] * mid[1]
     return centre, axes, half
 
 
 def oriented_boxes(points, axes, tol):
     """Oriented boxes around point sets (..., s, 3) in the frames ``axes`` (..., 3, 3): centres
-    (..., 3), the axes and the half-extents (..., 3), widened for round-off (inf where a point
-    is not finite; :func:`point_bounds`, :func:`bounded_boxes`)."""
-    return bounded_boxes(*point_bounds(points, axes), axes, tol)
+    (3, 1, ...), the axes and the half-extents (3, 1, ...), widened for round-off (inf where
+    a point is not finite; :func:`point_bounds`, :func:`bounded_boxes`)."""
+    lo, hi = point_bounds(points, axes)
+    return bounded_boxes(lo[:, None], hi[:, None], axes, tol)
 
 
 def box_bounds(box, axes):
-    """The lowest and highest coordinates (..., 3) each of oriented boxes along the columns of
-    the frames ``axes`` (..., 3, 3): the support of a box along a unit vector ``u`` is
-    ``centre . u ± sum_j half_j |axis_j . u|`` (the extreme corners, without the corners)."""
+    """The lowest and highest coordinates (3, t, ...) each of oriented boxes (centres and
+    half-extents (3, t, ...), axes (..., 3, 3)) along the columns of the frames ``axes``
+    (..., 3, 3): the support of a box along a unit vector ``u`` is ``centre . u ± sum_j
+    half_j |axis_j . u|`` (the extreme corners, without the corners)."""
     centre, box_axes, half = box
+    rows = _rows(axes)[:, :, None]  # (3, 3, 1, ...)
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = np.einsum("...ij,...i->...j", axes, centre)
-        size = np.abs(np.swapaxes(axes, -1, -2) @ box_axes)  # |u_c . axis_j|
-        reach = size[..., 0] * half[..., 0, None] + size[..., 1] * half[..., 1, None]
-        reach += size[..., 2] * half[..., 2, None]
+        mid = rows[0] * centre[0]  # axes^T @ centre, term by term
+        mid += rows[1] * centre[1]
+        mid += rows[2] * centre[2]
+        size = _rows(np.abs(np.swapaxes(axes, -1, -2) @ box_axes))[:, :, None]  # |u_c . axis_j|
+        reach = size[:, 0] * half[0]
+        reach += size[:, 1] * half[1]
+        reach += size[:, 2] * half[2]
         return mid - reach, mid + reach
 
 
 def pack_boxes(box):
-    """Boxes as columns ``(centre, axes (row by row), half-extents)`` of 15 numbers: (15, ...),
-    so that the separating-axis test runs on contiguous rows."""
+    """Boxes as columns ``(centre, axes (row by row), half-extents)`` of 15 numbers: (15, t x
+    k x p x nodes) from centres and half-extents (3, t, k, p, nodes) and axes (k, p, nodes,
+    3, 3), the same for every ``t``, so that the separating-axis test runs on contiguous rows."""
     centre, axes, half = box
-    rows = np.concatenate([centre, axes.reshape(*axes.shape[:-2], 9), half], axis=-1)
-    return np.moveaxis(rows, -1, 0)
+    out = np.empty((15,) + centre.shape[1:])
+    out[:3] = centre
+    out[3:12] = _rows(axes).reshape((9, 1) + axes.shape[:-2])
+    out[12:] = half
+    return out.reshape(15, -1)
 
 
 def separated(box_a, box_b):
     """(N,) bool: packed boxes ``a`` and ``b`` (15, N) are disjoint by a face axis of either
     (the separating axis test on those six axes; False where undecided)."""
     d = box_b[:3] - box_a[:3]
-    a, b = box_a[3:12], box_b[3:12]  # axes[row, column] at 3 row + column
+    a, b = box_a[3:12].reshape(3, 3, -1), box_b[3:12].reshape(3, 3, -1)  # [row, column]
     ha, hb = box_a[12:], box_b[12:]
-    # |a_i . b_j| and the projections of d on the axes a_i and b_j
-    r = [
-        [np.abs(a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j]) for j in range(3)]
-        for i in range(3)
-    ]
-    da = [np.abs(a[i] * d[0] + a[3 + i] * d[1] + a[6 + i] * d[2]) for i in range(3)]
-    db = [np.abs(b[j] * d[0] + b[3 + j] * d[1] + b[6 + j] * d[2]) for j in range(3)]
+    # |a_i . b_j| (3, 3, N) and the projections of d on the axes a_i and b_j (3, N), every
+    # one the sum of its three products in turn
+    r = a[0][:, None] * b[0][None]
+    r += a[1][:, None] * b[1][None]
+    r += a[2][:, None] * b[2][None]
+    np.abs(r, out=r)
+    da, db = a[0] * d[0], b[0] * d[0]
+    for x, y in ((a, da), (b, db)):
+        y += x[1] * d[1]
+        y += x[2] * d[2]
+        np.abs(y, out=y)
     with np.errstate(invalid="ignore"):
         slack = EXACT_RELATIVE * (norm3(d.T) + ha.sum(axis=0) + hb.sum(axis=0))
-        out = np.zeros(d.shape[1], dtype=bool)
-        for i in range(3):
-            out |= da[i] > ha[i] + r[i][0] * hb[0] + r[i][1] * hb[1] + r[i][2] * hb[2] + slack
-        for j in range(3):
-            out |= db[j] > hb[j] + r[0][j] * ha[0] + r[1][j] * ha[1] + r[2][j] * ha[2] + slack
-    return out
+        # the half-extents' reach along a_i (3, N) and along b_j (3, N), left to right
+        ra, rb = ha + r[:, 0] * hb[0], hb + r[0] * ha[0]
+        for c in (1, 2):
+            ra += r[:, c] * hb[c]
+            rb += r[c] * ha[c]
+        ra += slack
+        rb += slack
+        return (da > ra).any(axis=0) | (db > rb).any(axis=0)
 
 
 def index_blocks(count, size):
@@ -183,35 +236,50 @@ def index_blocks(count, size):
     return np.minimum(np.arange(blocks * size).reshape(blocks, size), count - 1)
 
 
-def box_tree(box, middle, frame, tol):
-    """Boxes of a binary tree over the leaf boxes of every plate (leaves along axis 2).
+def box_tree(box, frames, tol):
+    """Boxes of binary trees over the leaf boxes of every plate.
 
-    ``middle(level, node)`` is the cell whose frame a node takes, ``frame(cells)`` the frames
-    of cells; a parent's box holds its children's boxes (their extents along its axes,
-    :func:`box_bounds`: the tree is refitted level by level, O(nodes) array operations). Leaves
-    are padded to a power of two with empty ones. Returns the levels from the leaves up, each
-    the packed boxes (15, states x plates x nodes) and which nodes are not padding.
+    Parameters
+    ----------
+    box : tuple
+        The leaf boxes (:func:`bounded_boxes`): centres (3, t, k, p, c) of ``t`` trees, their
+        axes (k, p, c, 3, 3), the same for every tree, and half-extents (3, t, k, p, c).
+    frames : callable
+        ``frames(level)``: the axes (k, p, nodes, 3, 3) of the nodes of ``level`` (1 above the
+        leaves), the same for every tree.
+    tol : float
+
+    A parent's box holds its children's boxes (their extents along its axes,
+    :func:`box_bounds`: the trees are refitted level by level, O(nodes) array operations; the
+    children's axes along the parent's, ``|u . axis_j|``, are the same for every tree). Leaves
+    are padded to a power of two with empty ones, and a parent of one empty child spans its
+    other child alone. Returns the levels from the leaves up, each the packed boxes (15,
+    trees x states x plates x nodes) and which nodes are not padding.
     """
-    count = box[0].shape[2]
+    count = box[1].shape[2]
     size = 1 << max(count - 1, 0).bit_length()
     pad = size - count
     valid = np.r_[np.ones(count, dtype=bool), np.zeros(pad, dtype=bool)]
-    box = tuple(np.concatenate([x, np.repeat(x[:, :, -1:], pad, axis=2)], axis=2) for x in box)
-    levels = [(box, valid)]
+    if pad:  # empty leaves: copies of the last one (never looked at)
+        centre, axes, half = box
+        centre, half = (
+            np.concatenate([x, np.repeat(x[..., -1:], pad, axis=-1)], -1) for x in (centre, half)
+        )
+        axes = np.concatenate([axes, np.repeat(axes[:, :, -1:], pad, axis=2)], axis=2)
+        box = centre, axes, half
+    levels = [(pack_boxes(box), valid)]
     level = 0
     while size > 1:
         size //= 2
         level += 1
+        parent = frames(level)  # (k, p, size, 3, 3)
+        lo, hi = box_bounds(box, np.repeat(parent, 2, axis=2))  # (3, t, k, p, 2 size)
+        lo_box = np.minimum(lo[..., 0::2], lo[..., 1::2])
+        hi_box = np.maximum(hi[..., 0::2], hi[..., 1::2])
         pair = valid.reshape(size, 2)
-        # an empty child takes its sibling's box (a parent of two empty ones is empty)
-        own = np.arange(2 * size).reshape(size, 2)
-        twin = np.where(pair, own, own[:, ::-1])
-        axes = frame(middle(level, np.arange(size)))  # (k, p, size, 3, 3)
-        children = tuple(x[:, :, twin.reshape(-1)] for x in box)
-        lo, hi = box_bounds(children, np.repeat(axes, 2, axis=2))
-        lo = np.minimum(lo[:, :, 0::2], lo[:, :, 1::2])
-        hi = np.maximum(hi[:, :, 0::2], hi[:, :, 1::2])
-        box = bounded_boxes(lo, hi, axes, tol)
+        alone = np.flatnonzero(pair[:, 0] & ~pair[:, 1])  # the second child empty
+        lo_box[..., alone], hi_box[..., alone] = lo[..., 2 * alone], hi[..., 2 * alone]
+        box = bounded_boxes(lo_box, hi_box, parent, tol)
         valid = pair.any(axis=1)
-        levels.append((box, valid))
-    return [(pack_boxes(box).reshape(15, -1), valid) for box, valid in levels]
+        levels.append((pack_boxes(box), valid))
+    return levels

@@ -128,7 +128,11 @@ def box_pairs(lo, hi):
             b = np.concatenate([b, np.tile(np.arange(p), len(others))])
             keep = (a != b) & ~(wild[a] & wild[b] & (a > b))  # each wild pair once
             a, b = a[keep], b[keep]
-        keep = ~np.any((low[a] > high[b]) | (low[b] > high[a]), axis=1)
+        apart = np.zeros(len(a), dtype=bool)
+        for lo_c, hi_c in zip(low.T, high.T):  # axis by axis (the same test)
+            apart |= lo_c[a] > hi_c[b]
+            apart |= lo_c[b] > hi_c[a]
+        keep = ~apart
         a, b = a[keep], b[keep]
         found.append((np.full(len(a), s), np.minimum(a, b), np.maximum(a, b)))
     if not found:
@@ -152,8 +156,12 @@ def candidate_pairs(lo, hi, table: PairTable, plates: int):
     key = np.concatenate([a * plates + b, b * plates + a])  # both orders
     wanted = table.pairs[:, 0] * plates + table.pairs[:, 1]
     order = np.argsort(wanted, kind="stable")
-    left = np.searchsorted(wanted, key, side="left", sorter=order)
-    count = np.searchsorted(wanted, key, side="right", sorter=order) - left
+    wanted = wanted[order]
+    left = np.searchsorted(wanted, key, side="left")
+    if len(wanted) and (wanted[1:] > wanted[:-1]).all():  # every pair once: found or not
+        count = (wanted[np.minimum(left, len(wanted) - 1)] == key).astype(np.intp)
+    else:
+        count = np.searchsorted(wanted, key, side="right") - left
     step = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
     pair = order[np.repeat(left, count) + step]  # every pair of the table with that key
     state = np.repeat(state, count)

@@ -35,12 +35,16 @@ them), and the exact tests run only on block pairs that can meet. What a block p
   lost: every contact within the reach, and every crossing at any distance, is found.
 * *The same numbers.* On the remaining block pairs the heights are the same BLAS matrix
   products as in the brute force (one product of the ``4 RULINGS`` vertices with the ``5 CELLS``
-  plane normals per block pair: BLAS sums the three terms of every entry the same way whatever
-  the shape of the product, which the tests check) minus the same plane offsets, and the
-  tests, minima and crossing points are the brute force's element-wise operations. The results
-  equal those of ``method="all"`` (the brute force of :func:`plate_contacts`) bit for bit; the
-  tests compare the two on many layouts. (Plates of a single cell go to the brute force:
-  their heights are matrix-vector products, which BLAS rounds differently.)
+  plane normals per block pair, of the ``2 RULINGS`` vertices of its free row for a hinged pair
+  that meets one row only: BLAS sums the three terms of every entry the same way whatever the
+  shape of the product, which the tests check). The mid planes' heights are minus the same
+  offsets; a lateral test ``fl(h - offset) >= -tol`` is ``h >= accepted``, the lowest float
+  that passes (:func:`compas_ccu.thickness.cells.accepted_from`: the same booleans without the
+  subtractions); the minima and crossing points are the brute force's element-wise
+  operations. The results equal those of ``method="all"`` (the brute force of
+  :func:`plate_contacts`) bit for bit; the tests compare the two on many layouts. (Plates of a
+  single cell go to the brute force: their heights are matrix-vector products, which BLAS
+  rounds differently.)
 
 The work is linear in the segments: a block meets a bounded number of blocks of every plate
 within the reach, and the walk tests a bounded number of node pairs per kept pair on every
@@ -67,7 +71,7 @@ from compas_ccu.thickness.box_trees import (
     separated,
 )
 from compas_ccu.thickness.broad_phase import PairTable
-from compas_ccu.thickness.cells import plate_cells
+from compas_ccu.thickness.cells import accepted_from, plate_cells
 
 __all__ = [
     "CELLS",
@@ -79,11 +83,14 @@ __all__ = [
     "block_pairs",
     "Found",
     "exact_tests",
+    "all_exact_tests",
 ]
 
 #: Cells per cell block and rulings per vertex block of the candidate search.
 CELLS = 4
 RULINGS = 8
+#: Node pairs per batch of the walk's box tests (bounds the temporaries).
+WALK = 16384
 #: Block pairs per batch of the exact tests (bounds the temporaries: ~1 MB per 100 pairs).
 BATCH = 512
 
@@ -97,9 +104,10 @@ class Blocks(NamedTuple):
     local: np.ndarray  # (I, 4 RULINGS) face vertices of every vertex block
     planes: list  # the four lateral planes (base, normal), each (k, p, n, 3)
     normals: np.ndarray  # (k p J, 5 CELLS, 3) plane normals of every cell block
-    offsets: np.ndarray  # (k p J, 5, CELLS, 1) and their offsets
+    offsets: np.ndarray  # (k p J, CELLS, 1) the mid planes' offsets
+    accepted: np.ndarray  # (k p J, 4, CELLS, 1) the lowest heights the lateral tests accept
     points: np.ndarray  # (k p I, 4 RULINGS, 3) the vertices of every vertex block (these
-    # three None until :func:`with_planes`)
+    # four None until :func:`with_planes`)
     cell_tree: list  # levels of packed boxes over the cell blocks, leaves first
     ruling_tree: list  # the same over the vertex blocks: both rows, near rows, far rows
     row_box: np.ndarray  # (H + 1,) which ruling tree a hinged pair meets (-1: none)
@@ -124,8 +132,9 @@ def plate_blocks(
     cells : tuple, optional
         :func:`compas_ccu.thickness.cells.plate_cells` of the plates, if already computed.
     planes : bool
-        False: without the planes and points of the exact tests (``normals``, ``offsets`` and
-        ``points`` None), for a walk that may keep no block pair; :func:`with_planes` adds them.
+        False: without the planes and points of the exact tests (``normals``, ``offsets``,
+        ``accepted`` and ``points`` None), for a walk that may keep no block pair;
+        :func:`with_planes` adds them.
     """
     k, p, m = mid_near.shape[:3]
     n = m - 1
@@ -138,46 +147,31 @@ def plate_blocks(
     # lateral tests accept up to the reach
     cell_block = index_blocks(n, CELLS)  # (J, CELLS)
     nj = len(cell_block)
-    corners, directions = cell_corners(cells, tol)  # (k, p, n, 4, 3) each
-    if n % CELLS:
-        corners, directions = corners[:, :, cell_block], directions[:, :, cell_block]
-    corners, directions = (x.reshape(k, p, nj, 4 * CELLS, 3) for x in (corners, directions))
-    axes = cell_frames(mid_near, normal, cell_block[:, CELLS // 2])
-    up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
-    cell_box = bounded_boxes(*hull_bounds(corners, directions, axes, up_to), axes, tol)
+    column = index_blocks(m, RULINGS)  # (I, RULINGS)
+    ni = len(column)
+    frame = _frames(mid_near, normal, nj, ni)
+    cell_box = _cell_boxes(cells, cell_block, frame(CELLS, 0), tol, height)
 
     # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
     # near / far row, then the ruling): the vertices and the rulings between them (vertex
     # numbers grow along a block); a box in the frame of the middle cell
-    column = index_blocks(m, RULINGS)  # (I, RULINGS)
-    ni = len(column)
     nv = 2 * faces.shape[3]
     local = np.arange(2)[:, None, None] * (2 * m) + np.arange(2)[None, :, None] * m
     local = (local[None] + column[:, None, None, :]).reshape(ni, 4 * RULINGS)
     points = faces.reshape(k, p, nv, 3)
-    frames = cell_frames(mid_near, normal, np.minimum(column[:, RULINGS // 2], n - 1))
+    frames = frame(RULINGS, 0)
     # a pair whose one row is all on their hinge meets the other row only (no crossing test):
     # boxes of the near rows and of the far rows too, and which box each hinge meets; the
     # box of both rows spans the union of their extents (the same frame)
     rows = local.reshape(ni, 2, 2, RULINGS)
-    near, far = (point_bounds(points[:, :, rows[:, :, r].reshape(ni, -1)], frames) for r in (0, 1))
-    both = np.minimum(near[0], far[0]), np.maximum(near[1], far[1])
-    vertex_box = bounded_boxes(*both, frames, tol)
-    boxes = [vertex_box] + [bounded_boxes(*bounds, frames, tol) for bounds in (near, far)]
-    boxes = [np.concatenate(parts) for parts in zip(*boxes)]  # (3 k, p, I, ...)
+    near, far = (
+        point_bounds(points.take(rows[:, :, r].reshape(ni, -1), axis=2), frames) for r in (0, 1)
+    )
+    lo = np.stack([np.minimum(near[0], far[0]), near[0], far[0]], axis=1)  # both rows, near,
+    hi = np.stack([np.maximum(near[1], far[1]), near[1], far[1]], axis=1)  # far (3, 3, k, p, I)
     masks = table.masks
     on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
     row_box = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
-
-    def frame(cells):
-        return cell_frames(mid_near, normal, np.minimum(cells, n - 1))
-
-    def frames3(cells):  # the same frames for the three trees of rows
-        return np.concatenate([frame(cells)] * 3)
-
-    def middle(size):  # the middle cell of node ``node`` of ``level`` over blocks of ``size``
-        return lambda level, node: ((2 * node + 1) << level) * size // 2
-
     blocks = Blocks(
         plates=p,
         cell_block=cell_block,
@@ -185,18 +179,70 @@ def plate_blocks(
         planes=cells[2:],
         normals=None,
         offsets=None,
+        accepted=None,
         points=None,
-        cell_tree=box_tree(cell_box, middle(CELLS), frame, tol),
-        ruling_tree=box_tree(tuple(boxes), middle(RULINGS), frames3, tol),
+        cell_tree=box_tree(cell_box, lambda level: frame(CELLS, level), tol),
+        ruling_tree=box_tree(
+            bounded_boxes(lo, hi, frames, tol), lambda level: frame(RULINGS, level), tol
+        ),
         row_box=row_box,
         skip=masks[:, local],
     )
-    return with_planes(blocks, cells, faces) if planes else blocks
+    return with_planes(blocks, cells, faces, tol) if planes else blocks
 
 
-def with_planes(blocks: Blocks, cells, faces) -> Blocks:
+def _cell_boxes(cells, cell_block, axes, tol, height):
+    """The boxes (one tree, :func:`bounded_boxes`) of the cell blocks ``cell_block`` (J,
+    CELLS) in the frames ``axes`` (k, p, J, 3, 3) around the hulls of what their cells'
+    lateral tests accept up to ``height`` (:func:`hull_bounds`)."""
+    k, p, nj = axes.shape[:3]
+    corners, directions = cell_corners(cells, tol)  # (3, 4, k, p, n) each
+    if corners.shape[-1] % CELLS:
+        corners, directions = corners[..., cell_block], directions[..., cell_block]
+    corners, directions = (  # (k, p, J, 3, 4 corners x CELLS cells) matrices
+        np.ascontiguousarray(x.reshape(3, 4, k, p, nj, CELLS).transpose(2, 3, 4, 0, 1, 5))
+        for x in (corners, directions)
+    )
+    shape = (k, p, nj, 3, 4 * CELLS)
+    up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
+    lo, hi = hull_bounds(corners.reshape(shape), directions.reshape(shape), axes, up_to)
+    return bounded_boxes(lo[:, None], hi[:, None], axes, tol)
+
+
+def _frames(mid_near, normal, nj, ni):
+    """``frame(size, level)``: the frames (k, p, nodes, 3, 3) of the middle cells of the nodes
+    of ``level`` of the trees over blocks of ``size`` cells or rulings (``nj`` cell blocks, ``ni``
+    ruling blocks), every frame computed once (:func:`cell_frames`)."""
+    n = normal.shape[2]
+
+    def middle(size, level):  # the middle cells of the nodes of ``level`` (padding above 0)
+        leaves = nj if size == CELLS else ni
+        nodes = (1 << max(leaves - 1, 0).bit_length()) >> level if level else leaves
+        return np.minimum(((2 * np.arange(nodes) + 1) << level) * size // 2, n - 1)
+
+    tops = [(1 << max(x - 1, 0).bit_length()).bit_length() for x in (nj, ni)]
+    every = np.unique(
+        np.concatenate(
+            [
+                middle(size, level)
+                for size, top in zip((CELLS, RULINGS), tops)
+                for level in range(top)
+            ]
+        )
+    )
+    table = cell_frames(mid_near, normal, every)
+
+    def frame(size, level):
+        return table[:, :, np.searchsorted(every, middle(size, level))]
+
+    return frame
+
+
+def with_planes(blocks: Blocks, cells, faces, tol) -> Blocks:
     """``blocks`` with the planes and points of the exact tests: the five planes of the cells
-    of every cell block, normals (plane, cell) and offsets, and the face vertices of every
+    of every cell block, normals (plane, cell), the offsets of the mid planes and the lowest
+    heights the lateral tests accept
+    (:func:`compas_ccu.thickness.cells.accepted_from`), and the face vertices of every
     vertex block.
 
     Parameters
@@ -205,17 +251,26 @@ def with_planes(blocks: Blocks, cells, faces) -> Blocks:
     cells : tuple
         :func:`compas_ccu.thickness.cells.plate_cells` of the (k, p, n) cells.
     faces : (k, p, 2, 2n + 2, 3) float
+    tol : float
+        Lateral tolerance, m.
     """
     centre, normal, planes = cells[0], cells[1], cells[2:]
+    k, p, n = normal.shape[:3]
     cell_block = blocks.cell_block
-    normals = [normal] + [nrm for _, nrm in planes]
-    offsets = [dot(centre, normal)] + [dot(base, nrm) for base, nrm in planes]
-    normals = np.stack([x[:, :, cell_block] for x in normals], axis=3)  # (k, p, J, 5, CELLS, 3)
-    offsets = np.stack([x[:, :, cell_block] for x in offsets], axis=3)  # (k, p, J, 5, CELLS)
-    points = faces.reshape(*faces.shape[:2], -1, 3)[:, :, blocks.local]  # (k, p, I, 4 R, 3)
+    nj = len(cell_block)
+
+    def by_block(x):  # (k, p, n, ...) -> (k, p, J, CELLS, ...), a view where no cell repeats
+        if n % CELLS:
+            return x[:, :, cell_block]
+        return x.reshape(k, p, nj, CELLS, *x.shape[3:])
+
+    normals = np.stack([by_block(x) for x in [normal] + [nrm for _, nrm in planes]], axis=3)
+    lateral = np.stack([by_block(dot(base, nrm)) for base, nrm in planes], axis=3)
+    points = faces.reshape(*faces.shape[:2], -1, 3).take(blocks.local, axis=2)  # (k, p, I, 4R, 3)
     return blocks._replace(
-        normals=normals.reshape(-1, 5 * CELLS, 3),
-        offsets=offsets.reshape(-1, 5, CELLS, 1),
+        normals=normals.reshape(-1, 5 * CELLS, 3),  # (k, p, J, 5, CELLS, 3)
+        offsets=by_block(dot(centre, normal)).reshape(-1, CELLS, 1),
+        accepted=accepted_from(lateral, tol).reshape(-1, 4, CELLS, 1),
         points=points.reshape(-1, 4 * RULINGS, 3),
     )
 
@@ -252,20 +307,28 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
     while True:
         (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
-        keep = valid_a[node_a % len(valid_a)] & valid_b[node_b % len(valid_b)]  # not padding
-        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
-        keep = ~separated(box_a.take(node_a, axis=1), box_b.take(node_b, axis=1))
-        qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        keep = None  # not padding
+        for valid, node in ((valid_a, node_a), (valid_b, node_b)):
+            if not valid.all():
+                ok = valid[node % len(valid)]
+                keep = ok if keep is None else keep & ok
+        if keep is not None:
+            qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
+        keep = np.empty(len(qq), dtype=bool)
+        for at in (slice(i, i + WALK) for i in range(0, len(qq), WALK)):
+            keep[at] = ~separated(box_a.take(node_a[at], axis=1), box_b.take(node_b[at], axis=1))
+        at = np.flatnonzero(keep)
+        qq, node_a, node_b = qq[at], node_a[at], node_b[at]
         if la == 0 and lb == 0:
             break
-        split_a, split_b = la >= lb, lb >= la  # the deeper tree first, both if level
-        fan = (2 if split_a else 1) * (2 if split_b else 1)
-        qq, node_a, node_b = (np.repeat(x, fan) for x in (qq, node_a, node_b))
-        child = np.tile(np.arange(fan), len(qq) // fan)
-        if split_a:
-            node_a = 2 * node_a + child % 2
-        if split_b:
-            node_b = 2 * node_b + (child // 2 if split_a else child)
+        # the children: (a0, b0), (a1, b0), (a0, b1), (a1, b1) of every pair, the deeper tree
+        # first (both if level)
+        split_a, split_b = la >= lb, lb >= la
+        child_a, child_b = _CHILDREN[split_a, split_b]
+        fan = len(child_a)
+        qq = np.repeat(qq, fan)
+        node_a = ((1 + split_a) * node_a[:, None] + child_a).reshape(-1)
+        node_b = ((1 + split_b) * node_b[:, None] + child_b).reshape(-1)
         la, lb = la - split_a, lb - split_b
     plate_a, jj = np.divmod(node_a, nj)
     plate_b, ii = np.divmod(node_b, ni)
@@ -273,6 +336,14 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     cell_id = plate_a * len(blocks.cell_block) + jj  # (state, plate, block) without padding
     ruling_id = plate_b * len(blocks.local) + ii
     return qq, cell_id, ruling_id
+
+
+#: The children (of a, of b) of a node pair by which trees split: every pair of children.
+_CHILDREN = {
+    (True, True): (np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])),
+    (True, False): (np.array([0, 1]), np.array([0, 0])),
+    (False, True): (np.array([0, 0]), np.array([0, 1])),
+}
 
 
 class Found(NamedTuple):
@@ -284,7 +355,9 @@ class Found(NamedTuple):
     crossing: np.ndarray  # (C,) state * pairs + pair of every crossing found
 
 
-def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half, reach, tol):
+def exact_tests(
+    blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half, reach, tol, *, row=None
+):
     """The brute force's exact tests on one batch of block pairs (module docstring).
 
     Parameters
@@ -295,6 +368,9 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
         From :func:`block_pairs`.
     half, reach, tol : float
         Half the thickness, the contact reach and the lateral tolerance, m.
+    row : {None, 0, 1}
+        None: both rows of the vertex blocks; 0 (near) or 1 (far): that row only, for pairs
+        joined by a hinge on the other row (left out of their tests, no crossing test).
 
     Returns
     -------
@@ -304,26 +380,38 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
     p, npairs = blocks.plates, len(table.pairs)
     ni, nj = len(blocks.local), len(blocks.cell_block)
     count = len(pair)
-    kb, ab = np.divmod(cell_id // nj, p)  # state and plate a
+    kb = cell_id // nj // p  # state
     ib = ruling_id % ni
-    vertices = blocks.local[ib]  # (N, 4 RULINGS)
-    x = blocks.points.take(ruling_id, axis=0)  # (N, 4 RULINGS, 3)
+    hinge = table.hinge[pair]  # -1: the all-False last row of the masks
+    mask = np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib
+    if row is None:
+        vertices, skip = blocks.local[ib], blocks.skip.reshape(-1, 4 * RULINGS).take(mask, axis=0)
+        x = blocks.points.take(ruling_id, axis=0)  # (N, 4 RULINGS, 3)
+    else:  # both faces of one row, the vertex numbers still growing
+        columns = np.arange(4 * RULINGS).reshape(2, 2, RULINGS)[:, row].reshape(-1)
+        vertices = blocks.local.reshape(-1).take(ib[:, None] * (4 * RULINGS) + columns)
+        skip = blocks.skip.reshape(-1).take(mask[:, None] * (4 * RULINGS) + columns)
+        at = ruling_id[:, None] * (4 * RULINGS) + columns
+        x = blocks.points.reshape(-1, 3).take(at, axis=0)  # (N, 2 RULINGS, 3)
     # heights (N, plane, cell, vertex) by the same matrix products as the brute force
     # (the points transposed into a contiguous operand: the same BLAS kernel, faster packing)
     heights = blocks.normals.take(cell_id, axis=0) @ np.ascontiguousarray(x.swapaxes(1, 2))
-    heights = heights.reshape(count, 5, CELLS, 4 * RULINGS)
-    heights -= blocks.offsets.take(cell_id, axis=0)
-    # inside every lateral half-space: the lowest of the four heights (NaN: not inside)
-    low = np.minimum(heights[:, 1], heights[:, 2])
-    np.minimum(low, heights[:, 3], out=low)
-    np.minimum(low, heights[:, 4], out=low)
-    lateral = low >= -tol
-    hinge = table.hinge[pair]  # -1: the all-False last row of the masks
-    lateral &= ~blocks.skip.reshape(-1, 4 * RULINGS).take(
-        np.where(hinge < 0, len(table.masks) - 1, hinge) * ni + ib, axis=0
-    )[:, None]
-    # the smallest |d| - t/2 over the lateral cells: the smallest |d| (rounding is monotone)
-    size = np.where(lateral, np.abs(heights[:, 0]), np.inf)
+    heights = heights.reshape(count, 5, CELLS, x.shape[1])
+    # inside every lateral half-space (all four heights minus their offsets >= -tol, as the
+    # brute force's lowest of the four; NaN: not inside): every height at least the lowest
+    # one each test accepts (``accepted_from``, the same booleans without the
+    # subtractions); outside where any is not, or the vertex is on the hinge
+    up = heights[:, 1:] >= blocks.accepted.take(cell_id, axis=0)  # (N, 4 planes, cell, vertex)
+    outside = up[:, 0] & up[:, 1]
+    outside &= up[:, 2]
+    outside &= up[:, 3]
+    np.logical_not(outside, out=outside)
+    outside |= skip[:, None]
+    # the heights over the mid planes; the smallest |d| - t/2 over the lateral cells: the
+    # smallest |d| (rounding is monotone)
+    d = heights[:, 0] - blocks.offsets.take(cell_id, axis=0)  # (N, cell, vertex)
+    size = np.abs(d)
+    np.copyto(size, np.inf, where=outside)
     gap = np.minimum(size[:, 0], size[:, 1])
     for cell in range(2, CELLS):
         np.minimum(gap, size[:, cell], out=gap)
@@ -334,24 +422,63 @@ def exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half
     near = value <= reach
     keys = kb * npairs + pair
     found = Found(keys[near], vertices[rows, best][near], value[near], keys[:0])
-    # crossings: a ruling of b (near row -> far row) through a's mid plane inside the cell
     test = hinge < 0
-    if not test.any():
+    if row is not None or not test.any():
         return found
-    d = heights[test, 0].reshape(-1, CELLS, 2, 2, RULINGS)  # (N, cell, face, row, ruling)
-    d0, d1 = d[:, :, :, 0], d[:, :, :, 1]
-    change = np.nonzero((d0 * d1) < 0.0)  # (N, cell, face, ruling)
-    if not len(change[0]):
-        return found
-    nb, c, f, r = change
-    d0, d1 = d0[change], d1[change]
-    xs = x[test].reshape(-1, 2, 2, RULINGS, 3)
+    if not test.all():
+        d, x, cell_id, keys = d[test], x[test], cell_id[test], keys[test]
+    return found._replace(crossing=_crossings(blocks, d, x, cell_id, keys, tol))
+
+
+def _crossings(blocks: Blocks, d, x, cell_id, keys, tol):
+    """The keys of the block pairs in which a ruling of b (near row -> far row) passes through
+    a's mid plane inside a cell: heights ``d`` (N, cell, 4 RULINGS) over the mid planes of
+    the cells ``cell_id`` (N,) of the vertices ``x`` (N, 4 RULINGS, 3)."""
+    # d0 * d1 < 0 of the near and far vertex of every ruling: the products of the heights
+    # RULINGS apart in one contiguous pass (the near rows' ones are those of the rulings)
+    flat = np.ascontiguousarray(d).reshape(-1)
+    product = np.zeros(flat.shape)
+    np.multiply(flat[:-RULINGS], flat[RULINGS:], out=product[:-RULINGS])
+    at = np.flatnonzero(product < 0.0)
+    at = at[at // RULINGS % 2 == 0]  # of a near row: (N, cell, face, near row, ruling)
+    if not len(at):
+        return keys[:0]
+    p, nj = blocks.plates, len(blocks.cell_block)
+    d0, d1 = flat[at], flat[at + RULINGS]
+    nb, c, f, _, r = np.unravel_index(at, (len(d), CELLS, 2, 2, RULINGS))
+    xs = x.reshape(-1, 2, 2, RULINGS, 3)
     x0, x1 = xs[nb, f, 0, r], xs[nb, f, 1, r]
     s = d0 / (d0 - d1)
     point = x0 + s[:, None] * (x1 - x0)
-    cell = blocks.cell_block[cell_id[test] % nj][nb, c]
-    ks, as_ = kb[test][nb], ab[test][nb]
+    cell = blocks.cell_block[cell_id % nj][nb, c]
+    ks, as_ = np.divmod(cell_id // nj, p)
+    ks, as_ = ks[nb], as_[nb]
     inside = np.ones(len(s), dtype=bool)
     for base, plane in blocks.planes:
         inside &= dot(point - base[ks, as_, cell], plane[ks, as_, cell]) >= tol
-    return found._replace(crossing=keys[test][nb][inside])
+    return keys[nb][inside]
+
+
+def all_exact_tests(blocks: Blocks, table: PairTable, pair, cell_id, ruling_id, half, reach, tol):
+    """:func:`exact_tests` of every block pair of :func:`block_pairs` in batches of about
+    :data:`BATCH` block pairs of both rows, those of a hinged pair that meets one row of the
+    vertex blocks only on that row (``row``; twice as many in a batch): a list of Found."""
+    row = blocks.row_box[table.hinge][pair]  # the tree walked: 0 both rows, 1 near, 2 far
+    found = []
+    for tree, size in ((0, BATCH), (1, 2 * BATCH), (2, 2 * BATCH)):
+        at = np.flatnonzero(row == tree)
+        for part in (at[i : i + size] for i in range(0, len(at), size)):
+            found.append(
+                exact_tests(
+                    blocks,
+                    table,
+                    pair[part],
+                    cell_id[part],
+                    ruling_id[part],
+                    half,
+                    reach,
+                    tol,
+                    row=None if tree == 0 else tree - 1,
+                )
+            )
+    return found

@@ -6,8 +6,9 @@ of quad ``j`` (``|d| ≤ t/2`` along the quad normal), the two ruling-side plane
 crease-side and far-side edges that contain the quad normal. :func:`plate_cells` gives these
 planes, :func:`plane_heights` the signed distances of points from them (one batched matrix
 product), :func:`in_footprint` whether a point's foot lies inside a cell's footprint, and
-:func:`point_gaps` the gap of any points over one plate. The contact test of two plates
-(:mod:`compas_ccu.thickness.collision`) and its candidate search
+:func:`point_gaps` the gap of any points over one plate; :func:`accepted_from` turns a lateral
+test ``fl(h - offset) >= -tol`` into a comparison with the lowest float that passes. The
+contact test of two plates (:mod:`compas_ccu.thickness.collision`) and its candidate search
 (:mod:`compas_ccu.thickness.candidate_search`) are built on them.
 """
 
@@ -15,29 +16,42 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.geometry import cross3, dot, unit3
+from compas_ccu.geometry import coordinate_cross, coordinate_dot, coordinate_unit, dot
 from compas_ccu.tolerances import EXACT_RELATIVE
 
-__all__ = ["plate_cells", "plane_heights", "in_footprint", "point_gaps"]
+__all__ = ["plate_cells", "plane_heights", "in_footprint", "accepted_from", "point_gaps"]
 
 
 def plate_cells(mid_near, mid_far, offsets):
-    """Half-space description of the cells of plates (..., n cells)."""
-    a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]
-    c, d = mid_far[..., 1:, :], mid_far[..., :-1, :]
-    normal = unit3(cross3(c - a, d - b))
-    ruling = unit3(mid_far - mid_near)
-    side = unit3(cross3(ruling, offsets))  # plane of ruling j and ν_j
+    """Half-space description of the cells of plates (..., n cells): ``centre, normal, (a,
+    s0), (b, s1), (a, e_near), (d, e_far)``, each (..., n, 3), the planes as (point, unit
+    normal) with the cell on their positive side.
+
+    Computed coordinate by coordinate (long contiguous rows; the same operations as on the
+    vectors, dots in the order of :func:`compas_ccu.geometry.dot`, so the same values)."""
+    near, far, nu = (np.moveaxis(x, -1, 0) for x in (mid_near, mid_far, offsets))
+    a, b = near[..., :-1], near[..., 1:]
+    c, d = far[..., 1:], far[..., :-1]
+    normal = coordinate_unit(coordinate_cross(c - a, d - b))
+    side = coordinate_unit(
+        coordinate_cross(coordinate_unit(far - near), nu)
+    )  # plane of ruling j and ν_j
     # orient the side planes so that the cell is on their positive side
-    centre = 0.25 * (a + b + c + d)
-    s0 = side[..., :-1, :]
-    s0 = s0 * np.sign(dot(centre - a, s0))[..., None]
-    s1 = side[..., 1:, :]
-    s1 = s1 * np.sign(dot(centre - b, s1))[..., None]
-    e_near = unit3(cross3(normal, b - a))
-    e_near = e_near * np.sign(dot(centre - a, e_near))[..., None]
-    e_far = unit3(cross3(normal, c - d))
-    e_far = e_far * np.sign(dot(centre - d, e_far))[..., None]
+    centre = a + b
+    centre += c
+    centre += d
+    centre *= 0.25
+    s0 = side[..., :-1] * np.sign(coordinate_dot(centre - a, side[..., :-1]))
+    s1 = side[..., 1:] * np.sign(coordinate_dot(centre - b, side[..., 1:]))
+    e_near = coordinate_unit(coordinate_cross(normal, b - a))
+    e_near *= np.sign(coordinate_dot(centre - a, e_near))
+    e_far = coordinate_unit(coordinate_cross(normal, c - d))
+    e_far *= np.sign(coordinate_dot(centre - d, e_far))
+    centre, normal, s0, s1, e_near, e_far = (
+        np.ascontiguousarray(np.moveaxis(x, 0, -1)) for x in (centre, normal, s0, s1, e_near, e_far)
+    )
+    a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]
+    d = mid_far[..., :-1, :]
     return centre, normal, (a, s0), (b, s1), (a, e_near), (d, e_far)
 
 
@@ -95,3 +109,76 @@ def point_gaps(points, mid_near, mid_far, offsets, thickness, *, tol=EXACT_RELAT
     lateral = in_footprint(points, cells, tol)  # (k, P, n)
     d = plane_heights(points, centre, normal)
     return np.where(lateral, np.abs(d) - 0.5 * thickness, np.inf).min(axis=2)
+
+
+def accepted_from(offset, tol):
+    """The lowest height ``h`` (a float) with ``h - offset >= -tol`` in floating point, for
+    every ``offset``: a lateral test of the brute force, ``fl(h - offset) >= -tol``, is ``h >=
+    accepted`` (NaN where no height passes), the same booleans without the subtraction.
+
+    ``fl(h - offset)`` grows with ``h`` (rounding is monotone), so the heights that pass are
+    those from one float up. Where ``|offset| >= 4 tol`` the subtraction is exact for every
+    ``h`` near ``offset - tol`` (Sterbenz), so that float is ``x = fl(offset - tol)`` if ``x``
+    passes, else the next float up (``x`` is the nearest float to ``offset - tol``). Else a
+    step or two from ``x``, or a bisection over the floats, finds it.
+    """
+    offset = np.asarray(offset, dtype=float)
+    with np.errstate(invalid="ignore", over="ignore"):
+        out = offset - tol
+        size = np.abs(offset)
+        exact = (size >= 4.0 * tol) & (size <= np.finfo(float).max)
+        up = np.flatnonzero(exact & ((out - offset) < -tol))
+        if len(up):  # the next float up of a finite x, 0 < |x| (tol > 0 here)
+            bits = out.reshape(-1)[up].view(np.int64)
+            out.reshape(-1)[up] = (bits + np.where(bits >= 0, 1, -1)).view(np.float64)
+        rest = np.flatnonzero(~exact)
+        if len(rest):
+            out.reshape(-1)[rest] = _near_zero(offset.reshape(-1)[rest], tol)
+    return out
+
+
+def _near_zero(offset, tol):
+    """:func:`accepted_from` of offsets (m,) that are not finite or within ``4 tol`` of 0."""
+    out = np.full(offset.shape, np.nan)
+    out[offset == -np.inf] = np.nextafter(-np.inf, 0.0)  # every finite height passes
+    work = np.flatnonzero(np.isfinite(offset))
+    off = offset[work]
+    low = off - tol
+    for _ in range(2):  # one step down or up from fl(offset - tol)
+        passes = (low - off) >= -tol
+        below = np.nextafter(low, -np.inf)
+        down = passes & ((below - off) >= -tol)
+        done = passes & ~down
+        out[work[done]] = low[done]
+        low = np.where(down, below, np.nextafter(low, np.inf))[~done]
+        work, off = work[~done], off[~done]
+    if len(work):
+        out[work] = _bisected(off, tol)
+    return out
+
+
+def _ordered(x):
+    """int64 keys of floats in their order (-0.0 and 0.0 both 0)."""
+    bits = x.view(np.int64)
+    return np.where(bits < 0, -(bits & np.int64(0x7FFFFFFFFFFFFFFF)), bits)
+
+
+def _unordered(key):
+    """The floats of :func:`_ordered` keys."""
+    bits = np.where(key < 0, (-key) | np.int64(-0x8000000000000000), key)
+    return bits.view(np.float64)
+
+
+def _bisected(off, tol):
+    """:func:`accepted_from` of finite offsets by bisection over the floats."""
+    lo = _ordered(np.full(off.shape, -np.inf))  # fails
+    hi = _ordered(off.copy())  # passes: fl(offset - offset) = 0
+    while True:
+        open_ = hi > lo + 1
+        if not open_.any():
+            return _unordered(hi)
+        mid = (lo >> 1) + (hi >> 1) + (lo & hi & 1)
+        with np.errstate(invalid="ignore", over="ignore"):
+            passes = (_unordered(mid) - off) >= -tol
+        hi = np.where(open_ & passes, mid, hi)
+        lo = np.where(open_ & ~passes, mid, lo)

@@ -55,9 +55,9 @@ from compas_ccu.thickness.broad_phase import (
     plate_boxes,
 )
 from compas_ccu.thickness.candidate_search import (
-    BATCH,
     Blocks,
     Found,
+    all_exact_tests,
     block_pairs,
     exact_tests,
     plate_blocks,
@@ -219,11 +219,8 @@ def plate_contacts(
         blocks = plate_blocks(*chunk, table, tol, height, cells, planes=False)
         qq, cell_id, ruling_id = block_pairs(blocks, table, state, pair)
         if len(qq):  # the planes and points of the exact tests, only where they run
-            blocks = with_planes(blocks, cells, chunk[3])
-        found = [
-            exact_tests(blocks, table, qq[part], cell_id[part], ruling_id[part], half, reach, tol)
-            for part in (slice(i, i + BATCH) for i in range(0, len(qq), BATCH))
-        ]
+            blocks = with_planes(blocks, cells, chunk[3], tol)
+        found = all_exact_tests(blocks, table, qq, cell_id, ruling_id, half, reach, tol)
         if found:
             out = (x[states] for x in (depth, clearance, crossing, where))
             _smallest(found, *out)
