@@ -158,10 +158,11 @@ test-simd: setup
 # the quick loop while editing: ruff and every test not marked slow, on 2 processes, in random
 # order (pytest-randomly, from the dev extra; the run ends with its seed): that order again with
 # `make test-fast SEED=N`. pytest keeps the tests with their asserts rewritten in __pycache__ even
-# where the environment sets PYTHONDONTWRITEBYTECODE (else each process rewrites them, ~7 s)
+# where the environment sets PYTHONDONTWRITEBYTECODE (else each process rewrites them, ~7 s);
+# CCU_QUICK_TESTS=1: a third of each property test's hypothesis examples (tests/conftest.py)
 test-fast: setup
 	$(BIN)/ruff check src tests benchmarks tools scripts
-	PYTHONDONTWRITEBYTECODE= $(BIN)/python -m pytest -q -m "not slow" -n 2 -p randomly \
+	PYTHONDONTWRITEBYTECODE= CCU_QUICK_TESTS=1 $(BIN)/python -m pytest -q -m "not slow" -n 2 -p randomly \
 	  $(if $(SEED),--randomly-seed=$(SEED))
 
 bench: setup

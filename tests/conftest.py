@@ -2,16 +2,39 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import settings
 
 from compas_ccu.design import Design
 from compas_ccu.fea.engines import get_engine
 from compas_ccu.model import load_model
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+#: The quick loop (``make test-fast`` sets ``CCU_QUICK_TESTS=1``) runs a third of each property
+#: test's hypothesis examples; ``make test`` and CI run them all.
+QUICK = os.environ.get("CCU_QUICK_TESTS", "") not in ("", "0")
+
+
+def property_examples(full: int) -> int:
+    """The hypothesis examples of a property test: ``full``, or a third of it (at least 10) in
+    the quick loop.
+
+    Examples
+    --------
+    >>> property_examples(60) in (60, 20)
+    True
+    """
+    return max(10, full // 3) if QUICK else full
+
+
+if QUICK:  # the property tests without their own count: a third of hypothesis's 100
+    settings.register_profile("quick", max_examples=property_examples(100))
+    settings.load_profile("quick")
 
 
 def arc_strip(n: int, radius: float = 1.0, angle: float = np.pi / 2, width: float = 0.2):

@@ -53,20 +53,20 @@ def test_no_function_local_imports_of_the_package():
     (and the command modules of the ccu command table, by name: the next tests)."""
     local = []
     for path in sorted(SRC.rglob("*.py")):
-        tree = parse(path)
-        for func in ast.walk(tree):
-            if not isinstance(func, (ast.FunctionDef, ast.AsyncFunctionDef)):
-                continue
-            for node in ast.walk(func):
+        # one walk per file; an import is local when a function encloses it
+        stack = [(child, False) for child in ast.iter_child_nodes(parse(path))]
+        while stack:
+            node, in_function = stack.pop()
+            if in_function and isinstance(node, (ast.Import, ast.ImportFrom)):
                 names = (
                     [node.module or ""]
                     if isinstance(node, ast.ImportFrom)
                     else [a.name for a in node.names]
-                    if isinstance(node, ast.Import)
-                    else []
                 )
                 if any(n == "compas_ccu" or n.startswith("compas_ccu.") for n in names):
                     local.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+            inside = in_function or isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
+            stack.extend((child, inside) for child in ast.iter_child_nodes(node))
     assert local == []
 
 

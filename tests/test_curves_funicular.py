@@ -11,6 +11,7 @@ from scipy.integrate import quad
 
 from compas_ccu.curves import FunicularProfile, funicular_moment, profile_from_dict
 from compas_ccu.errors import ProfileError
+from conftest import property_examples
 
 # Span 4, x in [-2, 2]: uniform load 1 over the span, 2 more over the left half, 3 at x = -1.
 ASYMMETRIC = {
@@ -348,7 +349,7 @@ def test_point_loads_at_the_same_place_add_up():
 # -- properties ------------------------------------------------------------------------------------
 
 
-settings_random = settings(max_examples=40, deadline=None, database=None)
+settings_random = settings(max_examples=property_examples(40), deadline=None, database=None)
 
 
 @settings_random

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from compas_ccu.curves import ArcProfile, CatenaryProfile, ElasticaProfile, FunicularProfile
+from conftest import property_examples
 
 ARCHES = {
     "arc": ArcProfile,
@@ -39,7 +40,7 @@ def chord_from_unit_tangent(profile, s_start, s_end, order=20, pieces=32) -> np.
     )
 
 
-@settings(max_examples=60, deadline=None, database=None)
+@settings(max_examples=property_examples(60), deadline=None, database=None)
 @given(
     kind=st.sampled_from(sorted(ARCHES)),
     span=st.floats(min_value=0.05, max_value=50.0),

@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from compas_ccu.explore.pareto import feasible, pareto_mask, rank_best
+from conftest import property_examples
 
 
 def brute_force(v: np.ndarray, senses) -> np.ndarray:
@@ -25,7 +26,7 @@ def brute_force(v: np.ndarray, senses) -> np.ndarray:
     return np.array(out, dtype=bool)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=property_examples(60), deadline=None)
 @given(
     st.integers(1, 40).flatmap(
         lambda n: st.tuples(

@@ -17,7 +17,7 @@ from compas_ccu.errors import CCUError, SelfIntersectionError
 from compas_ccu.kinematics import interference_events
 from compas_ccu.kinematics.interference import ANGLE_TOLERANCE
 from compas_ccu.model import CCUModel, load_model
-from conftest import EXAMPLES
+from conftest import EXAMPLES, property_examples
 from intersection_oracle import crossing_pairs
 
 DATA = Path(__file__).resolve().parents[1] / "src" / "compas_ccu" / "data"
@@ -168,7 +168,9 @@ def layouts(draw):
 
 
 @pytest.mark.slow
-@settings(max_examples=25, deadline=None, suppress_health_check=list(HealthCheck))
+@settings(
+    max_examples=property_examples(25), deadline=None, suppress_health_check=list(HealthCheck)
+)
 @given(layouts())
 def test_every_returned_state_of_random_layouts_passes_the_oracle(case):
     document, where = case

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from compas_ccu.errors import DeploymentLimitError
 from compas_ccu.kinematics.leading import LeadingStrip
 from compas_ccu.strips.intrinsics import strip_intrinsics
-from conftest import arc_strip, wavy_strip
+from conftest import arc_strip, property_examples, wavy_strip
 
 
 def sequential_march(near2d, far2d, psi0):
@@ -176,7 +176,7 @@ def test_beyond_the_limit_names_vertex_and_largest_alpha():
         strip.s0_for_alpha(-0.1)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=property_examples(40), deadline=None)
 @given(
     seed=st.integers(0, 10_000),
     n=st.integers(3, 80),

@@ -15,6 +15,7 @@ from hypothesis import HealthCheck, given, settings
 import strategies
 from compas_ccu.cli import main
 from compas_ccu.errors import GeometryError
+from conftest import property_examples
 
 ROOT = Path(__file__).resolve().parents[1]
 SLICE = settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck))
@@ -28,7 +29,9 @@ def test_a_design_is_exact_in_its_file_or_refused_in_one_line(document):
     assert kind in ("ok", "refused"), detail
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+@settings(
+    max_examples=property_examples(40), deadline=None, suppress_health_check=list(HealthCheck)
+)
 @given(data=strategies.toml_texts())
 def test_a_malformed_design_file_is_one_line_and_leaves_nothing(tmp_path_factory, data):
     folder = tmp_path_factory.mktemp("file")

@@ -29,7 +29,7 @@ from compas_ccu.studio.files import StudioFiles
 from compas_ccu.studio.session import document_text
 from compas_ccu.studio.view import COLORINGS, cut_patterns_svg, legend_html, view_state
 from compas_ccu.thickness import ThickModel
-from conftest import EXAMPLES
+from conftest import EXAMPLES, property_examples
 
 pytest.importorskip("tomlkit")
 
@@ -407,7 +407,9 @@ def _same(a, b) -> bool:
     return type(a) is type(b) and a == b
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+@settings(
+    max_examples=property_examples(60), deadline=None, suppress_health_check=list(HealthCheck)
+)
 @given(document=strategies.designs())
 def test_any_design_is_a_model_or_a_problem_and_saves_as_it_reads(tmp_path_factory, document):
     folder = tmp_path_factory.mktemp("studio")

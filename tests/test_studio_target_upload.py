@@ -214,6 +214,7 @@ def _read(panel, future):
         time.sleep(0.05)
 
 
+@pytest.mark.slow  # the read in a spawned process (1-2 s alone, 6-12 s beside the quick loop)
 def test_the_page_uploads_reads_and_refuses(studio, tmp_path):
     panel = studio.target_panel
     before = tree(tmp_path)

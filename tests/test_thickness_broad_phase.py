@@ -21,7 +21,7 @@ from compas_ccu.model import CCUModel, load_model
 from compas_ccu.thickness import ThickModel, solid_faces, vertex_offsets
 from compas_ccu.thickness.collision import _contacts_all, box_pairs, plate_contacts
 from compas_ccu.tolerances import EXACT_RELATIVE
-from conftest import EXAMPLES, captured_plate_contacts, make_design
+from conftest import EXAMPLES, captured_plate_contacts, make_design, property_examples
 
 T = 0.008
 
@@ -38,7 +38,7 @@ def all_overlapping(lo, hi):
     return found
 
 
-@settings(max_examples=60, deadline=None, database=None)
+@settings(max_examples=property_examples(60), deadline=None, database=None)
 @given(
     seed=st.integers(0, 2**32 - 1),
     states=st.integers(1, 3),
@@ -138,7 +138,7 @@ def _random_scene(rng, near, far, n, plates):
     return near, far, nu, faces, pairs, hinged
 
 
-@settings(max_examples=40, deadline=None, database=None)
+@settings(max_examples=property_examples(40), deadline=None, database=None)
 @given(
     seed=st.integers(0, 2**32 - 1),
     plates=st.integers(2, 12),
@@ -225,10 +225,8 @@ REPORT_DESIGNS = {
 @pytest.mark.parametrize(
     ("reach", "name"),
     [
-        # the crossing funnel is ~1.3 s a reach: the quick loop checks it at one
-        pytest.param(reach, name, marks=pytest.mark.slow)
-        if (name, reach) == ("funnel-crossing", 0.02)
-        else (reach, name)
+        # ~0.3-1.3 s a design and reach: the quick loop checks every design at one reach
+        pytest.param(reach, name, marks=pytest.mark.slow) if reach == 0.02 else (reach, name)
         for reach in (0.02, 0.1)
         for name in REPORT_DESIGNS
     ],
@@ -268,7 +266,7 @@ def test_report_pairs_of_three_parallel_plates():
     _assert_same_report(args, kwargs, marked)
 
 
-@settings(max_examples=40, deadline=None, database=None)
+@settings(max_examples=property_examples(40), deadline=None, database=None)
 @given(
     seed=st.integers(0, 2**32 - 1),
     plates=st.integers(2, 12),

@@ -15,7 +15,7 @@ from compas_ccu.thickness.cells import accepted_from
 from compas_ccu.thickness.collision import _contacts_all, plate_contacts
 from compas_ccu.thickness.collision_check import first_contact, path_collisions
 from compas_ccu.tolerances import EXACT_RELATIVE
-from conftest import EXAMPLES, captured_plate_contacts, make_design
+from conftest import EXAMPLES, captured_plate_contacts, make_design, property_examples
 
 T = 0.008
 
@@ -233,7 +233,7 @@ def _random_strip(rng, n, spread):
     return near @ q + shift, far @ q + shift
 
 
-@settings(max_examples=40, deadline=None, database=None)
+@settings(max_examples=property_examples(40), deadline=None, database=None)
 @given(
     seed=st.integers(0, 2**32 - 1),
     plates=st.integers(2, 6),
@@ -274,7 +274,7 @@ def test_unknown_method():
         _contacts([_strip(), _strip(0.05)], method="kd")
 
 
-@settings(max_examples=30, deadline=None, database=None)
+@settings(max_examples=property_examples(30), deadline=None, database=None)
 @given(seed=st.integers(0, 2**32 - 1), plates=st.integers(2, 5), n=st.integers(2, 20))
 def test_candidate_search_on_random_hinged_strips(seed, plates, n):
     """A chain of random strips, each hinged to the far row of the one before: the hinge rows
