@@ -10,6 +10,7 @@ of its crease. Both must give the same numbers, bit for bit, on every example an
 from __future__ import annotations
 
 import math
+import threading
 
 import numpy as np
 import pytest
@@ -176,6 +177,40 @@ def test_default_placement_without_the_svd_gufunc_is_the_same(vault_model, monke
     s0 = np.array([0.0, 0.4 * mech.leading.s0_max])
     want = mech.place(s0)
     monkeypatch.setattr(generations, "_SVD", None)
+    monkeypatch.setattr(mech._default, "_local", threading.local())  # a new plan of the calls
     got = mech.place(s0)
     for name, a, b in zip(got._fields, got, want):
         assert a.tobytes() == b.tobytes(), name
+
+
+def test_two_threads_place_one_mechanism_at_once(vault_model):
+    """Each thread keeps its own work arrays: the states of concurrent placements are those of
+    one thread alone, bit for bit."""
+    mech = vault_model.mechanism
+    alphas = np.radians(np.linspace(5.0, 60.0, 12))
+    want = [mech.deploy(a) for a in alphas]
+    results = {}
+
+    def run(name):
+        for _ in range(20):
+            results[name] = [mech.deploy(a) for a in alphas]
+            for got, expected in zip(results[name], want):
+                for a, b in zip(got, expected):
+                    assert a.tobytes() == b.tobytes()
+
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert sorted(results) == [0, 1]
+
+
+def test_a_mechanism_pickles_without_its_work_arrays(vault_model):
+    import pickle
+
+    mech = vault_model.mechanism
+    want = mech.deploy(math.radians(30.0))
+    copy = pickle.loads(pickle.dumps(mech))
+    for a, b in zip(copy.deploy(math.radians(30.0)), want):
+        assert a.tobytes() == b.tobytes()
