@@ -214,3 +214,22 @@ def test_a_mechanism_pickles_without_its_work_arrays(vault_model):
     copy = pickle.loads(pickle.dumps(mech))
     for a, b in zip(copy.deploy(math.radians(30.0)), want):
         assert a.tobytes() == b.tobytes()
+
+
+@pytest.mark.parametrize("change", ["plate order", "general form"])
+def test_the_planned_calls_in_any_order_are_the_same(model, change, monkeypatch):
+    """The planned calls with the rows in plate and crease order (not generation order), or
+    every generation in the general form (an einsum of another order), write the same bytes."""
+    from compas_ccu.kinematics import generations
+
+    mech = model.mechanism
+    s0 = np.array([0.0, 0.3 * mech.leading.s0_max, mech.leading.s0_max])
+    want = [mech.place(s0), mech.place(s0[1:2])]
+    if change == "plate order":
+        monkeypatch.setattr(generations, "_generation_order", lambda plan: (None, None))
+    else:
+        monkeypatch.setattr(generations, "_EINSUM_ORDER", False)
+    monkeypatch.setattr(mech._default, "_local", threading.local())  # a new plan of the calls
+    for got, expected in zip([mech.place(s0), mech.place(s0[1:2])], want):
+        for name, a, b in zip(got._fields, got, expected):
+            assert a.shape == b.shape and a.tobytes() == b.tobytes(), name
