@@ -464,7 +464,9 @@ class _Work:
         np.add(products[:, 0], products[:, 2], out=deviation)
         np.add(deviation, products[:, 1], out=deviation)
         planarity = np.maximum.reduce(np.abs(deviation, out=deviation), axis=-1)
-        if not np.maximum.reduce(planarity, axis=None, initial=0.0) < np.inf:  # a row not finite (NaN, inf)
+        if (
+            not np.maximum.reduce(planarity, axis=None, initial=0.0) < np.inf
+        ):  # a row not finite (NaN, inf)
             return None
         if not self.ordered:
             near, far = self.near.copy(), self.far.copy()
