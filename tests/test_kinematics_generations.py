@@ -10,6 +10,7 @@ of its crease. Both must give the same numbers, bit for bit, on every example an
 from __future__ import annotations
 
 import math
+import threading
 
 import numpy as np
 import pytest
@@ -176,6 +177,59 @@ def test_default_placement_without_the_svd_gufunc_is_the_same(vault_model, monke
     s0 = np.array([0.0, 0.4 * mech.leading.s0_max])
     want = mech.place(s0)
     monkeypatch.setattr(generations, "_SVD", None)
+    monkeypatch.setattr(mech._default, "_local", threading.local())  # a new plan of the calls
     got = mech.place(s0)
     for name, a, b in zip(got._fields, got, want):
         assert a.tobytes() == b.tobytes(), name
+
+
+def test_two_threads_place_one_mechanism_at_once(vault_model):
+    """Each thread keeps its own work arrays: the states of concurrent placements are those of
+    one thread alone, bit for bit."""
+    mech = vault_model.mechanism
+    alphas = np.radians(np.linspace(5.0, 60.0, 12))
+    want = [mech.deploy(a) for a in alphas]
+    results = {}
+
+    def run(name):
+        for _ in range(20):
+            results[name] = [mech.deploy(a) for a in alphas]
+            for got, expected in zip(results[name], want):
+                for a, b in zip(got, expected):
+                    assert a.tobytes() == b.tobytes()
+
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert sorted(results) == [0, 1]
+
+
+def test_a_mechanism_pickles_without_its_work_arrays(vault_model):
+    import pickle
+
+    mech = vault_model.mechanism
+    want = mech.deploy(math.radians(30.0))
+    copy = pickle.loads(pickle.dumps(mech))
+    for a, b in zip(copy.deploy(math.radians(30.0)), want):
+        assert a.tobytes() == b.tobytes()
+
+
+@pytest.mark.parametrize("change", ["plate order", "general form"])
+def test_the_planned_calls_in_any_order_are_the_same(model, change, monkeypatch):
+    """The planned calls with the rows in plate and crease order (not generation order), or
+    every generation in the general form (an einsum of another order), write the same bytes."""
+    from compas_ccu.kinematics import generations
+
+    mech = model.mechanism
+    s0 = np.array([0.0, 0.3 * mech.leading.s0_max, mech.leading.s0_max])
+    want = [mech.place(s0), mech.place(s0[1:2])]
+    if change == "plate order":
+        monkeypatch.setattr(generations, "_generation_order", lambda plan: (None, None))
+    else:
+        monkeypatch.setattr(generations, "_EINSUM_ORDER", False)
+    monkeypatch.setattr(mech._default, "_local", threading.local())  # a new plan of the calls
+    for got, expected in zip([mech.place(s0), mech.place(s0[1:2])], want):
+        for name, a, b in zip(got._fields, got, expected):
+            assert a.shape == b.shape and a.tobytes() == b.tobytes(), name

@@ -232,3 +232,26 @@ def test_one_segment_strip_inverts_an_angle():
     s0 = strip.s0_for_alpha(0.4)
     assert s0.shape == (1,)
     assert strip.reference_alpha(s0)[0] == pytest.approx(0.4, abs=1e-14)
+
+
+@pytest.mark.parametrize("n, seed", [(1, 0), (2, 0), (3, 1), (17, 2), (64, 3)])
+def test_the_writer_places_the_strip_bit_for_bit(n, seed):
+    """LeadingStrip.writer (kept arrays, fewer calls) writes what LeadingStrip.place returns, to
+    the last bit, signed zeros included, for every reference vertex kind, one or several states,
+    the flat state, the limit, beyond it and a negative or missing s0."""
+    near, far = wavy_strip(n, seed)
+    intr = strip_intrinsics(near, far)
+    for reference in sorted({0, 1, n // 2, n - 1, n}):
+        strip = LeadingStrip(intr, reference=reference)
+        top = strip.s0_max
+        for s0 in ([0.0], [0.3 * top], [top], [1.5 * top], [-0.2 * top], [0.0, 0.5 * top, top]):
+            s0 = np.array(s0)
+            out = [np.empty((len(s0), n + 1, 3)) for _ in range(3)]
+            writer = strip.writer(*out)
+            for values in (s0, s0[::-1].copy()):  # the second call reuses the arrays
+                want = strip.place(values)
+                tilts = writer.place(values)
+                for got, expected in zip(
+                    [*out, tilts], [want.near, want.rulings, want.far, want.tilts]
+                ):
+                    assert got.tobytes() == expected.tobytes(), (reference, values)

@@ -47,7 +47,7 @@ from compas_ccu.errors import DeploymentLimitError, GeometryError
 from compas_ccu.strips.intrinsics import StripIntrinsics
 from compas_ccu.tolerances import MACHINE, ZERO_LENGTH
 
-__all__ = ["LeadingStrip", "LeadingPlacement"]
+__all__ = ["LeadingStrip", "LeadingPlacement", "LeadingWriter"]
 
 
 class LeadingPlacement(NamedTuple):
@@ -227,6 +227,12 @@ class LeadingStrip:
         far = np.multiply(self._ruling_xyz, rulings)  # the lengths repeated over xyz
         far += near
         return LeadingPlacement(near, rulings, far, np.arcsin(sin_psi[:, :n]))
+
+    def writer(self, near: np.ndarray, rulings: np.ndarray, far: np.ndarray) -> LeadingWriter:
+        """A :class:`LeadingWriter` that places the strip into ``near``, ``rulings`` and
+        ``far`` ((k, n + 1, 3) arrays or views, kept by the caller) for ``k`` states at a time:
+        :meth:`place` with the work arrays and their views made once (the redeploy's dispatch)."""
+        return LeadingWriter(self, near, rulings, far)
 
     # -- naming the actuation by alpha at the reference vertex ------------------------------------
     def reference_alpha(self, s0) -> np.ndarray:
@@ -449,3 +455,104 @@ def _divide(a: float, b: float) -> float:
     if a == 0.0 or math.isnan(a):
         return math.nan
     return math.copysign(math.inf, a) * math.copysign(1.0, b)
+
+
+class LeadingWriter:
+    """:meth:`LeadingStrip.place` of ``k`` states written into kept arrays, bit for bit.
+
+    The same floating-point operations on the same operands as :meth:`LeadingStrip.place`, with
+    the work arrays and every view made once (:meth:`LeadingStrip.writer`) and fewer NumPy
+    calls: the two arctangents of (K2) as one call on the two windows of ``cos(psi)`` (a strided
+    view); the cosines and sines of the crease directions in one (k, 2, n + 1) array, so that
+    the crease's x and y sums are one product and one cumulative sum; the rulings' x and y as
+    ``[cb, sb cos(psi)] cos(t) + [-sb cos(psi), cb] sin(t)`` (a difference is the sum with the
+    negated operand, exactly); the tangent at the reference vertex of one state on floats.
+    Not for two threads at once: each keeps its own writer.
+
+    Parameters
+    ----------
+    strip : LeadingStrip
+    near, rulings, far : (k, n + 1, 3) float
+        Where the crease vertices, the unit rulings and the far boundary are written.
+    """
+
+    def __init__(self, strip: LeadingStrip, near: np.ndarray, rulings: np.ndarray, far):
+        self.strip, self.near, self.rulings, self.far = strip, near, rulings, far
+        k, n = near.shape[0], strip.n
+        self.k, self.n = k, n
+        if n < 2:  # one segment: LeadingStrip.place itself
+            return
+        # the clip's lower bound is a no-op for one state s0 >= 0 when no factor is negative
+        self.nonnegative = bool((strip._factors_ext >= 0.0).all())
+        self.sin_psi, self.cos_psi = np.empty((k, n + 1)), np.empty((k, n + 1))
+        row, step = self.cos_psi.strides
+        # cos(psi) of segments 0 ... n - 2 and 1 ... n - 1 as one (k, 2, n - 1) view
+        self.windows = np.ndarray((k, 2, n - 1), buffer=self.cos_psi, strides=(row, step, step))
+        sin_back, minus_cos_back, sin_fwd, cos_fwd = strip._turn_terms
+        self.turn_y, self.turn_x = (
+            np.stack([sin_back, sin_fwd]),
+            np.stack([minus_cos_back, cos_fwd]),
+        )
+        self.halves = np.empty((k, 2, n - 1))
+        self.turns = np.empty((k, n - 1))
+        self.theta = np.zeros((k, n))  # column 0 stays 0
+        self.shifted = np.empty((k, n + 1))  # theta + the anchor's shift, column n repeated
+        self.angles = np.empty((k, 2, n + 1))  # cos(theta), sin(theta)
+        self.cos_t, self.sin_t = self.angles[:, 0], self.angles[:, 1]
+        self.sums = np.zeros((k, n + 1, 2))  # the crease's cumulative sums, vertex 0 stays 0
+        self.sums_t = self.sums[:, 1:].transpose(0, 2, 1)  # (k, 2, n)
+        self.steps = np.empty((k, 2, n))  # h cos(theta), h sin(theta)
+        sb = strip._ruling_sin
+        self.signed_sb = np.stack([-sb, sb])
+        self.coefficients = np.empty((k, 3, n + 1))  # -sb cos(psi), cb, sb cos(psi)
+        self.coefficients[:, 1] = strip._ruling_cos
+        self.by_cos, self.by_sin = np.empty((k, 2, n + 1)), np.empty((k, 2, n + 1))
+        self.anchor = np.empty((k, 1, 2))
+        self.rulings_xy_t = rulings[:, :, :2].transpose(0, 2, 1)  # (k, 2, n + 1)
+        near[:, :, 2] = 0.0  # the crease stays in O: written once
+        r = strip.reference
+        # the tangent at the reference vertex: theta[at] + half * turns[turn] (_tangent_angle)
+        self.tangent = {0: (0, 0, -0.5), n: (n - 1, n - 2, 0.5)}.get(r, (r - 1, r - 1, 0.5))
+
+    def place(self, s0: np.ndarray) -> np.ndarray:
+        """Place the strip for ``s0`` (k,) float; returns the tilts (k, n)."""
+        strip, n, k = self.strip, self.n, self.k
+        if n < 2:
+            lead = strip.place(s0)
+            self.near[...], self.rulings[...], self.far[...] = lead.near, lead.rulings, lead.far
+            return lead.tilts
+        sin_psi, cos_psi = self.sin_psi, self.cos_psi
+        np.multiply(s0[:, None], strip._factors_ext, out=sin_psi)
+        if not (self.nonnegative and k == 1 and s0[0] >= 0.0):
+            np.maximum(sin_psi, -1.0, out=sin_psi)
+        np.minimum(sin_psi, 1.0, out=sin_psi)
+        np.square(sin_psi, out=cos_psi)
+        np.subtract(1.0, cos_psi, out=cos_psi)
+        np.sqrt(cos_psi, out=cos_psi)
+        halves, turns, theta, shifted = self.halves, self.turns, self.theta, self.shifted
+        np.multiply(self.turn_y, self.windows, out=halves)  # (K2)
+        np.arctan2(halves, self.turn_x, out=halves)
+        np.subtract(halves[:, 0], halves[:, 1], out=turns)
+        np.add.accumulate(turns, axis=1, out=theta[:, 1:])
+        at, turn, half = self.tangent
+        if k == 1:
+            shift = strip.anchor_angle - (theta.item(at) + half * turns.item(turn))
+        else:
+            shift = (strip.anchor_angle - (theta[:, at] + half * turns[:, turn]))[:, None]
+        np.add(theta, shift, out=shifted[:, :n])
+        shifted[:, n] = shifted[:, n - 1]
+        np.cos(shifted, out=self.cos_t)
+        np.sin(shifted, out=self.sin_t)
+        np.multiply(strip.intrinsics.edge_lengths, self.angles[:, :, :n], out=self.steps)
+        np.add.accumulate(self.steps, axis=2, out=self.sums_t)
+        np.subtract(strip.anchor_point, self.sums[:, strip.reference], out=self.anchor[:, 0])
+        np.add(self.sums, self.anchor, out=self.near[:, :, :2])
+        coefficients = self.coefficients  # the rulings (LeadingStrip.place)
+        np.multiply(self.signed_sb, cos_psi[:, None], out=coefficients[:, ::2])
+        np.multiply(coefficients[:, 1:], self.cos_t[:, None], out=self.by_cos)
+        np.multiply(coefficients[:, :2], self.sin_t[:, None], out=self.by_sin)
+        np.add(self.by_cos, self.by_sin, out=self.rulings_xy_t)
+        np.multiply(strip._ruling_sin, sin_psi, out=self.rulings[:, :, 2])
+        np.multiply(strip._ruling_xyz, self.rulings, out=self.far)
+        np.add(self.far, self.near, out=self.far)
+        return np.arcsin(sin_psi[:, :n])

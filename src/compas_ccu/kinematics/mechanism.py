@@ -401,11 +401,13 @@ class Mechanism:
             numbers as this loop, bit for bit, at less dispatch; rows that are not finite are
             left to this loop).
         """
-        lead = self.leading.place(s0)
+        if type(s0) is not np.ndarray or s0.ndim != 1 or s0.dtype != np.float64:
+            s0 = np.atleast_1d(np.asarray(s0, dtype=float))
         if planes is None or type(planes) is CreasePlanes:
-            placed = self._default.place(lead)
+            placed = self._default.place_s0(s0)
             if placed is not None:
-                return MechanismStates(*placed, lead.tilts)
+                return MechanismStates(*placed)
+        lead = self.leading.place(s0)
         planes = _DEFAULT_PLANES if planes is None else planes
         k, m = lead.near.shape[0], lead.near.shape[1]
         p, c = len(self.plates), len(self.creases)
