@@ -77,6 +77,16 @@ def test_pdf(data, tmp_path, svg_text):
     assert both == [tmp_path / "once.svg", tmp_path / "once.pdf"]
     assert both[1].read_bytes() == blob
     assert both[0].read_text(encoding="utf-8") == svg_text
+    # re-read by pypdf: DejaVu Sans and its bold, each embedded once (matplotlib 3.11 embeds the
+    # regular face again, a fontTools subsetting more, for α, β, − and the "fl" ligature unless
+    # told otherwise), and the text holds the Greek letters and the "fl" the sheet writes
+    pypdf = pytest.importorskip("pypdf")
+    page = pypdf.PdfReader(str(path)).pages[0]
+    fonts = page["/Resources"]["/Font"]
+    names = sorted(str(fonts[key].get_object()["/BaseFont"]).split("+")[-1] for key in fonts)
+    assert names == ["DejaVuSans", "DejaVuSans-Bold"]
+    text = page.extract_text()
+    assert "α" in text and "fl" in text
 
 
 def test_bad_suffix(data, tmp_path):

@@ -25,12 +25,28 @@ __all__ = ["write_assembly_sheet", "write_assembly_sheets", "SHEET_FORMATS"]
 SHEET_FORMATS = (".pdf", ".svg", ".png")
 A3_LANDSCAPE = (16.54, 11.69)  # inches
 #: matplotlib settings of the page: text stays text, a fixed salt for the SVG's ids.
+#: ``ps.fonttype`` 42 as well: matplotlib 3.11's PDF writer groups a font's characters into
+#: subsets of ``ps.fonttype``'s size (256 for its default, 3), and each subset is one more
+#: embedding of the font (a fontTools subsetting, ~0.17 s: a tenth of a small design's
+#: ``ccu fabricate``), which a character past U+00FF (α, β, −) started.
 _RC = {
     "svg.fonttype": "none",
     "pdf.fonttype": 42,
+    "ps.fonttype": 42,
     "font.family": "DejaVu Sans",
     "svg.hashsalt": "compas_ccu",
 }
+
+
+def _no_ligatures(fig) -> None:
+    """Every text of ``fig`` set without ligatures: matplotlib 3.11's PDF writer puts a glyph
+    of several characters ("fl") in a second embedding of its font (see ``_RC``). Older
+    matplotlib has no font features and draws no ligatures."""
+    from matplotlib.text import Text
+
+    for text in fig.findobj(Text):
+        if hasattr(text, "set_fontfeatures"):
+            text.set_fontfeatures(("-liga",))
 
 
 def _stack_order(data) -> list:
@@ -183,6 +199,7 @@ def write_assembly_sheets(data, paths, *, steps=None, stack=None) -> list:
     with matplotlib.rc_context(_RC):
         fig = Figure(figsize=A3_LANDSCAPE, dpi=100)
         _draw_page(fig, data, order, steps, stack)
+        _no_ligatures(fig)
         for path in paths:
             fig.savefig(path, metadata=_metadata(data, path.suffix.lower()))
     return paths
