@@ -516,7 +516,7 @@ def test_a_design_proposed_again_is_not_evaluated_again(tmp_path):
     )
     study = write_study(tmp_path, text)
     assert study.parameter_names == ["plates.material"]
-    r = run_study(study, tmp_path / "out", trials=7, in_process=True, progress=False)
+    r = run_study(study, tmp_path / "out", trials=7, in_process=True, progress=False, plots=False)
     assert (r.computed, r.evaluations) == (7, 3)  # three materials
     reused = [x for x in r.rows if x["reused"]]
     assert len(reused) == 4
@@ -537,7 +537,7 @@ def test_the_cheap_checks_gate_the_fe(tmp_path):
     text = text.replace("[constraints]", "[constraints]\nfe_buckling_factor = {min = 3.0}")
     study = write_study(tmp_path, text)
     assert study.options["fe_when"] == study.cheap_constraints
-    r = run_study(study, tmp_path / "out", trials=4, in_process=True, progress=False)
+    r = run_study(study, tmp_path / "out", trials=4, in_process=True, progress=False, plots=False)
     assert r.gated == 4 and r.summary["fe_gated"] == 4
     for row in r.rows:
         assert row["status"] == "ok" and row["t_fe"] is None and row["fe_buckling_factor"] is None

@@ -91,8 +91,8 @@ def _geometry_box(doc):
 
 def test_header_extents_are_the_entities(data, plate_files, hinge_file):
     """$EXTMIN / $EXTMAX bound the drawing (not ezdxf's +-1e20 placeholders)."""
-    for path in [*plate_files, hinge_file[0]]:
-        doc = ezdxf.readfile(path)
+    docs = [ezdxf.readfile(path) for path in plate_files]  # each file read once
+    for path, doc in zip([*plate_files, hinge_file[0]], [*docs, ezdxf.readfile(hinge_file[0])]):
         lo = np.array(doc.header["$EXTMIN"][:2], dtype=float)
         hi = np.array(doc.header["$EXTMAX"][:2], dtype=float)
         glo, ghi = _geometry_box(doc)
@@ -101,8 +101,7 @@ def test_header_extents_are_the_entities(data, plate_files, hinge_file):
         # tight: only text may stick out, by less than 5 % of the drawing
         assert np.linalg.norm(lo - glo) < 0.05 * size and np.linalg.norm(hi - ghi) < 0.05 * size
         assert doc.header["$EXTMIN"][2] == doc.header["$EXTMAX"][2] == 0.0
-    for i, path in enumerate(plate_files):  # plates: the labels are inside, the box is the cut
-        doc = ezdxf.readfile(path)
+    for i, doc in enumerate(docs):  # plates: the labels are inside, the box is the cut
         outline = data.outline(i) * 1000.0
         np.testing.assert_allclose(doc.header["$EXTMIN"][:2], outline.min(axis=0), atol=1e-9)
         np.testing.assert_allclose(doc.header["$EXTMAX"][:2], outline.max(axis=0), atol=1e-9)

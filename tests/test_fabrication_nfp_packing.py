@@ -137,6 +137,7 @@ def test_parts_lie_on_their_sheets_the_gap_apart_in_the_turns_the_grain_allows()
                 assert polys[a].distance(polys[b]) >= 12.0 - 1e-9, (a, b)
 
 
+@pytest.mark.slow  # it keeps a core busy on purpose, the other worker's core in `make test-fast`
 def test_the_same_input_gives_the_same_layout_twice_even_with_a_core_busy():
     kwargs = dict(length=1500.0, width=1000.0, gap=12.0, seed=3, generations=2)
     first = sheet_pack(SHAPES, GRAIN, **kwargs)

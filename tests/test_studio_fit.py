@@ -9,8 +9,6 @@ import dataclasses
 import json
 import os
 import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -149,14 +147,15 @@ def test_a_link_out_of_the_design_folder_is_refused(session, folders, tmp_path):
     assert len(load_target(session.files, outside / "scan.xyz", command_line=True).target) == 3
 
 
-def test_ccu_studio_refuses_a_missing_target_in_one_line(tmp_path):
-    proc = subprocess.run(
-        [sys.executable, "-m", "compas_ccu.cli", "studio", str(EXAMPLES / "vault.toml"),
-         "--target", str(tmp_path / "none.xyz"), "--out", str(tmp_path / "o"), "--no-browser"],
-        capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
-    assert proc.returncode == 2, proc.stderr
-    assert "none.xyz': no such file" in proc.stderr and proc.stderr.count("\n") == 1
+def test_ccu_studio_refuses_a_missing_target_in_one_line(tmp_path, capsys):
+    from compas_ccu.cli import main
+
+    argv = ["studio", str(EXAMPLES / "vault.toml"), "--target", str(tmp_path / "none.xyz"),
+            "--out", str(tmp_path / "o"), "--no-browser"]  # fmt: skip
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "none.xyz': no such file" in err and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()
 
 
 # -- the app's frame (a server on a free port, no browser) ----------------------------------------
