@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -168,6 +169,25 @@ SLOW_DOCTESTS = {
     "compas_ccu.fabrication.import_documents.import_structure",
     "compas_ccu.viz.report.write_report",  # a whole report of the vault (~4 s)
 }
+
+
+#: A test module marked slow as a whole (``pytestmark = pytest.mark.slow`` or a list starting
+#: with it, at the start of a line).
+WHOLLY_SLOW = re.compile(r"^pytestmark = \[?pytest\.mark\.slow\b", re.MULTILINE)
+
+
+def pytest_ignore_collect(collection_path, config):
+    """The quick loop (``-m "not slow"``) does not import a test module marked slow as a whole:
+    deselecting its tests after the import would still pay its imports in every worker (Dask's
+    ``distributed`` alone ~0.45 s)."""
+    if (
+        config.getoption("markexpr", "") == "not slow"
+        and collection_path.suffix == ".py"
+        and collection_path.name.startswith("test_")
+        and WHOLLY_SLOW.search(collection_path.read_text(encoding="utf-8"))
+    ):
+        return True
+    return None
 
 
 def pytest_collection_modifyitems(config, items):
