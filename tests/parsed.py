@@ -1,4 +1,4 @@
-"""Each source file parsed (and tokenized) once per test process: the architecture, typed-result
+"""Each source file parsed once per test process: the architecture, typed-result
 and tolerance checks walk the same ~280 modules several times (~0.4 s a walk).
 
 A tree is shared between the checks: walk it, never change it. A file written again (the checks'
@@ -10,9 +10,7 @@ from __future__ import annotations
 
 import ast
 import functools
-import io
 import os
-import tokenize
 
 
 def parse(path) -> ast.Module:
@@ -34,14 +32,15 @@ def _parse(path: str, size: int, mtime_ns: int) -> ast.Module:
 
 
 def float_literals(path) -> tuple:
-    """``(line, literal)`` of every float literal in the code of the Python file ``path`` (a
-    docstring or comment is a string to the tokenizer, not a number), cached like :func:`parse`.
+    """``(line, literal)`` of every float literal in the code of the Python file ``path``, as
+    written (a docstring or comment is a string, not a number), read from the tree of
+    :func:`parse` (which the other checks share) and cached like it.
 
     Examples
     --------
     >>> import tempfile
     >>> with tempfile.NamedTemporaryFile("w", suffix=".py", delete=False) as f:
-    ...     _ = f.write("x = 2 * 1.5e-3 + 1j + 7  # 1e-300 in a comment")
+    ...     _ = f.write("x = 2 * 1.5e-3 + 1j + 7 + 0x1e  # 1e-300 in a comment")
     >>> float_literals(f.name)
     ((1, '1.5e-3'),)
     >>> os.remove(f.name)
@@ -53,11 +52,11 @@ def float_literals(path) -> tuple:
 @functools.cache
 def _float_literals(path: str, size: int, mtime_ns: int) -> tuple:
     with open(path, encoding="utf-8") as handle:
-        text = handle.read()
-    return tuple(
-        (token.start[0], token.string)
-        for token in tokenize.generate_tokens(io.StringIO(text).readline)
-        if token.type == tokenize.NUMBER
-        and not token.string.endswith(("j", "J"))
-        and any(c in token.string for c in ".eE")
-    )
+        lines = handle.read().splitlines()
+    found = []
+    for node in ast.walk(_parse(path, size, mtime_ns)):
+        if isinstance(node, ast.Constant) and type(node.value) is float:
+            line = lines[node.lineno - 1].encode("utf-8")  # offsets count UTF-8 bytes
+            literal = line[node.col_offset : node.end_col_offset].decode()
+            found.append((node.lineno, node.col_offset, literal))
+    return tuple((lineno, literal) for lineno, _, literal in sorted(found))
