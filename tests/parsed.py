@@ -31,6 +31,25 @@ def _parse(path: str, size: int, mtime_ns: int) -> ast.Module:
         return ast.parse(handle.read())
 
 
+def nodes(path) -> tuple:
+    """Every node of the tree of the Python file ``path`` (:func:`parse`) in ``ast.walk``'s
+    order, cached like it: the checks iterate a tuple instead of walking the tree again.
+
+    Examples
+    --------
+    >>> import ast
+    >>> sum(isinstance(n, ast.FunctionDef) for n in nodes(__file__)) >= 4
+    True
+    """
+    stat = os.stat(path)
+    return _nodes(os.fspath(path), stat.st_size, stat.st_mtime_ns)
+
+
+@functools.cache
+def _nodes(path: str, size: int, mtime_ns: int) -> tuple:
+    return tuple(ast.walk(_parse(path, size, mtime_ns)))
+
+
 def float_literals(path) -> tuple:
     """``(line, literal)`` of every float literal in the code of the Python file ``path``, as
     written (a docstring or comment is a string, not a number), read from the tree of
@@ -54,7 +73,7 @@ def _float_literals(path: str, size: int, mtime_ns: int) -> tuple:
     with open(path, encoding="utf-8") as handle:
         lines = handle.read().splitlines()
     found = []
-    for node in ast.walk(_parse(path, size, mtime_ns)):
+    for node in _nodes(path, size, mtime_ns):
         if isinstance(node, ast.Constant) and type(node.value) is float:
             line = lines[node.lineno - 1].encode("utf-8")  # offsets count UTF-8 bytes
             literal = line[node.col_offset : node.end_col_offset].decode()

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from compas_ccu.design.document import parse_toml
-from parsed import parse
+from parsed import nodes
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src" / "compas_ccu"
@@ -48,26 +48,44 @@ def test_every_top_level_module_is_in_a_layer():
     assert _layered_modules() - top == set(), "these layers name modules that do not exist"
 
 
-def test_no_function_local_imports_of_the_package():
+def function_local_imports(root: Path) -> list:
+    """``path:line`` of every import of the package (``compas_ccu`` or ``compas_ccu.*``) inside
+    a function of a Python file under ``root``."""
+    local = []
+    for path in sorted(root.rglob("*.py")):
+        functions = [
+            (n.lineno, n.end_lineno)
+            for n in nodes(path)
+            if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))
+        ]
+        for node in nodes(path):
+            if not isinstance(node, (ast.Import, ast.ImportFrom)):
+                continue
+            names = (
+                [node.module or ""]
+                if isinstance(node, ast.ImportFrom)
+                else [a.name for a in node.names]
+            )
+            if not any(n == "compas_ccu" or n.startswith("compas_ccu.") for n in names):
+                continue
+            # local: a function's lines enclose it (a statement lies within its block's lines)
+            if any(first <= node.lineno <= last for first, last in functions):
+                local.append(f"{path.relative_to(root).as_posix()}:{node.lineno}")
+    return local
+
+
+def test_no_function_local_imports_of_the_package(tmp_path):
     """Intra-package imports are module-level: only optional third-party extras load lazily
     (and the command modules of the ccu command table, by name: the next tests)."""
-    local = []
-    for path in sorted(SRC.rglob("*.py")):
-        # one walk per file; an import is local when a function encloses it
-        stack = [(child, False) for child in ast.iter_child_nodes(parse(path))]
-        while stack:
-            node, in_function = stack.pop()
-            if in_function and isinstance(node, (ast.Import, ast.ImportFrom)):
-                names = (
-                    [node.module or ""]
-                    if isinstance(node, ast.ImportFrom)
-                    else [a.name for a in node.names]
-                )
-                if any(n == "compas_ccu" or n.startswith("compas_ccu.") for n in names):
-                    local.append(f"{path.relative_to(ROOT)}:{node.lineno}")
-            inside = in_function or isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
-            stack.extend((child, inside) for child in ast.iter_child_nodes(node))
-    assert local == []
+    assert function_local_imports(SRC) == []
+    # the check can fail: imports in a function, a method and a nested function are found;
+    # module-level ones (under ``if`` or ``try`` too) and other packages' are not
+    (tmp_path / "bad.py").write_text(
+        "import compas_ccu.model\ntry:\n    from compas_ccu import errors\nexcept ImportError:\n"
+        "    pass\n\n\ndef f():\n    import numpy\n    from compas_ccu.model import load_model\n"
+        "\n\nclass A:\n    def g(self):\n        def h():\n            import compas_ccu\n"
+    )
+    assert function_local_imports(tmp_path) == ["bad.py:10", "bad.py:16"]
 
 
 #: The modules that import a module named by a variable (``importlib.import_module(name)``), and
@@ -94,7 +112,7 @@ def imports_by_name(root: Path) -> dict:
     variable (a literal naming another package is not listed)."""
     found = {}
     for path in sorted(root.rglob("*.py")):
-        for node in ast.walk(parse(path)):
+        for node in nodes(path):
             if not isinstance(node, ast.Call) or not node.args:
                 continue
             func = node.func
@@ -145,7 +163,7 @@ def private_imports(root: Path) -> list:
     """``path:line name`` of every ``_private`` name imported from another compas_ccu module."""
     found = []
     for path in sorted(root.rglob("*.py")):
-        for node in ast.walk(parse(path)):
+        for node in nodes(path):
             if not isinstance(node, ast.ImportFrom) or not (node.module or "").startswith(
                 "compas_ccu"
             ):

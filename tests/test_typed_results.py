@@ -17,7 +17,7 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-from parsed import parse
+from parsed import nodes
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "compas_ccu"
 CORE = ("curves", "strips", "kinematics", "model")
@@ -124,8 +124,7 @@ def _dict_results(root: Path, packages) -> list:
     folders = [root] if packages is None else [root / p for p in packages]
     for folder in folders:
         for path in sorted(folder.rglob("*.py")):
-            tree = parse(path)
-            for node in ast.walk(tree):
+            for node in nodes(path):
                 if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                     continue
                 if node.returns is None or node.name in DOCUMENTS:
