@@ -234,11 +234,41 @@ def test_one_segment_strip_inverts_an_angle():
     assert strip.reference_alpha(s0)[0] == pytest.approx(0.4, abs=1e-14)
 
 
+def plain_place(strip: LeadingStrip, s0: np.ndarray) -> tuple:
+    """The leading strip placed as docs/geometry.md writes it, one array operation per step:
+    ``(near, rulings, far, tilts)`` for (k,) ``s0``. The oracle of the placement's
+    implementation (:class:`~compas_ccu.kinematics.leading.LeadingWriter`: kept arrays, fused
+    calls), which must give the same bits."""
+    n, k = strip.n, len(s0)
+    # n + 1 columns: segments 0 ... n - 1, and segment n - 1 again for the last ruling
+    sin_psi = np.minimum(np.maximum(s0[:, None] * strip._factors_ext[None, :], -1.0), 1.0)
+    cos_psi = np.sqrt(1.0 - np.square(sin_psi))
+    turns = strip._turns(s0, sin_psi[:, :n], cos_psi[:, :n])  # (K2)
+    theta = np.zeros((k, n + 1))
+    np.add.accumulate(turns, axis=1, out=theta[:, 1:n])
+    theta[:, :n] += (strip.anchor_angle - strip._tangent_angle(theta[:, :n], turns))[:, None]
+    theta[:, n] = theta[:, n - 1]
+    cos_t, sin_t = np.cos(theta), np.sin(theta)
+    h = strip.intrinsics.edge_lengths
+    near = np.zeros((k, n + 1, 3))
+    np.add.accumulate(h * cos_t[:, :n], axis=1, out=near[:, 1:, 0])
+    np.add.accumulate(h * sin_t[:, :n], axis=1, out=near[:, 1:, 1])
+    near[:, :, :2] += (strip.anchor_point - near[:, strip.reference, :2])[:, None, :]
+    # ruling i in the frame of quad min(i, n - 1), from the vertex into the plate
+    cb, sb = strip._ruling_cos, strip._ruling_sin
+    rulings = np.empty((k, n + 1, 3))
+    rulings[:, :, 0] = cb * cos_t - sb * cos_psi * sin_t
+    rulings[:, :, 1] = cb * sin_t + sb * cos_psi * cos_t
+    rulings[:, :, 2] = sb * sin_psi
+    far = strip._ruling_xyz * rulings + near
+    return near, rulings, far, np.arcsin(sin_psi[:, :n])
+
+
 @pytest.mark.parametrize("n, seed", [(1, 0), (2, 0), (3, 1), (17, 2), (64, 3)])
-def test_the_writer_places_the_strip_bit_for_bit(n, seed):
-    """LeadingStrip.writer (kept arrays, fewer calls) writes what LeadingStrip.place returns, to
-    the last bit, signed zeros included, for every reference vertex kind, one or several states,
-    the flat state, the limit, beyond it and a negative or missing s0."""
+def test_the_placement_is_the_plain_one_bit_for_bit(n, seed):
+    """LeadingStrip.place, and its writer into kept arrays, give what the plain transcription
+    (:func:`plain_place`) gives, to the last bit, signed zeros included, for every reference
+    vertex kind, one or several states, the flat state, the limit, beyond it and a negative s0."""
     near, far = wavy_strip(n, seed)
     intr = strip_intrinsics(near, far)
     for reference in sorted({0, 1, n // 2, n - 1, n}):
@@ -249,9 +279,9 @@ def test_the_writer_places_the_strip_bit_for_bit(n, seed):
             out = [np.empty((len(s0), n + 1, 3)) for _ in range(3)]
             writer = strip.writer(*out)
             for values in (s0, s0[::-1].copy()):  # the second call reuses the arrays
-                want = strip.place(values)
+                want = plain_place(strip, values)
                 tilts = writer.place(values)
-                for got, expected in zip(
-                    [*out, tilts], [want.near, want.rulings, want.far, want.tilts]
-                ):
+                placed = strip.place(values)
+                for got, also, expected in zip([*out, tilts], placed, want):
                     assert got.tobytes() == expected.tobytes(), (reference, values)
+                    assert also.tobytes() == expected.tobytes(), (reference, values)

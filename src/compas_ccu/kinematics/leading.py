@@ -194,39 +194,13 @@ class LeadingStrip:
         Returns
         -------
         LeadingPlacement
+            New arrays (:class:`LeadingWriter` writes them).
         """
         if type(s0) is not np.ndarray or s0.ndim != 1 or s0.dtype != np.float64:
             s0 = np.atleast_1d(np.asarray(s0, dtype=float))
-        n = self.n
-        # n + 1 columns: segments 0 ... n - 1, and segment n - 1 again for the last ruling; the
-        # clip as its two ufuncs, the cumulative sums as add.accumulate (the same operations)
-        sin_psi = np.multiply(s0[:, None], self._factors_ext[None, :])
-        np.minimum(np.maximum(sin_psi, -1.0, out=sin_psi), 1.0, out=sin_psi)
-        cos_psi = np.square(sin_psi)
-        np.sqrt(np.subtract(1.0, cos_psi, out=cos_psi), out=cos_psi)
-        turns = self._turns(s0, sin_psi[:, :n], cos_psi[:, :n])
-        k = len(s0)
-        theta = np.zeros((k, n + 1))
-        np.add.accumulate(turns, axis=1, out=theta[:, 1:n])
-        theta[:, :n] += (self.anchor_angle - self._tangent_angle(theta[:, :n], turns))[:, None]
-        theta[:, n] = theta[:, n - 1]
-        cos_t, sin_t = np.cos(theta), np.sin(theta)
-        h = self.intrinsics.edge_lengths
-        near = np.zeros((k, n + 1, 3))
-        np.add.accumulate(np.multiply(h, cos_t[:, :n]), axis=1, out=near[:, 1:, 0])
-        np.add.accumulate(np.multiply(h, sin_t[:, :n]), axis=1, out=near[:, 1:, 1])
-        near[:, :, :2] += (self.anchor_point - near[:, self.reference, :2])[:, None, :]
-        # ruling i in the frame of quad min(i, n - 1) (docstring), from the vertex into the plate
-        cb, sb = self._ruling_cos, self._ruling_sin
-        sb_cos = sb * cos_psi
-        rulings = np.empty((k, n + 1, 3))
-        x, y = rulings[:, :, 0], rulings[:, :, 1]
-        np.subtract(np.multiply(cb, cos_t, out=x), sb_cos * sin_t, out=x)
-        np.add(np.multiply(cb, sin_t, out=y), sb_cos * cos_t, out=y)
-        np.multiply(sb, sin_psi, out=rulings[:, :, 2])
-        far = np.multiply(self._ruling_xyz, rulings)  # the lengths repeated over xyz
-        far += near
-        return LeadingPlacement(near, rulings, far, np.arcsin(sin_psi[:, :n]))
+        near, rulings, far = (np.empty((len(s0), self.n + 1, 3)) for _ in range(3))
+        tilts = LeadingWriter(self, near, rulings, far).place(s0)
+        return LeadingPlacement(near, rulings, far, tilts)
 
     def writer(self, near: np.ndarray, rulings: np.ndarray, far: np.ndarray) -> LeadingWriter:
         """A :class:`LeadingWriter` that places the strip into ``near``, ``rulings`` and
@@ -458,9 +432,11 @@ def _divide(a: float, b: float) -> float:
 
 
 class LeadingWriter:
-    """:meth:`LeadingStrip.place` of ``k`` states written into kept arrays, bit for bit.
+    """The placement of the leading strip for ``k`` states, written into kept arrays: the one
+    implementation of :meth:`LeadingStrip.place` (which writes into new arrays).
 
-    The same floating-point operations on the same operands as :meth:`LeadingStrip.place`, with
+    The floating-point operations of docs/geometry.md's placement, one array operation per
+    step (``plain_place`` in tests/test_kinematics_leading.py, which gives the same bits), with
     the work arrays and every view made once (:meth:`LeadingStrip.writer`) and fewer NumPy
     calls: the two arctangents of (K2) as one call on the two windows of ``cos(psi)`` (a strided
     view); the cosines and sines of the crease directions in one (k, 2, n + 1) array, so that
@@ -480,8 +456,6 @@ class LeadingWriter:
         self.strip, self.near, self.rulings, self.far = strip, near, rulings, far
         k, n = near.shape[0], strip.n
         self.k, self.n = k, n
-        if n < 2:  # one segment: LeadingStrip.place itself
-            return
         # the clip's lower bound is a no-op for one state s0 >= 0 when no factor is negative
         self.nonnegative = bool((strip._factors_ext >= 0.0).all())
         self.sin_psi, self.cos_psi = np.empty((k, n + 1)), np.empty((k, n + 1))
@@ -511,16 +485,16 @@ class LeadingWriter:
         self.rulings_xy_t = rulings[:, :, :2].transpose(0, 2, 1)  # (k, 2, n + 1)
         near[:, :, 2] = 0.0  # the crease stays in O: written once
         r = strip.reference
-        # the tangent at the reference vertex: theta[at] + half * turns[turn] (_tangent_angle)
-        self.tangent = {0: (0, 0, -0.5), n: (n - 1, n - 2, 0.5)}.get(r, (r - 1, r - 1, 0.5))
+        # the tangent at the reference vertex: theta[at] + half * turns[turn] (_tangent_angle);
+        # one segment has no turn: its direction
+        if n == 1:
+            self.tangent = (0, None, 0.0)
+        else:
+            self.tangent = {0: (0, 0, -0.5), n: (n - 1, n - 2, 0.5)}.get(r, (r - 1, r - 1, 0.5))
 
     def place(self, s0: np.ndarray) -> np.ndarray:
         """Place the strip for ``s0`` (k,) float; returns the tilts (k, n)."""
         strip, n, k = self.strip, self.n, self.k
-        if n < 2:
-            lead = strip.place(s0)
-            self.near[...], self.rulings[...], self.far[...] = lead.near, lead.rulings, lead.far
-            return lead.tilts
         sin_psi, cos_psi = self.sin_psi, self.cos_psi
         np.multiply(s0[:, None], strip._factors_ext, out=sin_psi)
         if not (self.nonnegative and k == 1 and s0[0] >= 0.0):
@@ -535,7 +509,9 @@ class LeadingWriter:
         np.subtract(halves[:, 0], halves[:, 1], out=turns)
         np.add.accumulate(turns, axis=1, out=theta[:, 1:])
         at, turn, half = self.tangent
-        if k == 1:
+        if turn is None:  # one segment
+            shift = (strip.anchor_angle - theta[:, at])[:, None]
+        elif k == 1:
             shift = strip.anchor_angle - (theta.item(at) + half * turns.item(turn))
         else:
             shift = (strip.anchor_angle - (theta[:, at] + half * turns[:, turn]))[:, None]
@@ -547,7 +523,7 @@ class LeadingWriter:
         np.add.accumulate(self.steps, axis=2, out=self.sums_t)
         np.subtract(strip.anchor_point, self.sums[:, strip.reference], out=self.anchor[:, 0])
         np.add(self.sums, self.anchor, out=self.near[:, :, :2])
-        coefficients = self.coefficients  # the rulings (LeadingStrip.place)
+        coefficients = self.coefficients  # the rulings
         np.multiply(self.signed_sb, cos_psi[:, None], out=coefficients[:, ::2])
         np.multiply(coefficients[:, 1:], self.cos_t[:, None], out=self.by_cos)
         np.multiply(coefficients[:, :2], self.sin_t[:, None], out=self.by_sin)
