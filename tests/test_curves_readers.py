@@ -55,6 +55,36 @@ def test_dxf_arc_and_bulge_polyline_are_the_exact_arc(tmp_path, layer):
     assert np.linalg.norm(curve.points[[0, -1], :2], axis=1) == pytest.approx([R, R], abs=1e-14)
 
 
+def test_object_coordinates_to_world_are_ezdxfs_to_the_bit():
+    """ocs_to_wcs (all points at once) against ezdxf's OCS.to_wcs point by point: a mirrored
+    arc's extrusion (0, 0, -1), the world's, and random tilted ones, to the last bit."""
+    from ezdxf.math import OCS
+
+    from compas_ccu.curves.dxf_input import ocs_to_wcs
+
+    rng = np.random.default_rng(7)
+    extrusions = [(0.0, 0.0, -1.0), (0.0, 0.0, 1.0), (0.01, 0.0, 1.0)]
+    extrusions += [tuple(rng.normal(size=3)) for _ in range(20)]
+    for extrusion in extrusions:
+        ocs = OCS(extrusion)
+        local = rng.normal(size=(40, 3)) * 10.0 ** rng.uniform(-3, 3)
+        want = np.array([tuple(ocs.to_wcs(tuple(p))) for p in local], dtype=float)
+        assert ocs_to_wcs(ocs, local).tobytes() == want.tobytes(), extrusion
+
+
+def test_a_mirrored_dxf_arc_is_read_where_it_is_drawn(tmp_path):
+    """An ARC with extrusion (0, 0, -1), as a CAD mirror writes it: its points in the world."""
+    doc = ezdxf.new("R2010")
+    doc.units = ezdxf.units.MM
+    doc.modelspace().add_arc((0, 0), R * 1000.0, 45, 135, dxfattribs={"extrusion": (0, 0, -1)})
+    doc.saveas(tmp_path / "m.dxf")
+    points = read_curve(tmp_path / "m.dxf").points
+    vertices, chords = radial_error(points)
+    assert vertices < 1e-15 * 10 and chords <= 1e-8 * SIZE
+    assert (points[:, 1] > 0.0).all()  # the mirror image of an arc above the x axis is above it
+    assert np.allclose(sorted(points[[0, -1], 0]), [-R * math.cos(A0), R * math.cos(A0)])
+
+
 def test_dxf_several_curves_need_a_choice_and_the_error_lists_them(tmp_path):
     path = arc_dxf(tmp_path / "a.dxf")
     with pytest.raises(ProfileError, match=r"2 candidate curves.*\[0\] ARC #\w+ on layer ARC"):

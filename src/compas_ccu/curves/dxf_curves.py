@@ -19,6 +19,7 @@ from compas_ccu.curves.candidates import Candidate, adaptive, need_module
 from compas_ccu.curves.dxf_input import (
     check_dxf_points,
     dxf_units,
+    ocs_to_wcs,
     one_line,
     spline_sampler,
     straight_polyline_points,
@@ -141,7 +142,7 @@ def _dxf_arc_sampler(e):
             centre[1] + radius * np.sin(start + ts * sweep),
             np.full(len(ts), centre[2]),
         ]
-        return np.array([tuple(ocs.to_wcs(tuple(p))) for p in local], dtype=float)
+        return ocs_to_wcs(ocs, local)
 
     return lambda tol: adaptive(evaluate, 0.0, 1.0, tol)
 

@@ -26,6 +26,7 @@ __all__ = [
     "check_dxf_points",
     "check_finite",
     "extent",
+    "ocs_to_wcs",
     "one_line",
     "spline_sampler",
     "straight_polyline_points",
@@ -263,7 +264,33 @@ def straight_polyline_points(e):
     local = np.c_[data[:, :2], np.full(len(data), elevation)]
     if e.closed and len(local) > 1:
         local = np.r_[local, local[:1]]
+    return ocs_to_wcs(ocs, local)
+
+
+def ocs_to_wcs(ocs, local: np.ndarray) -> np.ndarray:
+    """World coordinates of points given in an entity's object coordinate system: ezdxf's
+    ``OCS.to_wcs`` of every point at once, the same operations in the same order
+    (``x ux + y uy + z uz``), so the same numbers; the points themselves where the OCS is the
+    world's.
+
+    Parameters
+    ----------
+    ocs : ezdxf.math.OCS
+    local : (m, 3) float
+
+    Returns
+    -------
+    (m, 3) float
+
+    Examples
+    --------
+    >>> from ezdxf.math import OCS
+    >>> ocs_to_wcs(OCS((0, 0, -1)), np.array([[1.0, 2.0, 3.0]])).tolist()  # a mirrored arc's
+    [[-1.0, 2.0, -3.0]]
+    >>> tuple(OCS((0, 0, -1)).to_wcs((1.0, 2.0, 3.0)))
+    (-1.0, 2.0, -3.0)
+    """
     if not ocs.transform:
         return local
-    axes = np.array([tuple(ocs.ux), tuple(ocs.uy), tuple(ocs.uz)], dtype=float)
-    return local @ axes
+    ux, uy, uz = (np.array(tuple(axis), dtype=float) for axis in (ocs.ux, ocs.uy, ocs.uz))
+    return local[:, :1] * ux + local[:, 1:2] * uy + local[:, 2:3] * uz
