@@ -194,9 +194,9 @@ def every_event(certificate, sided: bool) -> list:
     """Every event of ``certificate``'s whole range, chunk by chunk as the scan takes them:
     ``(chunk start, state, kind, a, b, point bytes)``; ``sided=False`` runs the exact tests on
     every candidate block pair (no block left out, as before the filter)."""
-    keep = interference_events._sided
+    keep = interference_events.sided_blocks
     if not sided:
-        interference_events._sided = lambda g, found, *_: np.ones(len(found[0]), dtype=bool)
+        interference_events.sided_blocks = lambda g, found, *_: np.ones(len(found[0]), dtype=bool)
     try:
         out = []
         for start in range(0, len(certificate.alphas) - 1, 16):
@@ -208,7 +208,7 @@ def every_event(certificate, sided: bool) -> list:
             out.append((start, tol))
         return out
     finally:
-        interference_events._sided = keep
+        interference_events.sided_blocks = keep
 
 
 @pytest.mark.parametrize(
