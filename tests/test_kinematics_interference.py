@@ -228,3 +228,27 @@ def test_the_blocks_left_out_hold_no_event(path):
     assert len(found) > 100  # ranges beyond the first crossing: many events of both kinds
     assert {e[2] for e in found if len(e) > 2} == {"crossing", "pass-through"}
     assert found == every_event(certificate, sided=False)
+
+
+@pytest.mark.parametrize("name", ["vault.toml", "quadrants.toml", "cone.toml"])
+def test_the_states_kept_from_the_set_up_are_the_states_placed_again(name):
+    """The scan reads the states of its set-up (the ends of its steps) instead of placing them
+    again: the same vertices, bit for bit, and the same result as a scan that places them."""
+    model = load_model(EXAMPLES / name)
+    certificate = model.certificate
+    kept = certificate._initial >= 0
+    assert kept.sum() == 33 and kept[0] and kept[-1]
+    for start in range(0, len(certificate.alphas) - 1, 16):
+        stop = min(start + 17, len(certificate.alphas))
+        placed = certificate._vertices_at(certificate.alphas[start:stop])
+        assert np.array_equal(certificate._states(start, stop), placed)
+    fresh = load_model(EXAMPLES / name).certificate
+    fresh._initial[:] = -1  # every state placed
+    found, expected = certificate.result(), fresh.result()
+    assert (found.clear, found.hit, found.plates, found.kind) == (
+        expected.clear,
+        expected.hit,
+        expected.plates,
+        expected.kind,
+    )
+    assert certificate._placed is None  # released once the scan is over
