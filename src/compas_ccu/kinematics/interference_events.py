@@ -242,7 +242,10 @@ def _batch_events(g, block, quad_block, local, edges, excluded):
     """The events of candidate block pairs ``block`` ((N,) state, a, J, b, I) of
     :func:`path_events`: crossings, then pass-throughs, each in the order of the candidates."""
     kq, aq, jq, bq, iq = block
-    touch, centre, radius2, reach = g.touch, g.centre, g.radius2, g.reach
+    p, n = g.offset.shape[1:]
+    touch, radius2, reach = g.touch.ravel(), g.radius2.ravel(), g.reach
+    centre = g.centre.reshape(-1, 3)
+    inward, sides = g.edges[0].reshape(-1, 4, 3), g.edges[1].reshape(-1, 4)
     quads = quad_block[jq]  # (N, BLOCK)
     verts = local[iq]  # (N, V)
     skip = excluded[aq[:, None], bq[:, None], verts]  # (N, V)
@@ -250,7 +253,7 @@ def _batch_events(g, block, quad_block, local, edges, excluded):
     for step in (0, 1):
         kk = kq + step
         h, x = _heights(g, kk, aq, quads, bq, verts)  # (N, V, BLOCK), (N, V, 3)
-        t = touch[kk[:, None], aq[:, None], quads][:, None, :]  # (N, 1, BLOCK)
+        t = g.touch[kk[:, None], aq[:, None], quads][:, None, :]  # (N, 1, BLOCK)
         heights.append((h, x, (h > t) & ~skip[..., None], (h < -t) & ~skip[..., None]))
     (h0, x0, up0, dn0), (h1, x1, up1, dn1) = heights
     found = []
@@ -262,11 +265,10 @@ def _batch_events(g, block, quad_block, local, edges, excluded):
         ha, hb = h1[nn, e0[ee], qq], h1[nn, e1[ee], qq]
         pa, pb = x1[nn, e0[ee]], x1[nn, e1[ee]]
         point = pa + (ha / (ha - hb))[:, None] * (pb - pa)
-        at = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        at = ((kq[nn] + 1) * p + aq[nn]) * n + quads[nn, qq]  # into (k, p, n), flat
         near = ((point - centre[at]) ** 2).sum(axis=-1) <= radius2[at]
-        nn, qq, point = nn[near], qq[near], point[near]
-        at = (kq[nn] + 1, aq[nn], quads[nn, qq])
-        hit = _inside(point, g.edges[0][at], g.edges[1][at], -touch[at])  # the closed quad
+        nn, qq, point, at = nn[near], qq[near], point[near], at[near]
+        hit = _inside(point, inward[at], sides[at], -touch[at])  # the closed quad
         for i in np.flatnonzero(hit):
             found.append((int(kq[nn[i]]) + 1, "crossing", int(aq[nn[i]]), int(bq[nn[i]]), point[i]))
     # pass-throughs: a vertex over a quad in both states, on both sides of it (its height
@@ -275,21 +277,18 @@ def _batch_events(g, block, quad_block, local, edges, excluded):
     flip = ((up0 & dn1) | (dn0 & up1)) & (np.abs(h1 - h0) <= 3.0 * step)
     nn, vv, qq = np.nonzero(flip)
     if len(nn):
-        at0 = (kq[nn], aq[nn], quads[nn, qq])
-        at1 = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        at0 = (kq[nn] * p + aq[nn]) * n + quads[nn, qq]  # into (k, p, n), flat
+        at1 = at0 + p * n  # the same quad in the next state
         dk = reach[kq[nn]]
         x0v, x1v = x0[nn, vv], x1[nn, vv]
         near = ((x0v - centre[at0]) ** 2).sum(axis=-1) <= (np.sqrt(radius2[at0]) + dk) ** 2
         near &= ((x1v - centre[at1]) ** 2).sum(axis=-1) <= (np.sqrt(radius2[at1]) + dk) ** 2
-        nn, vv, qq, dk, x0v, x1v = nn[near], vv[near], qq[near], dk[near], x0v[near], x1v[near]
-        at0 = (kq[nn], aq[nn], quads[nn, qq])
-        at1 = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        nn, vv, dk, x0v, x1v = nn[near], vv[near], dk[near], x0v[near], x1v[near]
+        at0, at1 = at0[near], at1[near]
         # the foot may move on to the next quad within the step: inside the quad in one
         # state, and within the step's largest displacement of it in the other
-        inward0, sides0 = g.edges[0][at0], g.edges[1][at0]
-        inward1, sides1 = g.edges[0][at1], g.edges[1][at1]
-        d0 = np.einsum("nei,ni->ne", inward0, x0v) - sides0
-        d1 = np.einsum("nei,ni->ne", inward1, x1v) - sides1
+        d0 = np.einsum("nei,ni->ne", inward[at0], x0v) - sides[at0]
+        d1 = np.einsum("nei,ni->ne", inward[at1], x1v) - sides[at1]
         t0, t1 = touch[at0][:, None], touch[at1][:, None]
         in0, in1 = (d0 > t0).all(axis=1), (d1 > t1).all(axis=1)
         near0, near1 = (d0 > -dk[:, None]).all(axis=1), (d1 > -dk[:, None]).all(axis=1)
