@@ -43,8 +43,9 @@ class BlockTables:
     normal: np.ndarray  # (3, k * p * J, B): the quads' unit normals, coordinate by coordinate
     offset: np.ndarray  # (k * p * J, B): their planes' offsets
     touch: np.ndarray  # (k * p * J, B): their touch tolerances, less the margin
+    bounds: np.ndarray  # (2, k * p * I * P, 3): the boxes of the bound (its finite vertices)
     lo: np.ndarray  # (k * p * I * P, 3): the lower corners of the boxes (vertices off the hinge)
-    hi: np.ndarray  # (k * p * I * P, 3): their upper corners
+    hi: np.ndarray  # (k * p * I * P, 3): their upper corners (NaN if a vertex is not finite)
     masks: np.ndarray  # (P, V) bool: the vertices of each pattern on the hinge
     pattern: np.ndarray  # (p, p, I) int: the hinge pattern of plate b's block I against plate a
     margin: float  # >> the rounding of a height
@@ -61,19 +62,23 @@ def block_tables(g, quad_block, local, excluded) -> BlockTables:
     _, first, pattern = np.unique(codes, return_index=True, return_inverse=True)
     masks = masks[first]  # (P, V)
     points = g.vertices[:, :, local]  # (k, p, I, V, 3)
-    lo = np.empty((k, p, len(local), len(masks), 3))
-    hi = np.empty_like(lo)
+    boxes = np.full((4, k, p, len(local), len(masks), 3), np.nan)  # bound lo, hi; lo, hi
     for i, mask in enumerate(masks):
         on = points[:, :, :, ~mask]
-        lo[:, :, :, i] = on.min(axis=3) if on.shape[3] else np.nan
-        hi[:, :, :, i] = on.max(axis=3) if on.shape[3] else np.nan
+        if on.shape[3]:  # the bound skips a vertex that is not finite, as the heights do
+            boxes[0, :, :, :, i], boxes[1, :, :, :, i] = (
+                np.fmin.reduce(on, 3),
+                np.fmax.reduce(on, 3),
+            )
+            boxes[2, :, :, :, i], boxes[3, :, :, :, i] = on.min(axis=3), on.max(axis=3)
     normal = g.normal[:, :, quad_block]  # (k, p, J, B, 3)
     return BlockTables(
         normal=np.moveaxis(normal, -1, 0).reshape(3, -1, quad_block.shape[1]),
         offset=g.offset[:, :, quad_block].reshape(-1, quad_block.shape[1]),
         touch=(g.touch[:, :, quad_block] - margin).reshape(-1, quad_block.shape[1]),
-        lo=lo.reshape(-1, 3),
-        hi=hi.reshape(-1, 3),
+        bounds=boxes[:2].reshape(2, -1, 3),
+        lo=boxes[2].reshape(-1, 3),
+        hi=boxes[3].reshape(-1, 3),
         masks=masks,
         pattern=pattern.reshape(p, p, len(local)),
         margin=margin,
@@ -84,7 +89,7 @@ def _box_bound(t, quads, verts):
     """(M, B) bool twice: a vertex of the box ``verts`` (rows of the box tables) may lie above
     (below) the plane of quad ``b`` of the quad blocks ``quads`` by more than the touch tolerance
     loosened by twice the margin: its box's extreme height ``n . c - offset ± |n| . e`` does."""
-    lo, hi = np.take(t.lo, verts, axis=0), np.take(t.hi, verts, axis=0)
+    lo, hi = np.take(t.bounds, verts, axis=1)
     c, e = 0.5 * (lo + hi), 0.5 * (hi - lo)
     nx, ny, nz = np.take(t.normal, quads, axis=1)  # (M, B) each
     mid = nx * c[:, 0:1] + ny * c[:, 1:2] + nz * c[:, 2:3] - np.take(t.offset, quads, axis=0)
