@@ -128,4 +128,3 @@ def test_the_edge_planes_of_all_quads_are_each_quads_own():
     one_inward, one_sides = interference_events._edge_planes(corners[0, 0, :1], normal[0, 0, :1])
     assert np.array_equal(one_inward, inward[0, 0, :1])
     assert np.array_equal(one_sides, sides[0, 0, :1])
-
