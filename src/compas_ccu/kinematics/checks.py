@@ -6,7 +6,7 @@ import numpy as np
 
 from compas_ccu.geometry import cross3, norm3
 
-__all__ = ["total_turning", "self_intersecting", "crossing_rulings"]
+__all__ = ["total_turning", "self_intersecting", "planar_overlaps", "crossing_rulings"]
 
 
 def crossing_rulings(patterns: np.ndarray, quads: np.ndarray):
@@ -103,19 +103,35 @@ def self_intersecting(points: np.ndarray, origins: np.ndarray, normals: np.ndarr
     """
     out = np.zeros(len(points), dtype=bool)
     suspects = np.flatnonzero(total_turning(points) > np.pi)
-    if suspects.size == 0:
-        return out
+    if suspects.size:
+        out[suspects] = planar_overlaps(points[suspects], origins[suspects], normals[suspects])
+    return out
+
+
+def planar_overlaps(points: np.ndarray, origins: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Which planar polylines overlap themselves, by GEOS alone: each projected onto its plane,
+    all tested in one vectorised call (:func:`self_intersecting` asks it for the polylines that
+    turn by more than pi; each polyline's answer is its own, whichever are tested together).
+
+    Parameters
+    ----------
+    points : (k, m, 3) float
+    origins, normals : (k, 3) float
+        Planes of the polylines.
+
+    Returns
+    -------
+    (k,) bool
+    """
     import shapely
 
-    # every suspect projected onto its plane and tested in one vectorised GEOS call
-    n = normals[suspects]
+    n = normals
     helper = np.where(
         (np.abs(n[:, 0]) < 0.9)[:, None], np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
     )
-    x = np.cross(n, helper)
-    x /= np.linalg.norm(x, axis=1)[:, None]
-    y = np.cross(n, x)
-    rel = points[suspects] - origins[suspects][:, None]
+    x = cross3(n, helper)  # numpy.cross and numpy.linalg.norm's values, bit for bit
+    x /= norm3(x)[:, None]
+    y = cross3(n, x)
+    rel = points - origins[:, None]
     xy = np.stack([np.einsum("kmi,ki->km", rel, x), np.einsum("kmi,ki->km", rel, y)], axis=-1)
-    out[suspects] = ~shapely.is_simple(shapely.linestrings(xy))
-    return out
+    return ~shapely.is_simple(shapely.linestrings(xy))

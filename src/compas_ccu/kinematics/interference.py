@@ -157,12 +157,18 @@ class PathCertificate:
         self._tol = TOUCH_RELATIVE * size
         self.upto = float(upto)
         alphas = np.linspace(0.0, self.upto, _INITIAL_STATES)
-        move = np.linalg.norm(np.diff(vertices_at(alphas), axis=0), axis=-1).max(axis=(1, 2))
+        placed = vertices_at(alphas)
+        move = np.linalg.norm(np.diff(placed, axis=0), axis=-1).max(axis=(1, 2))
         splits = np.clip(np.ceil(move / (STEP * size)), 1, _MAX_STATES).astype(int)
         parts = [alphas[:1]] + [
             np.linspace(alphas[i], alphas[i + 1], s + 1)[1:] for i, s in enumerate(splits)
         ]
         self.alphas = np.concatenate(parts)  #: the scan's states, radians
+        # the first states are those of the scan's ends of steps (linspace ends exactly at its
+        # stop): kept, not placed again (a state is placed the same, bit for bit, in any batch)
+        self._placed = placed
+        self._initial = np.full(len(self.alphas), -1)
+        self._initial[np.concatenate([[0], np.cumsum(splits)])] = np.arange(len(alphas))
         self._done = 0  # states 0 .. _done are clear (steps between them too)
         self._result = None
         self.states = 0  #: states placed and tested so far
@@ -181,7 +187,7 @@ class PathCertificate:
         goal = min(int(np.searchsorted(self.alphas, alpha - ANGLE_TOLERANCE)), last)
         while self._result is None and self._done < goal:
             stop = min(self._done + _CHUNK, last)
-            vertices = self._vertices_at(self.alphas[self._done : stop + 1])
+            vertices = self._states(self._done, stop + 1)
             self.states += len(vertices)
             events, tol = path_events(vertices, self._n, self._excluded, self._tol)
             self.tolerance = max(self.tolerance, tol)
@@ -202,7 +208,25 @@ class PathCertificate:
                     break
             else:
                 self._done = stop
+        if self._result is not None or self._done >= last:
+            self._placed = None  # the scan is over: no state is placed again
         return self._result
+
+    def _states(self, start, stop):
+        """The vertices of the scan's states ``start .. stop - 1``: those of the first states
+        kept, the others placed in one call."""
+        initial = self._initial[start:stop]
+        fresh = np.flatnonzero(initial < 0)
+        if not len(fresh):
+            return self._placed[initial]
+        placed = self._vertices_at(self.alphas[start:stop][fresh])
+        if len(fresh) == len(initial):
+            return placed
+        vertices = np.empty((stop - start,) + placed.shape[1:])
+        vertices[fresh] = placed
+        kept = np.flatnonzero(initial >= 0)
+        vertices[kept] = self._placed[initial[kept]]
+        return vertices
 
     def result(self) -> Interference:
         """The whole range: the first event, or clear to ``upto``."""

@@ -8,19 +8,21 @@ in a step when their boxes over the step, widened by the touch tolerance and the
 displacement, overlap. An event needs, for one quad, vertices of the block strictly on both
 sides of its plane (in the state after the step for a crossing, one vertex in each state for a
 pass-through) and a crossing point or vertex within the quad's circumradius and the step's
-reach of its centre: the candidates without (almost all of them; the heights of a block
-computed once for both steps it belongs to, compared with the tolerance loosened by far more
-than their rounding) hold no event and are left out. The exact tests run on the others, in the
-batches and the order of all candidates, so the events are those of the exact tests on every
-candidate, bit for bit (tests/test_kinematics_interference.py).
+reach of its centre: the candidates without (almost all of them) hold no event and are left out
+(:func:`compas_ccu.kinematics.interference_blocks.sided_blocks`: a bound of the heights by the
+block's box first, then the heights of the pairs it keeps). The exact tests run on the others,
+in the batches and the order of all candidates, with the edge planes of every quad computed
+once, so the events are those of the exact tests on every candidate, bit for bit
+(tests/test_kinematics_interference.py, tests/test_kinematics_interference_blocks.py).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from compas_ccu.kinematics.interference_blocks import sided_blocks
 from compas_ccu.kinematics.plates import plate_quads
 from compas_ccu.tolerances import ZERO_LENGTH
 
@@ -75,6 +77,22 @@ def _inside(points, inward, sides, tol):
     return (np.einsum("nei,ni->ne", inward, points) - sides > tol[..., None]).all(axis=-1)
 
 
+def _overlap(qlo, qhi, vlo, vhi):
+    """(k - 1, p, J, p, I) bool: the boxes (k - 1, p, J, 3) of the quad blocks and (k - 1, p,
+    I, 3) of the vertex blocks that overlap, coordinate by coordinate."""
+    overlap = tmp = None
+    for i in range(3):
+        ql, qh = qlo[:, :, :, None, None, i], qhi[:, :, :, None, None, i]
+        vl, vh = vlo[:, None, None, :, :, i], vhi[:, None, None, :, :, i]
+        if overlap is None:
+            overlap = np.less_equal(ql, vh)
+            tmp = np.empty_like(overlap)
+        else:
+            overlap &= np.less_equal(ql, vh, out=tmp)
+        overlap &= np.less_equal(vl, qh, out=tmp)
+    return overlap
+
+
 def _boxes(points, axis):
     """Bounding boxes (lo, hi) of ``points`` over ``axis`` (and the last but one axis)."""
     return points.min(axis=axis), points.max(axis=axis)
@@ -111,17 +129,15 @@ def path_events(vertices, n, excluded, tol):
     vlo, vhi = _boxes(np.concatenate([vc[:-1], vc[1:]], axis=3), axis=3)
     widen = (touch.max() + reach)[:, None, None, None]
     qlo, vlo = qlo - widen, vlo - widen
-    overlap = np.all(
-        (qlo[:, :, :, None, None] <= vhi[:, None, None])
-        & (vlo[:, None, None] <= qhi[:, :, :, None, None]),
-        axis=-1,
-    )  # (k - 1, p, J, p, I)
+    overlap = _overlap(qlo, qhi, vlo, vhi)  # (k - 1, p, J, p, I)
     idx = np.arange(p)
     overlap[:, idx, :, idx] = False
     candidates = np.nonzero(overlap)
     geometry = _Geometry(vertices, corners, normal, offset, centre, radius2, touch, reach)
-    live = _sided(geometry, candidates, overlap.shape, quad_block, local, excluded)
+    live = sided_blocks(geometry, candidates, overlap.shape, quad_block, local, excluded)
     found = []
+    if live.any():  # the edge planes of every quad, once for all the tests that read them
+        geometry = replace(geometry, edges=_edge_planes(corners, normal))
     for start in range(0, len(live), _BATCH):  # the batches of every candidate, in order
         rows = start + np.flatnonzero(live[start : start + _BATCH])
         if len(rows):
@@ -143,6 +159,7 @@ class _Geometry:
     radius2: np.ndarray  # (k, p, n)
     touch: np.ndarray  # (k, p, n)
     reach: np.ndarray  # (k - 1,)
+    edges: tuple = None  # (k, p, n, 4, 3) and (k, p, n, 4): :func:`_edge_planes` of every quad
 
 
 def _heights(g, states, a, quads, b, verts):
@@ -209,13 +226,13 @@ def _sided(g, candidates, shape, quad_block, local, excluded):
     return sided.any(axis=1)
 
 
-def _edge_planes(g, at):
-    """The planes of the four edges of the quads ``at`` (an index of (k, p, n)) that contain
-    their normals: inward unit normals (N, 4, 3) and offsets (N, 4), so that ``inward . x -
-    offset`` is the distance of the foot of ``x`` inside edge ``i`` (the corners run
-    counter-clockwise about the normal)."""
-    corners = g.corners[at]
-    inward = np.cross(g.normal[at][..., None, :], np.roll(corners, -1, axis=-2) - corners)
+def _edge_planes(corners, normal):
+    """The planes of the four edges of quads ``corners`` (..., 4, 3) with unit normals
+    ``normal`` (..., 3) that contain their normals: inward unit normals (..., 4, 3) and offsets
+    (..., 4), so that ``inward . x - offset`` is the distance of the foot of ``x`` inside edge
+    ``i`` (the corners run counter-clockwise about the normal). Each quad's numbers are its
+    own, whichever quads are computed together."""
+    inward = np.cross(normal[..., None, :], np.roll(corners, -1, axis=-2) - corners)
     size = np.linalg.norm(inward, axis=-1, keepdims=True)
     inward = inward / np.where(size > 0.0, size, 1.0)
     return inward, np.einsum("...i,...i->...", inward, corners)
@@ -225,7 +242,10 @@ def _batch_events(g, block, quad_block, local, edges, excluded):
     """The events of candidate block pairs ``block`` ((N,) state, a, J, b, I) of
     :func:`path_events`: crossings, then pass-throughs, each in the order of the candidates."""
     kq, aq, jq, bq, iq = block
-    touch, centre, radius2, reach = g.touch, g.centre, g.radius2, g.reach
+    p, n = g.offset.shape[1:]
+    touch, radius2, reach = g.touch.ravel(), g.radius2.ravel(), g.reach
+    centre = g.centre.reshape(-1, 3)
+    inward, sides = g.edges[0].reshape(-1, 4, 3), g.edges[1].reshape(-1, 4)
     quads = quad_block[jq]  # (N, BLOCK)
     verts = local[iq]  # (N, V)
     skip = excluded[aq[:, None], bq[:, None], verts]  # (N, V)
@@ -233,7 +253,7 @@ def _batch_events(g, block, quad_block, local, edges, excluded):
     for step in (0, 1):
         kk = kq + step
         h, x = _heights(g, kk, aq, quads, bq, verts)  # (N, V, BLOCK), (N, V, 3)
-        t = touch[kk[:, None], aq[:, None], quads][:, None, :]  # (N, 1, BLOCK)
+        t = g.touch[kk[:, None], aq[:, None], quads][:, None, :]  # (N, 1, BLOCK)
         heights.append((h, x, (h > t) & ~skip[..., None], (h < -t) & ~skip[..., None]))
     (h0, x0, up0, dn0), (h1, x1, up1, dn1) = heights
     found = []
@@ -245,11 +265,10 @@ def _batch_events(g, block, quad_block, local, edges, excluded):
         ha, hb = h1[nn, e0[ee], qq], h1[nn, e1[ee], qq]
         pa, pb = x1[nn, e0[ee]], x1[nn, e1[ee]]
         point = pa + (ha / (ha - hb))[:, None] * (pb - pa)
-        at = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        at = ((kq[nn] + 1) * p + aq[nn]) * n + quads[nn, qq]  # into (k, p, n), flat
         near = ((point - centre[at]) ** 2).sum(axis=-1) <= radius2[at]
-        nn, qq, point = nn[near], qq[near], point[near]
-        at = (kq[nn] + 1, aq[nn], quads[nn, qq])
-        hit = _inside(point, *_edge_planes(g, at), -touch[at])  # the closed quad
+        nn, qq, point, at = nn[near], qq[near], point[near], at[near]
+        hit = _inside(point, inward[at], sides[at], -touch[at])  # the closed quad
         for i in np.flatnonzero(hit):
             found.append((int(kq[nn[i]]) + 1, "crossing", int(aq[nn[i]]), int(bq[nn[i]]), point[i]))
     # pass-throughs: a vertex over a quad in both states, on both sides of it (its height
@@ -258,21 +277,18 @@ def _batch_events(g, block, quad_block, local, edges, excluded):
     flip = ((up0 & dn1) | (dn0 & up1)) & (np.abs(h1 - h0) <= 3.0 * step)
     nn, vv, qq = np.nonzero(flip)
     if len(nn):
-        at0 = (kq[nn], aq[nn], quads[nn, qq])
-        at1 = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        at0 = (kq[nn] * p + aq[nn]) * n + quads[nn, qq]  # into (k, p, n), flat
+        at1 = at0 + p * n  # the same quad in the next state
         dk = reach[kq[nn]]
         x0v, x1v = x0[nn, vv], x1[nn, vv]
         near = ((x0v - centre[at0]) ** 2).sum(axis=-1) <= (np.sqrt(radius2[at0]) + dk) ** 2
         near &= ((x1v - centre[at1]) ** 2).sum(axis=-1) <= (np.sqrt(radius2[at1]) + dk) ** 2
-        nn, vv, qq, dk, x0v, x1v = nn[near], vv[near], qq[near], dk[near], x0v[near], x1v[near]
-        at0 = (kq[nn], aq[nn], quads[nn, qq])
-        at1 = (kq[nn] + 1, aq[nn], quads[nn, qq])
+        nn, vv, dk, x0v, x1v = nn[near], vv[near], dk[near], x0v[near], x1v[near]
+        at0, at1 = at0[near], at1[near]
         # the foot may move on to the next quad within the step: inside the quad in one
         # state, and within the step's largest displacement of it in the other
-        inward0, sides0 = _edge_planes(g, at0)
-        inward1, sides1 = _edge_planes(g, at1)
-        d0 = np.einsum("nei,ni->ne", inward0, x0v) - sides0
-        d1 = np.einsum("nei,ni->ne", inward1, x1v) - sides1
+        d0 = np.einsum("nei,ni->ne", inward[at0], x0v) - sides[at0]
+        d1 = np.einsum("nei,ni->ne", inward[at1], x1v) - sides[at1]
         t0, t1 = touch[at0][:, None], touch[at1][:, None]
         in0, in1 = (d0 > t0).all(axis=1), (d1 > t1).all(axis=1)
         near0, near1 = (d0 > -dk[:, None]).all(axis=1), (d1 > -dk[:, None]).all(axis=1)

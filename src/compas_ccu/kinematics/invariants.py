@@ -14,7 +14,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from compas_ccu.geometry import dot, unit
-from compas_ccu.kinematics.checks import self_intersecting, total_turning
+from compas_ccu.kinematics.checks import planar_overlaps, self_intersecting, total_turning
 from compas_ccu.kinematics.plates import boundary_rows
 from compas_ccu.strips.intrinsics import quad_lengths
 
@@ -173,10 +173,11 @@ def invariant_errors(
     )
 
 
-#: Bisection levels of :func:`overlap_limit` placed in one vectorised deploy (2 ** L - 1 states;
-#: 3 places 92 states in 14 deploys for 40 bisections, fewer than 4's 150 in 10, and is the
-#: quickest on the vault and the catalog; the angle is the same at any level).
-OVERLAP_LEVELS = 3
+#: Bisection levels of :func:`overlap_limit` placed in one vectorised deploy (2 ** L - 1 states).
+#: Since one state's redeploy costs ~0.18 ms on the vault (its work arrays kept), 1 level (41
+#: states, each the one the bisection visits) is the quickest: 3 placed 92 states in 14 deploys of
+#: ~1.4 ms. The angle is the same at any level.
+OVERLAP_LEVELS = 1
 
 
 def crease_polylines(mechanism, states):
@@ -264,9 +265,11 @@ def overlap_limit(mechanism, *, bisections: int = 40, levels: int = OVERLAP_LEVE
 
     The ``bisections`` bisections on :func:`overlapping_creases` between the flat stack and the
     deployment limit, ``levels`` at a time: every angle those levels can visit
-    (:func:`bisection_tree`) is placed in one vectorised deploy and turning test; the walk
-    down the tree then tests only the suspect states it visits (GEOS, their suspect creases in
-    one call). The result is the sequential bisection's, to within
+    (:func:`bisection_tree`) is placed in one vectorised deploy and turning test (one state at
+    a time by default: :data:`OVERLAP_LEVELS`); the walk down the tree then tests only the
+    suspect states it visits with GEOS: the crease found overlapping last first and alone (on
+    the vault every crease overlaps at once, so one polyline instead of ten), then the other
+    suspects in one call. The result is the sequential bisection's, to within
     ``alpha_limit / 2 ** bisections``, and never above it: every angle returned was tested clear.
 
     Examples
@@ -285,22 +288,34 @@ def overlap_limit(mechanism, *, bisections: int = 40, levels: int = OVERLAP_LEVE
         return limit
     lo, hi = 0.0, limit
     done = 0
+    culprit = -1  # the crease found overlapping last: tested first, alone
     while done < bisections:
         depth = min(levels, bisections - done)
         nodes = bisection_tree(lo, hi, depth)
         hinges, origins, normals, turning = crease_polylines(mechanism, mechanism.deploy(nodes))
         i = 0
         for _ in range(depth):
-            suspects = np.flatnonzero(turning[i] > np.pi)
-            bad = (
-                suspects.size
-                and self_intersecting(
-                    hinges[i, suspects], origins[i, suspects], normals[i, suspects]
-                ).any()
-            )
-            if bad:
-                hi, i = nodes[i], 2 * i + 1
+            found = _overlapping(hinges[i], origins[i], normals[i], turning[i], culprit)
+            if found >= 0:
+                culprit, hi, i = found, nodes[i], 2 * i + 1
             else:
                 lo, i = nodes[i], 2 * i + 2
         done += depth
     return float(lo)
+
+
+def _overlapping(hinges, origins, normals, turning, first) -> int:
+    """A crease of one state (``hinges`` (1 + c, n + 1, 3) and their planes, ``turning``
+    (1 + c,)) that overlaps itself, or -1 if none does: the creases that turn by more than pi,
+    crease ``first`` alone before the others (it is the likeliest: the last one found)."""
+    suspects = np.flatnonzero(turning > np.pi)
+    if first >= 0 and turning[first] > np.pi:
+        if planar_overlaps(
+            hinges[first : first + 1], origins[first : first + 1], normals[first : first + 1]
+        )[0]:
+            return first
+        suspects = suspects[suspects != first]
+    if not suspects.size:
+        return -1
+    found = planar_overlaps(hinges[suspects], origins[suspects], normals[suspects])
+    return int(suspects[np.argmax(found)]) if found.any() else -1
