@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.geometry import coordinate_cross, coordinate_dot, cross3, dot, norm3, unit3
+from compas_ccu.geometry import cross3, dot, norm3, unit3
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -42,39 +42,81 @@ __all__ = [
 ]
 
 
-def _components(vectors):
+def _arrays(work, prefix):
+    """``new(name, shape)``: an array of ``work`` (a :class:`compas_ccu.thickness.work_arrays.
+    WorkArrays`, kept between calls) or, for ``work`` None, a new one."""
+    if work is None:
+        return lambda name, shape: np.empty(shape)
+    return lambda name, shape: work.get(prefix + name, shape)
+
+
+def _components(vectors, out=None):
     """(3, r, ...) the coordinates of r vector arrays (..., 3), coordinate by coordinate."""
-    out = np.empty((3, len(vectors)) + vectors[0].shape[:-1])
+    if out is None:
+        out = np.empty((3, len(vectors)) + vectors[0].shape[:-1])
     for r, v in enumerate(vectors):
         out[:, r] = np.moveaxis(v, -1, 0)
     return out
 
 
-def cell_corners(cells, tol):
+def _dot(u, v, out, term):
+    """:func:`compas_ccu.geometry.coordinate_dot` of ``u``, ``v`` written to ``out``, the
+    same sums in the same order (``term``: an array of the shape of ``out``)."""
+    np.multiply(u[0], v[0], out=out)
+    out += np.multiply(u[2], v[2], out=term)
+    out += np.multiply(u[1], v[1], out=term)
+    return out
+
+
+def _cross(u, v, out, one, two):
+    """:func:`compas_ccu.geometry.coordinate_cross` of ``u``, ``v`` written to ``out`` (3,
+    ...) (``one``, ``two``: arrays of the shape of ``out[0]``)."""
+    for i, j, c in ((1, 2, 0), (2, 0, 1), (0, 1, 2)):
+        np.subtract(np.multiply(u[i], v[j], out=one), np.multiply(u[j], v[i], out=two), out=out[c])
+    return out
+
+
+def cell_corners(cells, tol, work=None):
     """The corner lines of what the lateral test of a cell accepts: points ``X(0)`` (3, 4, ...,
     n) in the mid plane and directions ``w`` (3, 4, ..., n), coordinate by coordinate and
     corner by corner, the corner at height ``h`` over the mid plane being ``X(0) + h w``
-    (:func:`cell_hulls`; ``X(0)`` infinite where the cell is unbounded)."""
+    (:func:`cell_hulls`; ``X(0)`` infinite where the cell is unbounded). ``work``: a
+    :class:`compas_ccu.thickness.work_arrays.WorkArrays` whose arrays are written and returned
+    (overwritten by the next call), or None (new arrays)."""
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
+    new = _arrays(work, "corners.")
+    flat = normal.shape[:-1]
+    big, small = (3, 4) + flat, (4,) + flat
+    term, one, two = new("term", big), new("one", small), new("two", small)
     # the lateral planes in turn round the cell (near, side 0, far, side 1), the next one and
     # the one before each: each one's offset moved out by tol and its line's direction in the
     # planes parallel to the mid plane; corner i where the lines of planes i and i + 1 meet
-    plane = _components([e_near, s0, e_far, s1])
+    plane = _components([e_near, s0, e_far, s1], new("plane", big))
     turn, back = [1, 2, 3, 0], [3, 0, 1, 2]
-    after, before = plane.take(turn, axis=1), plane.take(back, axis=1)
-    offset = coordinate_dot(_components([a, a, d, b]), plane) - tol  # (4, ..., n)
-    up = np.ascontiguousarray(np.moveaxis(normal, -1, 0))[:, None]  # (3, 1, ..., n)
-    line = coordinate_cross(up, plane)
+    after = np.take(plane, turn, axis=1, out=new("after", big), mode="wrap")
+    before = np.take(plane, back, axis=1, out=new("before", big), mode="wrap")
+    offset = _dot(_components([a, a, d, b], term), plane, new("offset", small), one)
+    offset -= tol  # (4, ..., n)
+    up = new("up", (3,) + flat)
+    up[...] = np.moveaxis(normal, -1, 0)
+    up = up[:, None]  # (3, 1, ..., n)
+    line = _cross(up, plane, new("line", big), one, two)
+    x0, w = new("x0", big), new("w", big)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        axis = coordinate_cross(plane, after)
-        det = coordinate_dot(up, axis)
+        axis = _cross(plane, after, new("axis", big), one, two)
+        det = _dot(up, axis, new("det", small), one)
         # cross3(next, normal) = -line of the next plane, exactly
-        x0 = offset.take(turn, axis=0) * line - offset * line.take(turn, axis=1)
-        x0 += coordinate_dot(np.moveaxis(centre, -1, 0), up[:, 0]) * axis
+        np.multiply(np.take(offset, turn, axis=0, out=one, mode="wrap"), line, out=x0)
+        x0 -= np.multiply(offset, np.take(line, turn, axis=1, out=term, mode="wrap"), out=term)
+        height = _dot(np.moveaxis(centre, -1, 0), up[:, 0], new("height", flat), two[0])
+        x0 += np.multiply(height, axis, out=term)
         x0 /= det
-        w = axis / det
+        np.divide(axis, det, out=w)
     # each line bounded from opposite sides by the lines of its two neighbours
-    bounded = coordinate_dot(after, line) * coordinate_dot(before, line) < 0.0
+    bounded = np.multiply(
+        _dot(after, line, one, term[0]), _dot(before, line, two, term[0]), out=one
+    )
+    bounded = bounded < 0.0
     x0[:, :, ~bounded.all(axis=0)] = np.inf
     return x0, w
 
@@ -96,16 +138,23 @@ def cell_hulls(cells, tol, height):
     return out.reshape(*out.shape[:-3], 8, 3)
 
 
-def hull_bounds(corners, directions, axes, height):
+def hull_bounds(corners, directions, axes, height, work=None):
     """The lowest and highest coordinates (3, ...) each of the hulls of cell corners (..., 3,
     s) with their directions (..., 3, s) up to ``height`` (:func:`cell_corners`) along the
     columns of ``axes`` (..., 3, 3): the segment ``X(0) + h w``, ``|h| <= height``, spans
-    ``X(0) . u ± height |w . u|`` (the hull's points, without the points)."""
+    ``X(0) . u ± height |w . u|`` (the hull's points, without the points). ``work``: as
+    :func:`cell_corners` takes it, for the temporaries."""
     turn = np.swapaxes(axes, -1, -2)
+    new = _arrays(work, "hull.")
+    shape = np.broadcast_shapes(turn.shape[:-1] + corners.shape[-1:], corners.shape)
+    mid, size = new("mid", shape), new("size", shape)
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = turn @ corners  # (..., 3, s)
-        size = np.abs(turn @ directions) * height
-        lo, hi = _lowest(mid - size, np.minimum), _lowest(mid + size, np.maximum)
+        np.matmul(turn, corners, out=mid)  # (..., 3, s)
+        np.abs(np.matmul(turn, directions, out=size), out=size)
+        size *= height
+        ends = new("ends", shape)
+        lo = _lowest(np.subtract(mid, size, out=ends), np.minimum)
+        hi = _lowest(np.add(mid, size, out=ends), np.maximum)
     return np.moveaxis(lo, -1, 0), np.moveaxis(hi, -1, 0)
 
 

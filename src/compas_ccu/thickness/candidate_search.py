@@ -72,6 +72,7 @@ from compas_ccu.thickness.box_trees import (
 )
 from compas_ccu.thickness.broad_phase import PairTable
 from compas_ccu.thickness.cells import accepted_from, plate_cells
+from compas_ccu.thickness.work_arrays import work_arrays
 
 __all__ = [
     "CELLS",
@@ -196,17 +197,24 @@ def _cell_boxes(cells, cell_block, axes, tol, height):
     CELLS) in the frames ``axes`` (k, p, J, 3, 3) around the hulls of what their cells'
     lateral tests accept up to ``height`` (:func:`hull_bounds`)."""
     k, p, nj = axes.shape[:3]
-    corners, directions = cell_corners(cells, tol)  # (3, 4, k, p, n) each
+    corners, directions = cell_corners(cells, tol, work_arrays)  # (3, 4, k, p, n) each, kept
     if corners.shape[-1] % CELLS:
         corners, directions = corners[..., cell_block], directions[..., cell_block]
-    corners, directions = (  # (k, p, J, 3, 4 corners x CELLS cells) matrices
-        np.ascontiguousarray(x.reshape(3, 4, k, p, nj, CELLS).transpose(2, 3, 4, 0, 1, 5))
-        for x in (corners, directions)
-    )
     shape = (k, p, nj, 3, 4 * CELLS)
+    corners, directions = (  # (k, p, J, 3, 4 corners x CELLS cells) matrices
+        _copied(x.reshape(3, 4, k, p, nj, CELLS).transpose(2, 3, 4, 0, 1, 5), name, shape)
+        for x, name in ((corners, "cell_boxes.corners"), (directions, "cell_boxes.directions"))
+    )
     up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
-    lo, hi = hull_bounds(corners.reshape(shape), directions.reshape(shape), axes, up_to)
+    lo, hi = hull_bounds(corners, directions, axes, up_to, work_arrays)
     return bounded_boxes(lo[:, None], hi[:, None], axes, tol)
+
+
+def _copied(x, name, shape):
+    """A copy of ``x`` in the kept work array ``name``, C-contiguous, reshaped to ``shape``."""
+    out = work_arrays.get(name, x.shape)
+    out[...] = x
+    return out.reshape(shape)
 
 
 def _frames(mid_near, normal, nj, ni):
