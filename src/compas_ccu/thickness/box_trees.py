@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.geometry import cross3, dot, norm3, unit3
+from compas_ccu.thickness.work_arrays import array_maker, cross_into, dot_into
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -42,37 +43,12 @@ __all__ = [
 ]
 
 
-def _arrays(work, prefix):
-    """``new(name, shape)``: an array of ``work`` (a :class:`compas_ccu.thickness.work_arrays.
-    WorkArrays`, kept between calls) or, for ``work`` None, a new one."""
-    if work is None:
-        return lambda name, shape: np.empty(shape)
-    return lambda name, shape: work.get(prefix + name, shape)
-
-
 def _components(vectors, out=None):
     """(3, r, ...) the coordinates of r vector arrays (..., 3), coordinate by coordinate."""
     if out is None:
         out = np.empty((3, len(vectors)) + vectors[0].shape[:-1])
     for r, v in enumerate(vectors):
         out[:, r] = np.moveaxis(v, -1, 0)
-    return out
-
-
-def _dot(u, v, out, term):
-    """:func:`compas_ccu.geometry.coordinate_dot` of ``u``, ``v`` written to ``out``, the
-    same sums in the same order (``term``: an array of the shape of ``out``)."""
-    np.multiply(u[0], v[0], out=out)
-    out += np.multiply(u[2], v[2], out=term)
-    out += np.multiply(u[1], v[1], out=term)
-    return out
-
-
-def _cross(u, v, out, one, two):
-    """:func:`compas_ccu.geometry.coordinate_cross` of ``u``, ``v`` written to ``out`` (3,
-    ...) (``one``, ``two``: arrays of the shape of ``out[0]``)."""
-    for i, j, c in ((1, 2, 0), (2, 0, 1), (0, 1, 2)):
-        np.subtract(np.multiply(u[i], v[j], out=one), np.multiply(u[j], v[i], out=two), out=out[c])
     return out
 
 
@@ -84,7 +60,7 @@ def cell_corners(cells, tol, work=None):
     :class:`compas_ccu.thickness.work_arrays.WorkArrays` whose arrays are written and returned
     (overwritten by the next call), or None (new arrays)."""
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
-    new = _arrays(work, "corners.")
+    new = array_maker(work, "corners.")
     flat = normal.shape[:-1]
     big, small = (3, 4) + flat, (4,) + flat
     term, one, two = new("term", big), new("one", small), new("two", small)
@@ -95,26 +71,26 @@ def cell_corners(cells, tol, work=None):
     turn, back = [1, 2, 3, 0], [3, 0, 1, 2]
     after = np.take(plane, turn, axis=1, out=new("after", big), mode="wrap")
     before = np.take(plane, back, axis=1, out=new("before", big), mode="wrap")
-    offset = _dot(_components([a, a, d, b], term), plane, new("offset", small), one)
+    offset = dot_into(_components([a, a, d, b], term), plane, new("offset", small), one)
     offset -= tol  # (4, ..., n)
     up = new("up", (3,) + flat)
     up[...] = np.moveaxis(normal, -1, 0)
     up = up[:, None]  # (3, 1, ..., n)
-    line = _cross(up, plane, new("line", big), one, two)
+    line = cross_into(up, plane, new("line", big), one, two)
     x0, w = new("x0", big), new("w", big)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        axis = _cross(plane, after, new("axis", big), one, two)
-        det = _dot(up, axis, new("det", small), one)
+        axis = cross_into(plane, after, new("axis", big), one, two)
+        det = dot_into(up, axis, new("det", small), one)
         # cross3(next, normal) = -line of the next plane, exactly
         np.multiply(np.take(offset, turn, axis=0, out=one, mode="wrap"), line, out=x0)
         x0 -= np.multiply(offset, np.take(line, turn, axis=1, out=term, mode="wrap"), out=term)
-        height = _dot(np.moveaxis(centre, -1, 0), up[:, 0], new("height", flat), two[0])
+        height = dot_into(np.moveaxis(centre, -1, 0), up[:, 0], new("height", flat), two[0])
         x0 += np.multiply(height, axis, out=term)
         x0 /= det
         np.divide(axis, det, out=w)
     # each line bounded from opposite sides by the lines of its two neighbours
     bounded = np.multiply(
-        _dot(after, line, one, term[0]), _dot(before, line, two, term[0]), out=one
+        dot_into(after, line, one, term[0]), dot_into(before, line, two, term[0]), out=one
     )
     bounded = bounded < 0.0
     x0[:, :, ~bounded.all(axis=0)] = np.inf
@@ -145,7 +121,7 @@ def hull_bounds(corners, directions, axes, height, work=None):
     ``X(0) . u ± height |w . u|`` (the hull's points, without the points). ``work``: as
     :func:`cell_corners` takes it, for the temporaries."""
     turn = np.swapaxes(axes, -1, -2)
-    new = _arrays(work, "hull.")
+    new = array_maker(work, "hull.")
     shape = np.broadcast_shapes(turn.shape[:-1] + corners.shape[-1:], corners.shape)
     mid, size = new("mid", shape), new("size", shape)
     with np.errstate(invalid="ignore", over="ignore"):

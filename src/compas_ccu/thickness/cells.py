@@ -16,43 +16,75 @@ from __future__ import annotations
 
 import numpy as np
 
-from compas_ccu.geometry import coordinate_cross, coordinate_dot, coordinate_unit, dot
+from compas_ccu.geometry import dot
+from compas_ccu.thickness.work_arrays import array_maker, cross_into, dot_into, unit_into
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["plate_cells", "plane_heights", "in_footprint", "accepted_from", "point_gaps"]
 
 
-def plate_cells(mid_near, mid_far, offsets):
+def plate_cells(mid_near, mid_far, offsets, work=None):
     """Half-space description of the cells of plates (..., n cells): ``centre, normal, (a,
     s0), (b, s1), (a, e_near), (d, e_far)``, each (..., n, 3), the planes as (point, unit
     normal) with the cell on their positive side.
 
     Computed coordinate by coordinate (long contiguous rows; the same operations as on the
-    vectors, dots in the order of :func:`compas_ccu.geometry.dot`, so the same values)."""
+    vectors, dots in the order of :func:`compas_ccu.geometry.dot`, so the same values).
+    ``work``: a :class:`compas_ccu.thickness.work_arrays.WorkArrays` whose arrays hold the
+    temporaries and the six arrays returned (overwritten by the next call), or None (new
+    arrays)."""
     near, far, nu = (np.moveaxis(x, -1, 0) for x in (mid_near, mid_far, offsets))
     a, b = near[..., :-1], near[..., 1:]
     c, d = far[..., 1:], far[..., :-1]
-    normal = coordinate_unit(coordinate_cross(c - a, d - b))
-    side = coordinate_unit(
-        coordinate_cross(coordinate_unit(far - near), nu)
-    )  # plane of ruling j and ν_j
+    new = array_maker(work, "cells.")
+    cell, row = a.shape, near.shape  # (3, ..., n), (3, ..., n + 1)
+    one, two = new("one", row[1:]), new("two", row[1:])
+    one_c, two_c = one.reshape(-1)[: a[0].size].reshape(cell[1:]), new("two_c", cell[1:])
+    part = new("part", cell)
+    normal = cross_into(
+        np.subtract(c, a, out=part),
+        np.subtract(d, b, out=new("part_2", cell)),
+        new("normal", cell),
+        one_c,
+        two_c,
+    )
+    unit_into(normal, one_c, two_c)
+    side = np.subtract(far, near, out=new("side", row))  # plane of ruling j and ν_j
+    side = cross_into(unit_into(side, one, two), nu, new("rulings", row), one, two)
+    unit_into(side, one, two)
     # orient the side planes so that the cell is on their positive side
-    centre = a + b
+    centre = np.add(a, b, out=new("centre", cell))
     centre += c
     centre += d
     centre *= 0.25
-    s0 = side[..., :-1] * np.sign(coordinate_dot(centre - a, side[..., :-1]))
-    s1 = side[..., 1:] * np.sign(coordinate_dot(centre - b, side[..., 1:]))
-    e_near = coordinate_unit(coordinate_cross(normal, b - a))
-    e_near *= np.sign(coordinate_dot(centre - a, e_near))
-    e_far = coordinate_unit(coordinate_cross(normal, c - d))
-    e_far *= np.sign(coordinate_dot(centre - d, e_far))
+    sign = one_c
+
+    def oriented(plane, point, out):  # plane * sign((centre - point) . plane)
+        dot_into(np.subtract(centre, point, out=part), plane, sign, two_c)
+        return np.multiply(plane, np.sign(sign, out=sign), out=out)
+
+    s0 = oriented(side[..., :-1], a, new("s0", cell))
+    s1 = oriented(side[..., 1:], b, new("s1", cell))
+    edges = []
+    for name, (u, v, point) in (("e_near", (b, a, a)), ("e_far", (c, d, d))):
+        edge = cross_into(normal, np.subtract(u, v, out=part), new(name, cell), one_c, two_c)
+        unit_into(edge, one_c, two_c)
+        edges.append(oriented(edge, point, edge))
+    e_near, e_far = edges
+    names = ("centre", "normal", "s0", "s1", "e_near", "e_far")
     centre, normal, s0, s1, e_near, e_far = (
-        np.ascontiguousarray(np.moveaxis(x, 0, -1)) for x in (centre, normal, s0, s1, e_near, e_far)
+        _rows_last(x, new("out." + name, x.shape[1:] + (3,)))
+        for x, name in zip((centre, normal, s0, s1, e_near, e_far), names)
     )
     a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]
     d = mid_far[..., :-1, :]
     return centre, normal, (a, s0), (b, s1), (a, e_near), (d, e_far)
+
+
+def _rows_last(x, out):
+    """``x`` (3, ...) as (..., 3) rows written to ``out``."""
+    out[...] = np.moveaxis(x, 0, -1)
+    return out
 
 
 def plane_heights(points, base, normal):

@@ -65,6 +65,7 @@ from compas_ccu.thickness.candidate_search import (
 )
 from compas_ccu.thickness.cells import in_footprint, plane_heights, plate_cells, point_gaps
 from compas_ccu.thickness.report_pairs import report_heights
+from compas_ccu.thickness.work_arrays import work_arrays
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -213,7 +214,7 @@ def plate_contacts(
         if not len(pair):
             continue
         chunk = (mid_near[states], mid_far[states], offsets[states], faces[states])
-        height, cells = half + reach, plate_cells(*chunk[:3])
+        height, cells = half + reach, plate_cells(*chunk[:3], work=work_arrays)
         if smallest is not None:  # only what a report needs: a height per state
             height = report_heights(cells, chunk[3], table, state, pair, smallest, half, reach)
         blocks = plate_blocks(*chunk, table, tol, height, cells, planes=False)

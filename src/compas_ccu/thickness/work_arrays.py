@@ -21,7 +21,15 @@ import threading
 
 import numpy as np
 
-__all__ = ["KEPT_SIZE", "WorkArrays", "work_arrays"]
+__all__ = [
+    "KEPT_SIZE",
+    "WorkArrays",
+    "work_arrays",
+    "array_maker",
+    "dot_into",
+    "cross_into",
+    "unit_into",
+]
 
 #: The largest buffer (in numbers of 8 bytes) kept between calls: 4 MB.
 KEPT_SIZE = 1 << 19
@@ -62,3 +70,37 @@ class WorkArrays:
 
 #: The work arrays of the collision search.
 work_arrays = WorkArrays()
+
+
+def array_maker(work, prefix: str):
+    """``new(name, shape)``: the float array ``prefix + name`` of ``work`` (a
+    :class:`WorkArrays`) or, for ``work`` None, a new one."""
+    if work is None:
+        return lambda name, shape: np.empty(shape)
+    return lambda name, shape: work.get(prefix + name, shape)
+
+
+def dot_into(u, v, out, term):
+    """:func:`compas_ccu.geometry.coordinate_dot` of ``u``, ``v`` (3, ...) written to ``out``,
+    the same sums in the same order (``term``: an array of the shape of ``out``)."""
+    np.multiply(u[0], v[0], out=out)
+    out += np.multiply(u[2], v[2], out=term)
+    out += np.multiply(u[1], v[1], out=term)
+    return out
+
+
+def cross_into(u, v, out, one, two):
+    """:func:`compas_ccu.geometry.coordinate_cross` of ``u``, ``v`` written to ``out`` (3,
+    ...) (``one``, ``two``: arrays of the shape of ``out[0]``)."""
+    for i, j, c in ((1, 2, 0), (2, 0, 1), (0, 1, 2)):
+        np.subtract(np.multiply(u[i], v[j], out=one), np.multiply(u[j], v[i], out=two), out=out[c])
+    return out
+
+
+def unit_into(v, size, term):
+    """``v`` (3, ...) made :func:`compas_ccu.geometry.coordinate_unit` in place (``size``,
+    ``term``: arrays of the shape of ``v[0]``)."""
+    np.multiply(v[0], v[0], out=size)
+    size += np.multiply(v[1], v[1], out=term)
+    size += np.multiply(v[2], v[2], out=term)
+    return np.divide(v, np.sqrt(size, out=size), out=v)
