@@ -163,27 +163,39 @@ def _lowest(values, lower):
     return out
 
 
-def _rows(axes):
-    """(3, 3, ...) frames (..., 3, 3) entry by entry: ``[i, j]`` row i, column j."""
-    return np.ascontiguousarray(np.moveaxis(axes, (-2, -1), (0, 1)))
+def _rows(axes, out=None):
+    """(3, 3, ...) frames (..., 3, 3) entry by entry: ``[i, j]`` row i, column j (written to
+    ``out`` if given)."""
+    if out is None:
+        return np.ascontiguousarray(np.moveaxis(axes, (-2, -1), (0, 1)))
+    out[...] = np.moveaxis(axes, (-2, -1), (0, 1))
+    return out
 
 
-def bounded_boxes(lo, hi, axes, tol):
+def bounded_boxes(lo, hi, axes, tol, work=None):
     """Oriented boxes from the coordinates ``lo``, ``hi`` (3, t, ..., s) they span along the
     columns of ``axes`` (..., s, 3, 3; the same for every ``t``): centres (3, t, ..., s), the
     axes and the half-extents (3, t, ..., s), widened by ``1e-9`` of the coordinates plus
     ``tol`` for round-off (inf where not finite). Boxes hold their centres and half-extents
-    coordinate by coordinate (long contiguous rows), their axes as frames (for BLAS)."""
+    coordinate by coordinate (long contiguous rows), their axes as frames (for BLAS).
+    ``work``: ``(WorkArrays, prefix)`` whose arrays hold the centres and half-extents returned
+    (overwritten by the next call with that prefix), or None (new arrays)."""
+    new = array_maker(*work) if work else array_maker(None, "")
+    shape = np.broadcast_shapes(lo.shape, hi.shape)
+    mid, half, term = new("mid", shape), new("half", shape), new("term", shape)
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = 0.5 * (lo + hi)
-        half = 0.5 * (hi - lo) + EXACT_RELATIVE * (np.abs(lo) + np.abs(hi)) + tol
+        np.multiply(0.5, np.add(lo, hi, out=mid), out=mid)
+        np.multiply(0.5, np.subtract(hi, lo, out=half), out=half)
+        size = np.add(np.abs(lo, out=term), np.abs(hi, out=new("centre", shape)), out=term)
+        half += np.multiply(EXACT_RELATIVE, size, out=term)
+        half += tol
     bad = ~np.isfinite(half).all(axis=0)
     mid[:, bad], half[:, bad] = 0.0, np.inf
     # axes @ mid in the order of einsum's contiguous sums of three, (0 + 2) + 1
-    rows = _rows(axes)[:, :, None]  # (3, 3, 1, ..., s)
-    centre = rows[:, 0] * mid[0]
-    centre += rows[:, 2] * mid[2]
-    centre += rows[:, 1] * mid[1]
+    rows = _rows(axes, new("rows", (3, 3) + axes.shape[:-2]))[:, :, None]  # (3, 3, 1, ..., s)
+    centre = np.multiply(rows[:, 0], mid[0], out=new("centre", shape))
+    centre += np.multiply(rows[:, 2], mid[2], out=term)
+    centre += np.multiply(rows[:, 1], mid[1], out=term)
     return centre, axes, half
 
 
@@ -195,30 +207,38 @@ def oriented_boxes(points, axes, tol):
     return bounded_boxes(lo[:, None], hi[:, None], axes, tol)
 
 
-def box_bounds(box, axes):
+def box_bounds(box, axes, work=None):
     """The lowest and highest coordinates (3, t, ...) each of oriented boxes (centres and
     half-extents (3, t, ...), axes (..., 3, 3)) along the columns of the frames ``axes``
     (..., 3, 3): the support of a box along a unit vector ``u`` is ``centre . u ± sum_j
-    half_j |axis_j . u|`` (the extreme corners, without the corners)."""
+    half_j |axis_j . u|`` (the extreme corners, without the corners). ``work``: as
+    :func:`bounded_boxes` takes it, for the two arrays returned and the temporaries."""
     centre, box_axes, half = box
-    rows = _rows(axes)[:, :, None]  # (3, 3, 1, ...)
+    new = array_maker(*work) if work else array_maker(None, "")
+    frames = (3, 3) + axes.shape[:-2]
+    rows = _rows(axes, new("rows", frames))[:, :, None]  # (3, 3, 1, ...)
+    shape = np.broadcast_shapes(rows.shape[1:], centre.shape[1:])
+    term = new("term", shape)
     with np.errstate(invalid="ignore", over="ignore"):
-        mid = rows[0] * centre[0]  # axes^T @ centre, term by term
-        mid += rows[1] * centre[1]
-        mid += rows[2] * centre[2]
-        size = _rows(np.abs(np.swapaxes(axes, -1, -2) @ box_axes))[:, :, None]  # |u_c . axis_j|
-        reach = size[:, 0] * half[0]
-        reach += size[:, 1] * half[1]
-        reach += size[:, 2] * half[2]
-        return mid - reach, mid + reach
+        mid = np.multiply(rows[0], centre[0], out=new("mid", shape))  # axes^T @ centre, term
+        mid += np.multiply(rows[1], centre[1], out=term)  # by term
+        mid += np.multiply(rows[2], centre[2], out=term)
+        along = np.matmul(np.swapaxes(axes, -1, -2), box_axes, out=new("along", axes.shape))
+        size = _rows(np.abs(along, out=along), new("size", frames))[:, :, None]  # |u_c . axis_j|
+        reach = np.multiply(size[:, 0], half[0], out=new("reach", shape))
+        reach += np.multiply(size[:, 1], half[1], out=term)
+        reach += np.multiply(size[:, 2], half[2], out=term)
+        return np.subtract(mid, reach, out=new("lo", shape)), np.add(mid, reach, out=mid)
 
 
-def pack_boxes(box):
+def pack_boxes(box, out=None):
     """Boxes as columns ``(centre, axes (row by row), half-extents)`` of 15 numbers: (15, t x
     k x p x nodes) from centres and half-extents (3, t, k, p, nodes) and axes (k, p, nodes,
-    3, 3), the same for every ``t``, so that the separating-axis test runs on contiguous rows."""
+    3, 3), the same for every ``t``, so that the separating-axis test runs on contiguous rows
+    (written to ``out`` (15, t, k, p, nodes) if given)."""
     centre, axes, half = box
-    out = np.empty((15,) + centre.shape[1:])
+    if out is None:
+        out = np.empty((15,) + centre.shape[1:])
     out[:3] = centre
     out[3:12] = _rows(axes).reshape((9, 1) + axes.shape[:-2])
     out[12:] = half
@@ -261,7 +281,7 @@ def index_blocks(count, size):
     return np.minimum(np.arange(blocks * size).reshape(blocks, size), count - 1)
 
 
-def box_tree(box, frames, tol):
+def box_tree(box, frames, tol, work=None):
     """Boxes of binary trees over the leaf boxes of every plate.
 
     Parameters
@@ -279,8 +299,12 @@ def box_tree(box, frames, tol):
     children's axes along the parent's, ``|u . axis_j|``, are the same for every tree). Leaves
     are padded to a power of two with empty ones, and a parent of one empty child spans its
     other child alone. Returns the levels from the leaves up, each the packed boxes (15,
-    trees x states x plates x nodes) and which nodes are not padding.
+    trees x states x plates x nodes) and which nodes are not padding. ``work``: ``(WorkArrays,
+    prefix)`` whose arrays hold the levels returned and the temporaries (overwritten by the
+    next call with that prefix), or None (new arrays).
     """
+    new = array_maker(*work) if work else array_maker(None, "")
+    prefix = work[1] if work else ""
     count = box[1].shape[2]
     size = 1 << max(count - 1, 0).bit_length()
     pad = size - count
@@ -288,23 +312,41 @@ def box_tree(box, frames, tol):
     if pad:  # empty leaves: copies of the last one (never looked at)
         centre, axes, half = box
         centre, half = (
-            np.concatenate([x, np.repeat(x[..., -1:], pad, axis=-1)], -1) for x in (centre, half)
+            _padded(x, -1, pad, new(name, x.shape[:-1] + (size,)))
+            for x, name in ((centre, "pad.centre"), (half, "pad.half"))
         )
-        axes = np.concatenate([axes, np.repeat(axes[:, :, -1:], pad, axis=2)], axis=2)
-        box = centre, axes, half
-    levels = [(pack_boxes(box), valid)]
+        shape = axes.shape[:2] + (size,) + axes.shape[3:]
+        box = centre, _padded(axes, 2, pad, new("pad.axes", shape)), half
+    levels = [(pack_boxes(box, new("packed.0", (15,) + box[0].shape[1:])), valid)]
     level = 0
     while size > 1:
         size //= 2
         level += 1
         parent = frames(level)  # (k, p, size, 3, 3)
-        lo, hi = box_bounds(box, np.repeat(parent, 2, axis=2))  # (3, t, k, p, 2 size)
-        lo_box = np.minimum(lo[..., 0::2], lo[..., 1::2])
-        hi_box = np.maximum(hi[..., 0::2], hi[..., 1::2])
+        twice = new("twice", parent.shape[:3] + (2,) + parent.shape[3:])
+        twice[...] = parent[:, :, :, None]  # np.repeat(parent, 2, axis=2)
+        twice = twice.reshape(parent.shape[:2] + (2 * size,) + parent.shape[3:])
+        within = (work[0], prefix + "bounds.") if work else None
+        lo, hi = box_bounds(box, twice, within)  # (3, t, k, p, 2 size)
+        lo_box = np.minimum(
+            lo[..., 0::2], lo[..., 1::2], out=new("lo_box", lo.shape[:-1] + (size,))
+        )
+        hi_box = np.maximum(hi[..., 0::2], hi[..., 1::2], out=new("hi_box", lo_box.shape))
         pair = valid.reshape(size, 2)
         alone = np.flatnonzero(pair[:, 0] & ~pair[:, 1])  # the second child empty
         lo_box[..., alone], hi_box[..., alone] = lo[..., 2 * alone], hi[..., 2 * alone]
-        box = bounded_boxes(lo_box, hi_box, parent, tol)
+        # the boxes of a level are read while those of the next one are written
+        within = (work[0], f"{prefix}box.{level % 2}.") if work else None
+        box = bounded_boxes(lo_box, hi_box, parent, tol, within)
         valid = pair.any(axis=1)
-        levels.append((pack_boxes(box), valid))
+        levels.append((pack_boxes(box, new(f"packed.{level}", (15,) + box[0].shape[1:])), valid))
     return levels
+
+
+def _padded(x, axis, pad, out):
+    """``x`` with ``pad`` copies of its last entry along ``axis`` appended, written to ``out``."""
+    count = x.shape[axis]
+    at = (slice(None),) * (axis % x.ndim)
+    out[at + (slice(0, count),)] = x
+    out[at + (slice(count, None),)] = x[at + (slice(count - 1, count),)]
+    return out

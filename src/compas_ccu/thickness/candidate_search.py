@@ -72,7 +72,7 @@ from compas_ccu.thickness.box_trees import (
 )
 from compas_ccu.thickness.broad_phase import PairTable
 from compas_ccu.thickness.cells import accepted_from, plate_cells
-from compas_ccu.thickness.work_arrays import work_arrays
+from compas_ccu.thickness.work_arrays import array_maker
 
 __all__ = [
     "CELLS",
@@ -116,7 +116,17 @@ class Blocks(NamedTuple):
 
 
 def plate_blocks(
-    mid_near, mid_far, offsets, faces, table: PairTable, tol, height, cells=None, *, planes=True
+    mid_near,
+    mid_far,
+    offsets,
+    faces,
+    table: PairTable,
+    tol,
+    height,
+    cells=None,
+    *,
+    planes=True,
+    work=None,
 ) -> Blocks:
     """Blocks, boxes and trees of the candidate search (module docstring).
 
@@ -136,6 +146,10 @@ def plate_blocks(
         False: without the planes and points of the exact tests (``normals``, ``offsets``,
         ``accepted`` and ``points`` None), for a walk that may keep no block pair;
         :func:`with_planes` adds them.
+    work : compas_ccu.thickness.work_arrays.WorkArrays, optional
+        Kept work arrays for the temporaries and the boxes of the trees (then the blocks
+        returned hold arrays that the next such call overwrites: for a caller that is done
+        with them before); None (default): new arrays.
     """
     k, p, m = mid_near.shape[:3]
     n = m - 1
@@ -151,7 +165,7 @@ def plate_blocks(
     column = index_blocks(m, RULINGS)  # (I, RULINGS)
     ni = len(column)
     frame = _frames(mid_near, normal, nj, ni)
-    cell_box = _cell_boxes(cells, cell_block, frame(CELLS, 0), tol, height)
+    cell_box = _cell_boxes(cells, cell_block, frame(CELLS, 0), tol, height, work)
 
     # vertex blocks: RULINGS consecutive rulings of a plate, both faces (lower / upper face,
     # near / far row, then the ruling): the vertices and the rulings between them (vertex
@@ -168,8 +182,11 @@ def plate_blocks(
     near, far = (
         point_bounds(points.take(rows[:, :, r].reshape(ni, -1), axis=2), frames) for r in (0, 1)
     )
-    lo = np.stack([np.minimum(near[0], far[0]), near[0], far[0]], axis=1)  # both rows, near,
-    hi = np.stack([np.maximum(near[1], far[1]), near[1], far[1]], axis=1)  # far (3, 3, k, p, I)
+    new = array_maker(work, "blocks.")
+    lo, hi = new("lo", (3, 3) + near[0].shape[1:]), new("hi", (3, 3) + near[0].shape[1:])
+    for x, lower, i in ((lo, np.minimum, 0), (hi, np.maximum, 1)):  # both rows, near, far
+        lower(near[i], far[i], out=x[:, 0])  # (3, 3, k, p, I)
+        x[:, 1], x[:, 2] = near[i], far[i]
     masks = table.masks
     on_hinge = [masks[:, rows[:, :, r].reshape(-1)].all(axis=1) for r in (0, 1)]
     row_box = np.select([on_hinge[0] & on_hinge[1], on_hinge[0], on_hinge[1]], [-1, 2, 1], 0)
@@ -182,39 +199,51 @@ def plate_blocks(
         offsets=None,
         accepted=None,
         points=None,
-        cell_tree=box_tree(cell_box, lambda level: frame(CELLS, level), tol),
+        cell_tree=box_tree(cell_box, lambda level: frame(CELLS, level), tol, _named(work, "cell")),
         ruling_tree=box_tree(
-            bounded_boxes(lo, hi, frames, tol), lambda level: frame(RULINGS, level), tol
+            bounded_boxes(lo, hi, frames, tol, _named(work, "ruling_leaves")),
+            lambda level: frame(RULINGS, level),
+            tol,
+            _named(work, "ruling"),
         ),
         row_box=row_box,
         skip=masks[:, local],
     )
-    return with_planes(blocks, cells, faces, tol) if planes else blocks
+    return with_planes(blocks, cells, faces, tol, work) if planes else blocks
 
 
-def _cell_boxes(cells, cell_block, axes, tol, height):
+def _named(work, name):
+    """``(work, prefix)`` of the arrays of ``name`` (:func:`box_tree`), or None."""
+    return None if work is None else (work, f"search.{name}.")
+
+
+def _cell_boxes(cells, cell_block, axes, tol, height, work=None):
     """The boxes (one tree, :func:`bounded_boxes`) of the cell blocks ``cell_block`` (J,
     CELLS) in the frames ``axes`` (k, p, J, 3, 3) around the hulls of what their cells'
     lateral tests accept up to ``height`` (:func:`hull_bounds`)."""
     k, p, nj = axes.shape[:3]
-    corners, directions = cell_corners(cells, tol, work_arrays)  # (3, 4, k, p, n) each, kept
+    corners, directions = cell_corners(cells, tol, work)  # (3, 4, k, p, n) each
     if corners.shape[-1] % CELLS:
         corners, directions = corners[..., cell_block], directions[..., cell_block]
     shape = (k, p, nj, 3, 4 * CELLS)
+    new = array_maker(work, "cell_boxes.")
     corners, directions = (  # (k, p, J, 3, 4 corners x CELLS cells) matrices
-        _copied(x.reshape(3, 4, k, p, nj, CELLS).transpose(2, 3, 4, 0, 1, 5), name, shape)
-        for x, name in ((corners, "cell_boxes.corners"), (directions, "cell_boxes.directions"))
+        _copied(
+            x.reshape(3, 4, k, p, nj, CELLS).transpose(2, 3, 4, 0, 1, 5),
+            new(name, (k, p, nj, 3, 4, CELLS)),
+        )
+        for x, name in ((corners, "corners"), (directions, "directions"))
     )
+    corners, directions = corners.reshape(shape), directions.reshape(shape)
     up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
-    lo, hi = hull_bounds(corners, directions, axes, up_to, work_arrays)
-    return bounded_boxes(lo[:, None], hi[:, None], axes, tol)
+    lo, hi = hull_bounds(corners, directions, axes, up_to, work)
+    return bounded_boxes(lo[:, None], hi[:, None], axes, tol, _named(work, "cell_leaves"))
 
 
-def _copied(x, name, shape):
-    """A copy of ``x`` in the kept work array ``name``, C-contiguous, reshaped to ``shape``."""
-    out = work_arrays.get(name, x.shape)
+def _copied(x, out):
+    """``x`` written to ``out`` (``numpy.ascontiguousarray`` into ``out``)."""
     out[...] = x
-    return out.reshape(shape)
+    return out
 
 
 def _frames(mid_near, normal, nj, ni):
@@ -246,7 +275,7 @@ def _frames(mid_near, normal, nj, ni):
     return frame
 
 
-def with_planes(blocks: Blocks, cells, faces, tol) -> Blocks:
+def with_planes(blocks: Blocks, cells, faces, tol, work=None) -> Blocks:
     """``blocks`` with the planes and points of the exact tests: the five planes of the cells
     of every cell block, normals (plane, cell), the offsets of the mid planes and the lowest
     heights the lateral tests accept
@@ -261,8 +290,11 @@ def with_planes(blocks: Blocks, cells, faces, tol) -> Blocks:
     faces : (k, p, 2, 2n + 2, 3) float
     tol : float
         Lateral tolerance, m.
+    work : compas_ccu.thickness.work_arrays.WorkArrays, optional
+        As :func:`plate_blocks` takes it.
     """
     centre, normal, planes = cells[0], cells[1], cells[2:]
+    new = array_maker(work, "planes.")
     k, p, n = normal.shape[:3]
     cell_block = blocks.cell_block
     nj = len(cell_block)
@@ -272,13 +304,23 @@ def with_planes(blocks: Blocks, cells, faces, tol) -> Blocks:
             return x[:, :, cell_block]
         return x.reshape(k, p, nj, CELLS, *x.shape[3:])
 
-    normals = np.stack([by_block(x) for x in [normal] + [nrm for _, nrm in planes]], axis=3)
-    lateral = np.stack([by_block(dot(base, nrm)) for base, nrm in planes], axis=3)
-    points = faces.reshape(*faces.shape[:2], -1, 3).take(blocks.local, axis=2)  # (k, p, I, 4R, 3)
+    normals = np.stack(
+        [by_block(x) for x in [normal] + [nrm for _, nrm in planes]],
+        axis=3,
+        out=new("normals", (k, p, nj, 5, CELLS, 3)),
+    )
+    lateral = np.stack(
+        [by_block(dot(base, nrm)) for base, nrm in planes],
+        axis=3,
+        out=new("lateral", (k, p, nj, 4, CELLS)),
+    )
+    vertices = faces.reshape(*faces.shape[:2], -1, 3)
+    points = new("points", vertices.shape[:2] + blocks.local.shape + (3,))  # (k, p, I, 4R, 3)
+    np.take(vertices, blocks.local, axis=2, out=points, mode="wrap")  # every index valid
     return blocks._replace(
         normals=normals.reshape(-1, 5 * CELLS, 3),  # (k, p, J, 5, CELLS, 3)
         offsets=by_block(dot(centre, normal)).reshape(-1, CELLS, 1),
-        accepted=accepted_from(lateral, tol).reshape(-1, 4, CELLS, 1),
+        accepted=accepted_from(lateral, tol, work).reshape(-1, 4, CELLS, 1),
         points=points.reshape(-1, 4 * RULINGS, 3),
     )
 

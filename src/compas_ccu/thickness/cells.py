@@ -143,7 +143,7 @@ def point_gaps(points, mid_near, mid_far, offsets, thickness, *, tol=EXACT_RELAT
     return np.where(lateral, np.abs(d) - 0.5 * thickness, np.inf).min(axis=2)
 
 
-def accepted_from(offset, tol):
+def accepted_from(offset, tol, work=None):
     """The lowest height ``h`` (a float) with ``h - offset >= -tol`` in floating point, for
     every ``offset``: a lateral test of the brute force, ``fl(h - offset) >= -tol``, is ``h >=
     accepted`` (NaN where no height passes), the same booleans without the subtraction.
@@ -152,14 +152,17 @@ def accepted_from(offset, tol):
     those from one float up. Where ``|offset| >= 4 tol`` the subtraction is exact for every
     ``h`` near ``offset - tol`` (Sterbenz), so that float is ``x = fl(offset - tol)`` if ``x``
     passes, else the next float up (``x`` is the nearest float to ``offset - tol``). Else a
-    step or two from ``x``, or a bisection over the floats, finds it.
+    step or two from ``x``, or a bisection over the floats, finds it. ``work``: a
+    :class:`compas_ccu.thickness.work_arrays.WorkArrays` whose array is returned (overwritten
+    by the next such call), or None (a new array).
     """
     offset = np.asarray(offset, dtype=float)
+    new = array_maker(work, "accepted.")
     with np.errstate(invalid="ignore", over="ignore"):
-        out = offset - tol
-        size = np.abs(offset)
+        out = np.subtract(offset, tol, out=new("out", offset.shape))
+        size = np.abs(offset, out=new("size", offset.shape))
         exact = (size >= 4.0 * tol) & (size <= np.finfo(float).max)
-        up = np.flatnonzero(exact & ((out - offset) < -tol))
+        up = np.flatnonzero(exact & (np.subtract(out, offset, out=size) < -tol))
         if len(up):  # the next float up of a finite x, 0 < |x| (tol > 0 here)
             bits = out.reshape(-1)[up].view(np.int64)
             out.reshape(-1)[up] = (bits + np.where(bits >= 0, 1, -1)).view(np.float64)

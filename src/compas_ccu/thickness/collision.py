@@ -217,10 +217,10 @@ def plate_contacts(
         height, cells = half + reach, plate_cells(*chunk[:3], work=work_arrays)
         if smallest is not None:  # only what a report needs: a height per state
             height = report_heights(cells, chunk[3], table, state, pair, smallest, half, reach)
-        blocks = plate_blocks(*chunk, table, tol, height, cells, planes=False)
+        blocks = plate_blocks(*chunk, table, tol, height, cells, planes=False, work=work_arrays)
         qq, cell_id, ruling_id = block_pairs(blocks, table, state, pair)
         if len(qq):  # the planes and points of the exact tests, only where they run
-            blocks = with_planes(blocks, cells, chunk[3], tol)
+            blocks = with_planes(blocks, cells, chunk[3], tol, work_arrays)
         found = all_exact_tests(blocks, table, qq, cell_id, ruling_id, half, reach, tol)
         if found:
             out = (x[states] for x in (depth, clearance, crossing, where))
