@@ -143,12 +143,16 @@ def cell_frames(mid_near, normal, cell):
     return np.stack([t, cross3(nrm, t), nrm], axis=-1)
 
 
-def point_bounds(points, axes):
+def point_bounds(points, axes, work=None):
     """The lowest and highest coordinates (3, ...) each of point sets (..., s, 3) along the
     columns of the frames ``axes`` (..., 3, 3) (non-finite where a point is not finite): one
-    batched product of the transposed frames with the transposed points."""
+    batched product of the transposed frames with the transposed points. ``work``: as
+    :func:`cell_corners` takes it, for the temporaries."""
+    turn, columns = np.swapaxes(axes, -1, -2), np.swapaxes(points, -1, -2)
+    shape = np.broadcast_shapes(turn.shape[:-1] + columns.shape[-1:], columns.shape)
+    along = array_maker(work, "point_bounds.")("along", shape)
     with np.errstate(invalid="ignore", over="ignore"):
-        along = np.swapaxes(axes, -1, -2) @ np.swapaxes(points, -1, -2)  # (..., 3, s)
+        np.matmul(turn, columns, out=along)  # (..., 3, s)
     lo, hi = _lowest(along, np.minimum), _lowest(along, np.maximum)
     return np.moveaxis(lo, -1, 0), np.moveaxis(hi, -1, 0)
 
@@ -245,30 +249,36 @@ def pack_boxes(box, out=None):
     return out.reshape(15, -1)
 
 
-def separated(box_a, box_b):
+def separated(box_a, box_b, work=None):
     """(N,) bool: packed boxes ``a`` and ``b`` (15, N) are disjoint by a face axis of either
-    (the separating axis test on those six axes; False where undecided)."""
-    d = box_b[:3] - box_a[:3]
+    (the separating axis test on those six axes; False where undecided). ``work``: as
+    :func:`cell_corners` takes it, for the temporaries."""
+    new = array_maker(work, "separated.")
+    n = box_a.shape[1]
+    d = np.subtract(box_b[:3], box_a[:3], out=new("d", (3, n)))
     a, b = box_a[3:12].reshape(3, 3, -1), box_b[3:12].reshape(3, 3, -1)  # [row, column]
     ha, hb = box_a[12:], box_b[12:]
     # |a_i . b_j| (3, 3, N) and the projections of d on the axes a_i and b_j (3, N), every
     # one the sum of its three products in turn
-    r = a[0][:, None] * b[0][None]
-    r += a[1][:, None] * b[1][None]
-    r += a[2][:, None] * b[2][None]
+    r, nine, three = new("r", (3, 3, n)), new("nine", (3, 3, n)), new("three", (3, n))
+    np.multiply(a[0][:, None], b[0][None], out=r)
+    r += np.multiply(a[1][:, None], b[1][None], out=nine)
+    r += np.multiply(a[2][:, None], b[2][None], out=nine)
     np.abs(r, out=r)
-    da, db = a[0] * d[0], b[0] * d[0]
+    da = np.multiply(a[0], d[0], out=new("da", (3, n)))
+    db = np.multiply(b[0], d[0], out=new("db", (3, n)))
     for x, y in ((a, da), (b, db)):
-        y += x[1] * d[1]
-        y += x[2] * d[2]
+        y += np.multiply(x[1], d[1], out=three)
+        y += np.multiply(x[2], d[2], out=three)
         np.abs(y, out=y)
     with np.errstate(invalid="ignore"):
         slack = EXACT_RELATIVE * (norm3(d.T) + ha.sum(axis=0) + hb.sum(axis=0))
         # the half-extents' reach along a_i (3, N) and along b_j (3, N), left to right
-        ra, rb = ha + r[:, 0] * hb[0], hb + r[0] * ha[0]
+        ra = np.add(ha, np.multiply(r[:, 0], hb[0], out=three), out=new("ra", (3, n)))
+        rb = np.add(hb, np.multiply(r[0], ha[0], out=three), out=new("rb", (3, n)))
         for c in (1, 2):
-            ra += r[:, c] * hb[c]
-            rb += r[c] * ha[c]
+            ra += np.multiply(r[:, c], hb[c], out=three)
+            rb += np.multiply(r[c], ha[c], out=three)
         ra += slack
         rb += slack
         return (da > ra).any(axis=0) | (db > rb).any(axis=0)

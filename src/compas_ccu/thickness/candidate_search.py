@@ -55,6 +55,7 @@ their number grows with the square of the segments.
 
 from __future__ import annotations
 
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -179,10 +180,13 @@ def plate_blocks(
     # boxes of the near rows and of the far rows too, and which box each hinge meets; the
     # box of both rows spans the union of their extents (the same frame)
     rows = local.reshape(ni, 2, 2, RULINGS)
-    near, far = (
-        point_bounds(points.take(rows[:, :, r].reshape(ni, -1), axis=2), frames) for r in (0, 1)
-    )
     new = array_maker(work, "blocks.")
+    near, far = (
+        point_bounds(
+            _taken(points, rows[:, :, r].reshape(ni, -1), partial(new, f"row.{r}")), frames, work
+        )
+        for r in (0, 1)
+    )
     lo, hi = new("lo", (3, 3) + near[0].shape[1:]), new("hi", (3, 3) + near[0].shape[1:])
     for x, lower, i in ((lo, np.minimum, 0), (hi, np.maximum, 1)):  # both rows, near, far
         lower(near[i], far[i], out=x[:, 0])  # (3, 3, k, p, I)
@@ -238,6 +242,13 @@ def _cell_boxes(cells, cell_block, axes, tol, height, work=None):
     up_to = np.reshape(height, (-1, 1, 1, 1, 1)) if np.ndim(height) else height
     lo, hi = hull_bounds(corners, directions, axes, up_to, work)
     return bounded_boxes(lo[:, None], hi[:, None], axes, tol, _named(work, "cell_leaves"))
+
+
+def _taken(points, index, new):
+    """``points.take(index, axis=2)`` (``points`` (k, p, v, 3), ``index`` (I, s)) written to
+    ``new(shape)``."""
+    out = new(points.shape[:2] + index.shape + (3,))
+    return np.take(points, index, axis=2, out=out, mode="wrap")  # every index valid
 
 
 def _copied(x, out):
@@ -325,7 +336,7 @@ def with_planes(blocks: Blocks, cells, faces, tol, work=None) -> Blocks:
     )
 
 
-def block_pairs(blocks: Blocks, table: PairTable, state, pair):
+def block_pairs(blocks: Blocks, table: PairTable, state, pair, work=None):
     """The block pairs that can meet: a walk down the two trees of boxes of every candidate
     pair and state, from their roots to the leaf blocks, keeping the node pairs whose boxes
     overlap.
@@ -336,6 +347,8 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     table : PairTable
     state, pair : (N,) int
         Candidate (state, pair) of the chunk (:func:`candidate_pairs`).
+    work : compas_ccu.thickness.work_arrays.WorkArrays, optional
+        Kept work arrays for the temporaries of the box tests (None: new arrays).
 
     Returns
     -------
@@ -355,6 +368,7 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     # the tree of both rows, or for a hinged pair the tree of its free row
     node_b = row_box[qq] * kp + state[keep] * p + table.pairs[qq, 1]
     la, lb = len(cell_tree) - 1, len(ruling_tree) - 1
+    new = array_maker(work, "walk.")
     while True:
         (box_a, valid_a), (box_b, valid_b) = cell_tree[la], ruling_tree[lb]
         keep = None  # not padding
@@ -365,8 +379,10 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
         if keep is not None:
             qq, node_a, node_b = qq[keep], node_a[keep], node_b[keep]
         keep = np.empty(len(qq), dtype=bool)
+        tested = ((box_a, node_a, "a"), (box_b, node_b, "b"))
         for at in (slice(i, i + WALK) for i in range(0, len(qq), WALK)):
-            keep[at] = ~separated(box_a.take(node_a[at], axis=1), box_b.take(node_b[at], axis=1))
+            boxes = (_taken_boxes(x, node[at], partial(new, name)) for x, node, name in tested)
+            keep[at] = ~separated(*boxes, work)
         at = np.flatnonzero(keep)
         qq, node_a, node_b = qq[at], node_a[at], node_b[at]
         if la == 0 and lb == 0:
@@ -386,6 +402,11 @@ def block_pairs(blocks: Blocks, table: PairTable, state, pair):
     cell_id = plate_a * len(blocks.cell_block) + jj  # (state, plate, block) without padding
     ruling_id = plate_b * len(blocks.local) + ii
     return qq, cell_id, ruling_id
+
+
+def _taken_boxes(box, node, new):
+    """``box.take(node, axis=1)`` (packed boxes (15, N)) written to ``new(shape)``."""
+    return np.take(box, node, axis=1, out=new((15, len(node))), mode="wrap")  # valid nodes
 
 
 #: The children (of a, of b) of a node pair by which trees split: every pair of children.

@@ -218,7 +218,7 @@ def plate_contacts(
         if smallest is not None:  # only what a report needs: a height per state
             height = report_heights(cells, chunk[3], table, state, pair, smallest, half, reach)
         blocks = plate_blocks(*chunk, table, tol, height, cells, planes=False, work=work_arrays)
-        qq, cell_id, ruling_id = block_pairs(blocks, table, state, pair)
+        qq, cell_id, ruling_id = block_pairs(blocks, table, state, pair, work_arrays)
         if len(qq):  # the planes and points of the exact tests, only where they run
             blocks = with_planes(blocks, cells, chunk[3], tol, work_arrays)
         found = all_exact_tests(blocks, table, qq, cell_id, ruling_id, half, reach, tol)
