@@ -47,6 +47,7 @@ from typing import NamedTuple
 import numpy as np
 
 from compas_ccu.geometry import dot
+from compas_ccu.thickness.block_tests import Found, all_exact_tests, exact_tests
 from compas_ccu.thickness.broad_phase import (
     PairTable,
     box_pairs,
@@ -54,15 +55,7 @@ from compas_ccu.thickness.broad_phase import (
     pair_table,
     plate_boxes,
 )
-from compas_ccu.thickness.candidate_search import (
-    Blocks,
-    Found,
-    all_exact_tests,
-    block_pairs,
-    exact_tests,
-    plate_blocks,
-    with_planes,
-)
+from compas_ccu.thickness.candidate_search import Blocks, block_pairs, plate_blocks, with_planes
 from compas_ccu.thickness.cells import in_footprint, plane_heights, plate_cells, point_gaps
 from compas_ccu.thickness.report_pairs import report_heights
 from compas_ccu.thickness.work_arrays import work_arrays
