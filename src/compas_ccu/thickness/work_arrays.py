@@ -17,6 +17,7 @@ out (the caller's arrays are made afresh). Kept arrays are dropped when pickled.
 
 from __future__ import annotations
 
+import math
 import threading
 
 import numpy as np
@@ -48,18 +49,19 @@ class WorkArrays:
         self._local = threading.local()
 
     def get(self, name: str, shape, dtype=np.float64) -> np.ndarray:
-        """An uninitialised C-contiguous array ``shape`` of ``dtype``, kept under ``name``
-        (its content is that of the last call's; never returned to a caller)."""
-        dtype = np.dtype(dtype)
-        shape = tuple(int(x) for x in np.atleast_1d(shape)) if np.ndim(shape) else (int(shape),)
-        size = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
+        """An uninitialised C-contiguous array ``shape`` (an int or a tuple of ints) of
+        ``dtype``, kept under ``name`` (its content is that of the last call's; never returned
+        to a caller)."""
+        shape = (shape,) if isinstance(shape, (int, np.integer)) else shape
+        size = math.prod(shape) * np.dtype(dtype).itemsize
         if size > 8 * KEPT_SIZE:
             return np.empty(shape, dtype)
-        kept = getattr(self._local, "kept", None)
-        if kept is None:
+        try:
+            kept = self._local.kept
+        except AttributeError:
             kept = self._local.kept = {}
         buffer = kept.get(name)
-        if buffer is None or buffer.size < size:
+        if buffer is None or len(buffer) < size:
             buffer = kept[name] = np.empty(max(size, 8), dtype=np.uint8)
         return buffer[:size].view(dtype).reshape(shape)
 
