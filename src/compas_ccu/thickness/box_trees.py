@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.geometry import cross3, dot, norm3, unit3
-from compas_ccu.thickness.work_arrays import array_maker, cross_into, dot_into
+from compas_ccu.thickness.work_arrays import array_maker, cross_into, dot_into, slot_maker
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = [
@@ -60,7 +60,7 @@ def cell_corners(cells, tol, work=None):
     :class:`compas_ccu.thickness.work_arrays.WorkArrays` whose arrays are written and returned
     (overwritten by the next call), or None (new arrays)."""
     centre, normal, (a, s0), (b, s1), (_, e_near), (d, e_far) = cells
-    new = array_maker(work, "corners.")
+    new = slot_maker(work)
     flat = normal.shape[:-1]
     big, small = (3, 4) + flat, (4,) + flat
     term, one, two = new("term", big), new("one", small), new("two", small)
@@ -121,7 +121,7 @@ def hull_bounds(corners, directions, axes, height, work=None):
     ``X(0) . u ± height |w . u|`` (the hull's points, without the points). ``work``: as
     :func:`cell_corners` takes it, for the temporaries."""
     turn = np.swapaxes(axes, -1, -2)
-    new = array_maker(work, "hull.")
+    new = slot_maker(work)
     shape = np.broadcast_shapes(turn.shape[:-1] + corners.shape[-1:], corners.shape)
     mid, size = new("mid", shape), new("size", shape)
     with np.errstate(invalid="ignore", over="ignore"):
@@ -253,7 +253,7 @@ def separated(box_a, box_b, work=None):
     """(N,) bool: packed boxes ``a`` and ``b`` (15, N) are disjoint by a face axis of either
     (the separating axis test on those six axes; False where undecided). ``work``: as
     :func:`cell_corners` takes it, for the temporaries."""
-    new = array_maker(work, "separated.")
+    new = slot_maker(work)
     n = box_a.shape[1]
     d = np.subtract(box_b[:3], box_a[:3], out=new("d", (3, n)))
     a, b = box_a[3:12].reshape(3, 3, -1), box_b[3:12].reshape(3, 3, -1)  # [row, column]

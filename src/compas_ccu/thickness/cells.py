@@ -17,7 +17,13 @@ from __future__ import annotations
 import numpy as np
 
 from compas_ccu.geometry import dot
-from compas_ccu.thickness.work_arrays import array_maker, cross_into, dot_into, unit_into
+from compas_ccu.thickness.work_arrays import (
+    array_maker,
+    cross_into,
+    dot_into,
+    slot_maker,
+    unit_into,
+)
 from compas_ccu.tolerances import EXACT_RELATIVE
 
 __all__ = ["plate_cells", "plane_heights", "in_footprint", "accepted_from", "point_gaps"]
@@ -36,7 +42,7 @@ def plate_cells(mid_near, mid_far, offsets, work=None):
     near, far, nu = (np.moveaxis(x, -1, 0) for x in (mid_near, mid_far, offsets))
     a, b = near[..., :-1], near[..., 1:]
     c, d = far[..., 1:], far[..., :-1]
-    new = array_maker(work, "cells.")
+    new, kept = slot_maker(work), array_maker(work, "cells.")
     cell, row = a.shape, near.shape  # (3, ..., n), (3, ..., n + 1)
     one, two = new("one", row[1:]), new("two", row[1:])
     one_c, two_c = one.reshape(-1)[: a[0].size].reshape(cell[1:]), new("two_c", cell[1:])
@@ -73,7 +79,7 @@ def plate_cells(mid_near, mid_far, offsets, work=None):
     e_near, e_far = edges
     names = ("centre", "normal", "s0", "s1", "e_near", "e_far")
     centre, normal, s0, s1, e_near, e_far = (
-        _rows_last(x, new("out." + name, x.shape[1:] + (3,)))
+        _rows_last(x, kept(name, x.shape[1:] + (3,)))
         for x, name in zip((centre, normal, s0, s1, e_near, e_far), names)
     )
     a, b = mid_near[..., :-1, :], mid_near[..., 1:, :]

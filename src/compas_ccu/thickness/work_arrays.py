@@ -27,6 +27,7 @@ __all__ = [
     "WorkArrays",
     "work_arrays",
     "array_maker",
+    "slot_maker",
     "dot_into",
     "cross_into",
     "unit_into",
@@ -80,6 +81,18 @@ def array_maker(work, prefix: str):
     if work is None:
         return lambda name, shape: np.empty(shape)
     return lambda name, shape: work.get(prefix + name, shape)
+
+
+def slot_maker(work):
+    """``new(name, shape)`` as :func:`array_maker`, but the arrays of ``work`` are the shared
+    slots ``slot.0``, ``slot.1``, ... in the order asked for, whatever the name: for the
+    temporaries of a function that calls no other user of the slots while it holds them and
+    returns none of them to a caller that holds slots (their buffers are then shared with the
+    other such functions, which keeps fewer arrays)."""
+    if work is None:
+        return lambda name, shape: np.empty(shape)
+    count = iter(range(1 << 30))
+    return lambda name, shape: work.get(f"slot.{next(count)}", shape)
 
 
 def dot_into(u, v, out, term):
