@@ -52,6 +52,12 @@ within the reach, and the walk tests a bounded number of node pairs per kept pai
 level (docs/benchmarks.md: the vault from 32 to 512 segments). A k-d tree over balls around the
 blocks, tried first, keeps pairs up to the plate width plus the reach apart along the strip:
 their number grows with the square of the segments.
+
+Given ``work`` (:class:`compas_ccu.thickness.work_arrays.WorkArrays`, as
+:func:`compas_ccu.thickness.collision.plate_contacts` passes it), the blocks, boxes, trees and
+the walk's temporaries are written into arrays kept per thread between calls, not mapped
+afresh (and faulted in) on every call: the same operations on the same operands, so the same
+numbers; the blocks returned then hold arrays that the next such call overwrites.
 """
 
 from __future__ import annotations
