@@ -247,6 +247,7 @@ def test_a_new_model_of_the_same_shape_updates_the_buffers_of_the_scene(session)
     nodes = len(fake.added)
     assert nodes > 10 and scene.added == nodes
     before = {h.name: h.vertices.copy() for h in fake.added if hasattr(h, "vertices")}
+    faces = {h.name: h.faces for h in fake.added if hasattr(h, "faces")}
     grid = next(h for h in fake.added if h.name == "/ccu/grid")
     position = grid.position
     assert session.edit("crease", "rise", 0.8) is None  # new geometry, same shape
@@ -256,6 +257,8 @@ def test_a_new_model_of_the_same_shape_updates_the_buffers_of_the_scene(session)
         if h.name in before:  # plates, solids, flat stack, cut patterns: new vertices
             assert h.vertices.shape == before[h.name].shape
             assert not np.array_equal(h.vertices, before[h.name]), h.name
+        if h.name in faces:  # the same triangles: not sent again
+            assert h.faces is faces[h.name], h.name
     plate = scene._handles["/ccu/plates/0"]
     expected = view_state(model, 20.0).vertices[0].astype(np.float32)
     assert np.array_equal(plate.vertices, expected)
