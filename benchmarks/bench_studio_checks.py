@@ -23,6 +23,10 @@ that share the GIL, so the checks panel waits for the view's Python as well):
 - **after**: what the studio does for the edit after it sent the panel (the cut patterns and
   the recovery copy, where they come after it).
 
+With ``--studio`` the same edits are also made in a :class:`~compas_ccu.studio.app.Studio` (a
+viser server on a free port, no browser) through its own callback, and timed until the checks
+panel's content is the new model's: the studio's threads, its order of work and its GIL.
+
 The script runs on older versions of the studio too (it follows what the code it imports
 does), so before and after are measured by the same script.
 
@@ -107,10 +111,52 @@ def measure(session, kind: str, count: int) -> dict:
     }
 
 
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
+
+
+def measure_studio(session, kind: str, count: int) -> dict:
+    """The edit in the studio itself (its threads, no browser): from the edit's callback until
+    the checks panel's content is the new model's (``total``), and the process's CPU time until
+    every worker is idle (``cpu``)."""
+    from compas_ccu.studio.app import Studio
+
+    section, key, value = EDITS[kind]
+    app = Studio(session, port=_free_port())
+    times = {"total": [], "cpu": []}
+    try:
+        assert app.wait_idle(120)
+        for i in range(count + 2):
+            c0, t0 = time.process_time(), time.perf_counter()
+            app.apply_action(lambda i=i: session.edit(section, key, value(i)))
+            while "measuring" in app.checks_panel.content:  # set by the edit, then the panel
+                time.sleep(0.0005)
+            t1 = time.perf_counter()
+            assert app.wait_idle(120)
+            if i >= 2:
+                times["total"].append(1000 * (t1 - t0))
+                times["cpu"].append(1000 * (time.process_time() - c0))
+    finally:
+        app.stop()
+    return {
+        name: {"median_ms": statistics.median(v), "p95_ms": float(np.percentile(v, 95))}
+        for name, v in times.items()
+    }
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--edits", type=int, default=20, help="edits of each kind")
     parser.add_argument("--out", default=None, help="also write the results as JSON")
+    parser.add_argument(
+        "--studio",
+        action="store_true",
+        help="also time the edit in the studio's threads (a viser server, no browser)",
+    )
     args = parser.parse_args(argv)
     load = [os.getloadavg()[0]]
     rows = {}
@@ -122,6 +168,12 @@ def main(argv=None) -> int:
         for kind in EDITS:
             rows[kind] = measure(session, kind, args.edits)
             load.append(os.getloadavg()[0])
+        studio = {}
+        if args.studio:
+            fresh = StudioSession.start(design, out=Path(tmp) / "out-studio")
+            for kind in EDITS:
+                studio[kind] = measure_studio(fresh, kind, args.edits)
+                load.append(os.getloadavg()[0])
     print(f"{platform.platform()}, {os.cpu_count()} cores, load (1 min) {min(load):.1f}-"
           f"{max(load):.1f}, {args.edits} edits each, ms (median / p95)")  # fmt: skip
     heads = ("build", "view", "checks", "total", "after", "CPU")
@@ -132,6 +184,12 @@ def main(argv=None) -> int:
             for n in ("build", "view", "checks", "total", "after", "cpu")
         )
         print(f"{kind:<10} {cells}")
+    for kind, row in studio.items():
+        print(
+            f"{kind:<10} in the studio: until the checks panel {row['total']['median_ms']:.1f} /"
+            f" {row['total']['p95_ms']:.1f}, CPU {row['cpu']['median_ms']:.1f} /"
+            f" {row['cpu']['p95_ms']:.1f}"
+        )
     if args.out:
         Path(args.out).write_text(
             json.dumps(
@@ -141,6 +199,7 @@ def main(argv=None) -> int:
                     "deferred": DEFERRED,
                     "shared": SHARED,
                     "edits": rows,
+                    "studio": studio,
                 },
                 indent=1,
             )
