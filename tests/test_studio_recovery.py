@@ -74,5 +74,8 @@ def test_the_studio_writes_every_change_to_the_recovery_copy(design, tmp_path):
     finally:
         app.stop()
     assert "rise = 0.95" in _copy(session)
+    assert not session.defer_recovery  # without the studio, every change at once
+    assert session.edit("crease", "rise", 0.75) is None and "rise = 0.75" in _copy(session)
+    assert session.edit("crease", "rise", 0.95) is None
     again = StudioSession.start(design, out=tmp_path / "out")
     assert again.model.design.crease.rise == 0.95

@@ -162,6 +162,7 @@ class Studio(StudioWidgets, StudioEvents, StudioJobs):
         for worker in (self._view, self._checker, self._relaxer):
             worker.stop()
         self.session.write_recovery()  # a change whose checks were not measured yet
+        self.session.defer_recovery = False  # the session on its own writes every change
         self._exporter.stop()
         self.target_panel.stop()
         self.server.stop()
