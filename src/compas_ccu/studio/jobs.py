@@ -115,9 +115,10 @@ class StudioJobs:
                 return
             self.checks = checks
             self._checks_generation = generation
-            self._marks(model, checks.collision)
-            self.checks_panel.content = checks_html(checks)
-            self._status()
+            with self.server.atomic():  # the panel, the marks and the status line in one go
+                self._marks(model, checks.collision)
+                self.checks_panel.content = checks_html(checks)
+                self._status()
             self.checks_shown += 1
             svg, too_large = cut_patterns_svg(model, sheet=design_sheet(model.design.values))
             if self.session.generation == generation:
