@@ -154,6 +154,7 @@ def test_an_edit_that_keeps_the_geometry_keeps_the_limits(session, monkeypatch):
         assert model.overlap_alpha == measured["overlap_alpha"]
         assert model.collision_free_alpha == measured["collision_free_alpha"]
         design_checks(model)
+        assert model.certificate is first.certificate  # scanned once, as far as either asked
     assert len(calls) == 1
     # the rise changes the geometry: measured again
     assert session.edit("crease", "rise", 0.9) is None
@@ -163,6 +164,32 @@ def test_an_edit_that_keeps_the_geometry_keeps_the_limits(session, monkeypatch):
     design_checks(model)
     assert len(calls) == 2
     assert model.overlap_alpha != measured["overlap_alpha"]
+    assert model.certificate is not first.certificate
+
+
+def test_threads_sharing_a_certificate_find_what_one_scan_finds():
+    """A certificate asked by several threads at once (the studio's workers, the models of one
+    geometry) gives each the event of one thread's scan, and the same state count."""
+    import threading
+
+    alone = load_model(EXAMPLES / "vault.toml").certificate
+    want = alone.result()
+    shared = load_model(EXAMPLES / "vault.toml").certificate
+    got = []
+    goals = [want.clear * f for f in (0.3, 1.0, 0.6, 2.0)]
+    threads = [threading.Thread(target=lambda g=g: got.append(shared.certify(g))) for g in goals]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    final = shared.result()
+    assert (final.clear, final.hit, final.plates, final.kind) == (
+        want.clear,
+        want.hit,
+        want.plates,
+        want.kind,
+    )
+    assert final.states == want.states  # no step scanned twice
 
 
 def test_a_new_thickness_keeps_the_zero_thickness_limits_but_not_the_thick_ones(
@@ -247,6 +274,7 @@ def test_a_new_model_of_the_same_shape_updates_the_buffers_of_the_scene(session)
     nodes = len(fake.added)
     assert nodes > 10 and scene.added == nodes
     before = {h.name: h.vertices.copy() for h in fake.added if hasattr(h, "vertices")}
+    faces = {h.name: h.faces for h in fake.added if hasattr(h, "faces")}
     grid = next(h for h in fake.added if h.name == "/ccu/grid")
     position = grid.position
     assert session.edit("crease", "rise", 0.8) is None  # new geometry, same shape
@@ -256,6 +284,8 @@ def test_a_new_model_of_the_same_shape_updates_the_buffers_of_the_scene(session)
         if h.name in before:  # plates, solids, flat stack, cut patterns: new vertices
             assert h.vertices.shape == before[h.name].shape
             assert not np.array_equal(h.vertices, before[h.name]), h.name
+        if h.name in faces:  # the same triangles: not sent again
+            assert h.faces is faces[h.name], h.name
     plate = scene._handles["/ccu/plates/0"]
     expected = view_state(model, 20.0).vertices[0].astype(np.float32)
     assert np.array_equal(plate.vertices, expected)
@@ -292,3 +322,4 @@ def test_two_threads_asking_for_a_limit_measure_it_once(monkeypatch):
         limits = other.limits if hasattr(other, "limits") else other
         assert limits["collision_free_alpha"] == found[0]
         assert limits.measure("overlap_alpha", lambda: None) == model.overlap_alpha
+        assert "certificate" in model.limits and "certificate" not in limits  # made again

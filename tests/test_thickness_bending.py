@@ -200,3 +200,49 @@ def test_thick_model_uses_the_design_code_section(vault_model):
         ThickModel(vault_model, material="gfrp")
     gfrp = ThickModel(vault_model, material="gfrp", design_code={"k_mod": 0.5, "gamma_M": 1.5})
     assert gfrp.factors.strength_factor == 0.5 / 1.5
+
+
+@pytest.mark.parametrize("name", ["vault", "cone"])
+def test_the_kept_curvature_is_the_curvature_of_the_placed_states(name):
+    """path_curvature places only the angles it has not seen, once per geometry and thickness:
+    every state has the numbers of the states placed together (the key figures' 24 path
+    states and the studio's 25 from the flat stack), and a new material measures nothing."""
+    from compas_ccu.model import load_model
+    from compas_ccu.model.self_intersection import adopt_limits
+    from compas_ccu.thickness.bending import path_curvature
+
+    model = load_model(EXAMPLES / f"{name}.toml")
+    thick = ThickModel(model)
+    d = model.alpha_design
+
+    place = thick.place
+
+    def mid(alphas):
+        st = place(alphas)
+        return model.plates.to_output(stack_rows(st.near, st.far), axis=1)
+
+    def placed(alphas):
+        return plate_curvature(mid(alphas))
+
+    calls = []
+    thick.place = lambda alphas: calls.append(len(alphas)) or place(alphas)
+    path = np.linspace(d / 24, d, 24)
+    panel = np.linspace(0.0, d, 25)
+    for alphas in (path, panel, panel[::-1], [0.0, 0.0, d], path):
+        got = path_curvature(thick, alphas)
+        assert got.tobytes() == placed(alphas).tobytes()
+    fresh = sorted(set(path.tolist()) | set(panel.tolist()))
+    assert calls == [24, len(fresh) - 24]  # the panel's new angles only, then none
+    # a new material on the same geometry keeps the curvature (the model's limits)
+    other = load_model(EXAMPLES / f"{name}.toml")
+    other.design.values["plates"]["material"] = "birch-plywood"
+    assert adopt_limits(other, model)
+    again = ThickModel(other, material="birch-plywood")
+    again.place = lambda alphas: calls.append(len(alphas)) or place(alphas)
+    check = again.bending(panel)
+    assert calls == [24, len(fresh) - 24]
+    assert check.curvature.tobytes() == placed(panel).tobytes()
+    assert check.utilisation.tobytes() == bending_check(
+        mid(panel), other.flat(), again.thickness, again.material,
+        grain=math.radians(again.grain), factors=again.factors,
+    ).utilisation.tobytes()  # fmt: skip

@@ -33,6 +33,7 @@ both sides of a quad's plane near it, then the exact tests) are
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -122,6 +123,8 @@ class PathCertificate:
     states, each step split until no vertex moves more than :data:`STEP` of the structure's
     size), so a scan asked in parts (``certify`` to the design angle, later to the limit) tests
     the same steps as one scan of the whole range and finds the same event, bit for bit.
+    Threads may share a certificate (the studio's view and checks workers, and the models of
+    one geometry, :func:`compas_ccu.model.self_intersection.adopt_limits`): one scans at a time.
 
     Parameters
     ----------
@@ -170,6 +173,7 @@ class PathCertificate:
         self._initial = np.full(len(self.alphas), -1)
         self._initial[np.concatenate([[0], np.cumsum(splits)])] = np.arange(len(alphas))
         self._done = 0  # states 0 .. _done are clear (steps between them too)
+        self._scanning = threading.Lock()  # one scan at a time: two threads may ask together
         self._result = None
         self.states = 0  #: states placed and tested so far
         self.tolerance = self._tol  #: the largest touch tolerance used so far, m
@@ -183,6 +187,10 @@ class PathCertificate:
             The first event if the scan has found one (at any angle), else None: the plates
             are clear from the flat stack to at least ``alpha``.
         """
+        with self._scanning:  # a second caller waits, then finds the scan done as far
+            return self._certify(alpha)
+
+    def _certify(self, alpha: float) -> Interference | None:
         last = len(self.alphas) - 1
         goal = min(int(np.searchsorted(self.alphas, alpha - ANGLE_TOLERANCE)), last)
         while self._result is None and self._done < goal:

@@ -101,7 +101,6 @@ class CCUModel(Data):
         self.size = float(np.linalg.norm(np.ptp(corners.reshape(-1, 3), axis=0)))
         self._flat = None
         self._kinds = None
-        self._certificate = None
         #: Measured path limits, kept between models of the same geometry (adopt_limits)
         self.limits = PathLimits()
         self._faces = None
@@ -307,10 +306,9 @@ class CCUModel(Data):
     @property
     def certificate(self) -> PathCertificate:
         """The interpenetration certificate of the path from the flat stack to the limit
-        (:class:`compas_ccu.kinematics.interference.PathCertificate`), scanned as far as asked."""
-        if self._certificate is None:
-            self._certificate = path_certificate(self)
-        return self._certificate
+        (:class:`compas_ccu.kinematics.interference.PathCertificate`), scanned as far as asked;
+        made once (kept in :attr:`limits`: a model of the same geometry shares it)."""
+        return self.limits.measure("certificate", lambda: path_certificate(self))
 
     @property
     def interference(self):

@@ -120,8 +120,13 @@ class PathLimits(dict):
         self._guard = threading.Lock()
         self._locks: dict = {}
 
+    #: Kept objects, not values: a copy measures them again (the certificate holds a lock and
+    #: its mechanism's placement).
+    TRANSIENT = ("certificate",)
+
     def __reduce__(self):  # copied or pickled with its values, new locks
-        return (type(self), (dict(self),))
+        values = {k: v for k, v in self.items() if k not in self.TRANSIENT}
+        return (type(self), (values,))
 
     def measure(self, key, function):
         """The value under ``key``, measured by ``function()`` if it is not there yet (a
@@ -173,9 +178,10 @@ def geometry_key(model) -> str:
 
 def adopt_limits(model, previous) -> bool:
     """Let ``model`` share the path limits of ``previous`` (a model, or None) when their
-    geometry is the same (:func:`geometry_key`): the overlap angle, the collision-free angle and
-    the thick plates' first collisions (keyed by thickness), those measured already and those
-    either model measures from now on (one dict, :attr:`CCUModel.limits`).
+    geometry is the same (:func:`geometry_key`): the overlap angle, the collision-free angle,
+    the path certificate (scanned as far as either model asked) and the thick plates' first
+    collisions (keyed by thickness), those measured already and those either model measures
+    from now on (one dict, :attr:`CCUModel.limits`).
 
     Returns
     -------

@@ -110,6 +110,8 @@ class Studio(StudioWidgets, StudioEvents, StudioJobs):
         self._exporter = ExportProcess()
         self._checks_generation = -1
         self._thick = (None, None)  # (generation, ThickModel or the error)
+        self._thick_lock = threading.Lock()
+        self.checks_shown = 0  # checks panels shown (tests, benchmarks)
         self._relaxed = {}  # (generation, alpha) -> vertices
         self._playing = threading.Event()
         self._stopped = False
@@ -117,6 +119,9 @@ class Studio(StudioWidgets, StudioEvents, StudioJobs):
         self._view = LatestWorker(self._render, name="studio-view", on_error=self._failed)
         self._checker = LatestWorker(self._measure, name="studio-checks", on_error=self._failed)
         self._relaxer = LatestWorker(self._relax, name="studio-relax", on_error=self._failed)
+        # the recovery copy of a change is written when its checks panel is shown (the checks
+        # worker; at once for a change without a new model)
+        session.defer_recovery = True
         self.server.on_client_connect(self._on_connect)
         self._sync_panel()
         self._model_changed(reset_alpha=True)
@@ -156,6 +161,8 @@ class Studio(StudioWidgets, StudioEvents, StudioJobs):
         self._playing.clear()
         for worker in (self._view, self._checker, self._relaxer):
             worker.stop()
+        self.session.write_recovery()  # a change whose checks were not measured yet
+        self.session.defer_recovery = False  # the session on its own writes every change
         self._exporter.stop()
         self.target_panel.stop()
         self.server.stop()
@@ -200,8 +207,9 @@ class Studio(StudioWidgets, StudioEvents, StudioJobs):
             return False
         self._sync_panel()
         if changed:
-            self._model_changed()
+            self._model_changed()  # the checks worker writes the recovery copy
         else:
+            self.session.write_recovery()
             self._status()
         return True
 
@@ -247,6 +255,7 @@ class Studio(StudioWidgets, StudioEvents, StudioJobs):
     def _model_changed(self, *, reset_alpha: bool = False) -> None:
         model = self.session.model
         if model is None:
+            self.session.write_recovery()
             self._status()
             return
         if reset_alpha or self.alpha is None:

@@ -93,8 +93,12 @@ def first_collision(thick: ThickModel, upto: float, *, states: int = COLLISION_S
     return thick.first_collision(upto, states=states, bisections=COLLISION_BISECTIONS)[1]
 
 
-def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
+def design_checks(model, *, path_states: int = PATH_STATES, thick=None) -> StudioChecks:
     """The checks panel of ``model`` (a :class:`compas_ccu.model.CCUModel`).
+
+    ``thick``: its :class:`~compas_ccu.thickness.ThickModel` with the design's thickness and
+    material if one is built already (the studio's view builds it), or the error that refused
+    it; default: built here.
 
     Examples
     --------
@@ -105,9 +109,11 @@ def design_checks(model, *, path_states: int = PATH_STATES) -> StudioChecks:
     """
     t0 = time.perf_counter()
     rows = []
-    thick = None
+    given, thick = thick, None
     try:
-        thick = ThickModel(model)
+        if isinstance(given, CCUError):
+            raise given
+        thick = ThickModel(model) if given is None else given
         figures = key_figures(model, path=path_states, thickness=thick)
     except CCUError as exc:
         figures = key_figures(model, path=path_states)

@@ -43,14 +43,17 @@ class StudioJobs:
         self._status()
 
     def _thick_model(self, generation, model):
-        gen, thick = self._thick
-        if gen != generation:
-            try:
-                thick = ThickModel(model)
-            except CCUError as exc:  # the checks panel says why
-                thick = exc
-            self._thick = (generation, thick)
-        return None if isinstance(thick, Exception) else thick
+        """The thick plates of ``model`` (or the error that refused them), built once for the
+        view and the checks of a generation (whichever asks first)."""
+        with self._thick_lock:
+            gen, thick = self._thick
+            if gen != generation:
+                try:
+                    thick = ThickModel(model)
+                except CCUError as exc:  # the checks panel says why
+                    thick = exc
+                self._thick = (generation, thick)
+        return thick
 
     def _render(self) -> None:
         t0 = time.perf_counter()
@@ -61,6 +64,7 @@ class StudioJobs:
         alpha = min(max(float(self.alpha), 0.0), model.alpha_limit)
         layers = {k: bool(box.value) for k, box in self.layers.items()}
         thick = self._thick_model(generation, model)
+        thick = None if isinstance(thick, Exception) else thick
         relaxed = self._relaxed.get((generation, round(alpha, 6)))
         coloring = self.coloring
         view = view_state(
@@ -103,13 +107,21 @@ class StudioJobs:
             self._view.submit()
 
     def _measure(self, generation, model) -> None:
-        checks = design_checks(model)
-        svg, too_large = cut_patterns_svg(model, sheet=design_sheet(model.design.values))
-        if self.session.generation != generation:
-            return
-        self.checks = checks
-        self._checks_generation = generation
-        self._marks(model, checks.collision)
-        self.checks_panel.content = checks_html(checks)
-        self.patterns_panel.content = patterns_html(svg, too_large)
-        self._status()
+        """The checks panel of a new model, as soon as its figures are measured; then its cut
+        patterns and the recovery copy of the change (neither is on the way to the panel)."""
+        try:
+            checks = design_checks(model, thick=self._thick_model(generation, model))
+            if self.session.generation != generation:
+                return
+            self.checks = checks
+            self._checks_generation = generation
+            with self.server.atomic():  # the panel, the marks and the status line in one go
+                self._marks(model, checks.collision)
+                self.checks_panel.content = checks_html(checks)
+                self._status()
+            self.checks_shown += 1
+            svg, too_large = cut_patterns_svg(model, sheet=design_sheet(model.design.values))
+            if self.session.generation == generation:
+                self.patterns_panel.content = patterns_html(svg, too_large)
+        finally:
+            self.session.write_recovery()

@@ -115,9 +115,31 @@ class SessionRecovery:
             raise OptionError(f"no recovery copy of {self.name} is waiting for a choice")
         return self.recovery
 
+    #: Write the recovery copy when :meth:`write_recovery` is called rather than at once (the
+    #: studio writes it when the checks panel of the change is shown: it is not on the way
+    #: there). Every valid change still reaches the copy.
+    defer_recovery = False
+    _recovery_due = False
+
     def _recover(self) -> None:
         """Keep the valid design in the recovery copy of its file (a killed server loses no
-        edit)."""
+        edit); with :attr:`defer_recovery`, at the next :meth:`write_recovery`."""
+        if self.defer_recovery:
+            self._recovery_due = True
+            return
+        self._write_recovery()
+
+    def write_recovery(self) -> bool:
+        """Write the recovery copy of the valid design if a change since the last one is not
+        in it yet (:attr:`defer_recovery`); True if it was written."""
+        with self.lock:
+            if not self._recovery_due:
+                return False
+            self._write_recovery()
+            return True
+
+    def _write_recovery(self) -> None:
+        self._recovery_due = False
         try:
             text = self.text()
             meta = {

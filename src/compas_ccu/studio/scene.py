@@ -48,6 +48,14 @@ def _linear(colors) -> np.ndarray:
     return np.ascontiguousarray(np.round(lin * 255.0), dtype=np.uint8)
 
 
+def _set_faces(handle, triangles) -> None:
+    """Send a mesh node's triangles only when they changed (a new model of the same layout
+    has the same ones: only its vertex buffer is sent)."""
+    faces = np.asarray(triangles).astype(np.uint32)
+    if not np.array_equal(handle.faces, faces):
+        handle.faces = faces
+
+
 def _stacked(vertices: np.ndarray, triangles: np.ndarray):
     """One mesh of all plates: (p * v, 3) vertices and (p * 2n, 3) triangles."""
     offsets = (np.arange(len(vertices)) * vertices.shape[1])[:, None, None]
@@ -156,7 +164,7 @@ class StudioScene:
             else:
                 h[name].vertices = _f32(view.vertices[i])
                 if faces:
-                    h[name].faces = view.triangles[i].astype(np.uint32)
+                    _set_faces(h[name], view.triangles[i])
                 if tuple(h[name].color) != color:
                     h[name].color = color
         creases = view.creases.reshape(-1, 2, 3)
@@ -188,7 +196,7 @@ class StudioScene:
         self._stale.discard(name)
         if name in h and (h[name].vertices.shape, h[name].faces.shape) == (verts.shape, tris.shape):
             h[name].vertices = _f32(verts)
-            h[name].faces = tris.astype(np.uint32)
+            _set_faces(h[name], tris)
         else:
             if name in h:
                 h.pop(name).remove()

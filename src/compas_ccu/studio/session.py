@@ -132,6 +132,7 @@ class StudioSession(SessionRecovery):
 
     def _load(self, text: str, *, name: str, origin: str, saved: bool) -> None:
         document = parse_document(name, text)
+        self.write_recovery()  # a change not yet in the last design's copy goes there first
         self.source = text
         self._source_values = clone_document(document)
         self.base_sha256 = sha256(text)  # the content the edits start from
@@ -358,6 +359,7 @@ class StudioSession(SessionRecovery):
             self.files.write(path.relative_to(self.files.design_folder), text)
             self.files.clear_recovery(before)
             self.files.clear_recovery(path)
+            self._recovery_due = False  # the file holds the valid design now
             self.source = text
             self._source_values = clone_document(self._document)
             self.base_sha256 = sha256(text)

@@ -54,6 +54,10 @@ __all__ = [
 ]
 
 
+#: Paths whose geometry :func:`path_actuation` keeps per model geometry.
+ACTUATION_PATHS_KEPT = 8
+
+
 class Actuation(NamedTuple):
     """Energy and foot force along a deployment path.
 
@@ -144,9 +148,14 @@ def bending_energy(vertices: np.ndarray, rigidity) -> np.ndarray:
     1.0
     """
     v = np.asarray(vertices, dtype=float)
+    return _energy(_ruling_lines(v), rigidity, v.shape)
+
+
+def _ruling_lines(v: np.ndarray) -> tuple:
+    """The integrals ``∫ L κ² dσ`` of every quad along its two rulings (the geometry's part of
+    :func:`bending_energy`; the material's is the rigidity)."""
     n = v.shape[-2] // 2 - 1
     kappa = plate_curvature(v)
-    d = np.broadcast_to(np.asarray(rigidity, dtype=float), v.shape[:-1])[..., : n + 1]
     near, far = v[..., : n + 1, :], v[..., n + 1 :, :]
     k_near, k_far = kappa[..., : n + 1], kappa[..., n + 1 :]
     # quad j: a = near j, b = near j+1, c = far j+1, d = far j; σ runs from near to far.
@@ -154,11 +163,20 @@ def bending_energy(vertices: np.ndarray, rigidity) -> np.ndarray:
     # between the quad's near edge b - a and far edge c - d (and the same on ruling j + 1).
     edge_near, edge_far = near[..., 1:, :] - near[..., :-1, :], far[..., 1:, :] - far[..., :-1, :]
     ruling = far - near
-    total = 0.0
+    lines = []
     for side, r in ((slice(None, -1), ruling[..., :-1, :]), (slice(1, None), ruling[..., 1:, :])):
         l0 = np.linalg.norm(np.cross(edge_near, r), axis=-1)
         l1 = np.linalg.norm(np.cross(edge_far, r), axis=-1)
-        line = _ruling_integral(k_near[..., side], k_far[..., side], l0, l1)
+        lines.append(_ruling_integral(k_near[..., side], k_far[..., side], l0, l1))
+    return tuple(lines)
+
+
+def _energy(lines: tuple, rigidity, shape: tuple) -> np.ndarray:
+    """(k,) bending energy of the plates from their :func:`_ruling_lines` and ``rigidity``."""
+    n = shape[-2] // 2 - 1
+    d = np.broadcast_to(np.asarray(rigidity, dtype=float), shape[:-1])[..., : n + 1]
+    total = 0.0
+    for side, line in zip((slice(None, -1), slice(1, None)), lines):
         total = total + 0.5 * (0.5 * d[..., side] * line)
     return total.sum(axis=(-1, -2))
 
@@ -314,12 +332,32 @@ def path_actuation(thick, alphas=None) -> Actuation:
     alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
     model = thick.model
     check_path(model, len(alphas))  # as CCUModel.path, whose vertices and spans these are
-    states = model.mechanism.deploy(np.radians(alphas))
-    vertices = np.array([model.state_vertices(states, k) for k in range(len(alphas))])
+    limits = getattr(model, "limits", None)
+    if limits is None:
+        shape, lines, span, feet = _path_geometry(model, alphas)
+    else:  # the geometry's part, kept per path for the models of one geometry (a new material)
+        kept = limits.measure(("actuation_paths",), dict)
+        key = alphas.tobytes()
+        found = kept.get(key)
+        if found is None:
+            found = _path_geometry(model, alphas)
+            if len(kept) >= ACTUATION_PATHS_KEPT:
+                kept.clear()
+            kept[key] = found
+        shape, lines, span, feet = found
     angles = bending_angles(model.flat(), math.radians(thick.grain))
     rigidity = thick.material.plate_rigidity(thick.thickness, angles)
-    energy = bending_energy(vertices, rigidity)
+    energy = _energy(lines, rigidity, shape)
+    feet = tuple(None if f is None else np.array(f) for f in feet)  # copies of the kept ones
+    return Actuation(alphas, energy, span.copy(), actuation_force(alphas, energy, span), *feet)
+
+
+def _path_geometry(model, alphas) -> tuple:
+    """What :func:`path_actuation` measures on the zero-thickness path states: the shape of
+    their vertices, the :func:`_ruling_lines`, the spans and the ring of feet."""
+    states = model.mechanism.deploy(np.radians(alphas))
+    vertices = np.array([model.state_vertices(states, k) for k in range(len(alphas))])
     span = np.array([leading_span(states, k) for k in range(len(alphas))])
-    ring = radial_feet(thick.model, vertices)
+    ring = radial_feet(model, vertices)
     feet = (None, None, None) if ring is None else foot_ring(vertices, *ring)
-    return Actuation(alphas, energy, span, actuation_force(alphas, energy, span), *feet)
+    return vertices.shape, _ruling_lines(vertices), span, feet

@@ -43,7 +43,13 @@ __all__ = [
     "bending_angles",
     "bending_verdict",
     "path_bending",
+    "path_curvature",
+    "curvature_check",
+    "CURVATURE_KEPT",
 ]
+
+#: Placed states whose curvature a model keeps per thickness (:func:`path_curvature`).
+CURVATURE_KEPT = 256
 
 
 class BendingCheck(NamedTuple):
@@ -163,9 +169,14 @@ def bending_check(
     >>> round(check.max, 3), round(check.max_characteristic, 3), check.factors.label
     (1.319, 0.659, 'EC5 SC1 permanent')
     """
+    return curvature_check(plate_curvature(vertices), flat, thickness, material, grain, factors)
+
+
+def curvature_check(kappa, flat, thickness, material, grain=0.0, factors=None) -> BendingCheck:
+    """:func:`bending_check` of the principal curvature ``kappa`` (k, p, 2n + 2) of the
+    deployed mid-surfaces (:func:`compas_ccu.strips.curvature.plate_curvature`)."""
     if factors is None:
         factors = DesignFactors()
-    kappa = plate_curvature(vertices)
     characteristic = material.curvature_limit_at(thickness, bending_angles(flat, grain))
     limit = characteristic * factors.strength_factor
     return BendingCheck(kappa, limit, np.abs(kappa) / limit[None], factors, characteristic)
@@ -189,17 +200,51 @@ def bending_verdict(exceeded: bool, basis: dict) -> str:
     return f"EXCEEDED: above the design bending strength ({label})"
 
 
+def path_curvature(thick, alphas) -> np.ndarray:
+    """(k, p, 2n + 2) principal curvature of the thick plates' mid-surfaces at reference angles
+    ``alphas`` (degrees), plates in id order.
+
+    The curvature of a state depends on the placed geometry, the thickness and the hinge sides
+    only (not the material), and every state is placed and measured on its own (the vectorised
+    placement gives a state the same numbers in any batch), so the model keeps the curvature of
+    the last :data:`CURVATURE_KEPT` angles per thickness in :attr:`CCUModel.limits` (shared by
+    the models of one geometry: a new material measures nothing again) and places only the
+    angles it has not seen: the key figures' path states and the studio's checks panel (the
+    same angles from the flat stack, computed the other way round) are placed once.
+    """
+    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+    limits = getattr(thick.model, "limits", None)
+    keys = [a.tobytes() for a in alphas]
+    kept = {} if limits is None else limits.measure(_curvature_key(thick), dict)
+    found = {k: row for k in keys if (row := kept.get(k)) is not None}
+    missing = [k for k in dict.fromkeys(keys) if k not in found]
+    if missing or not keys:
+        angles = np.frombuffer(b"".join(missing), dtype=float).copy()
+        st = thick.place(angles)
+        mid = thick.model.plates.to_output(stack_rows(st.near, st.far), axis=1)
+        kappa = plate_curvature(mid)
+        if len(kept) + len(missing) > CURVATURE_KEPT:
+            kept.clear()
+        if not keys:
+            return kappa
+        for k, row in zip(missing, kappa):
+            found[k] = kept[k] = row
+    return np.stack([found[k] for k in keys])
+
+
+def _curvature_key(thick) -> tuple:
+    sides = np.ascontiguousarray(thick.sides, dtype=float).tobytes()
+    return ("thick_curvature", float(thick.thickness), sides)
+
+
 def path_bending(thick, alphas=None) -> BendingCheck:
     """The bending check of ``thick`` (a :class:`compas_ccu.thickness.ThickModel`) at
     reference angles ``alphas`` (degrees; default: 21 states from the flat stack to the design),
-    plates in id order (:meth:`ThickModel.bending`)."""
+    plates in id order (:meth:`ThickModel.bending`; the curvature of :func:`path_curvature`)."""
     if alphas is None:
         alphas = np.linspace(0.0, thick.model.alpha_design, 21)
-    alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
-    st = thick.place(alphas)
-    mid = thick.model.plates.to_output(stack_rows(st.near, st.far), axis=1)
-    return bending_check(
-        mid,
+    return curvature_check(
+        path_curvature(thick, alphas),
         thick.model.flat(),
         thick.thickness,
         thick.material,

@@ -137,27 +137,40 @@ class ThickModel(Data):
         self.grain = float(grain)
         mech = model.mechanism
         self.mechanism = mech
+        # the geometry's part (not the material's), kept for the models of one geometry
+        limits = getattr(model, "limits", None)
+        key = ("thick_frame", self.thickness, float(model.alpha_design))
+        frame = self._frame() if limits is None else limits.measure(key, self._frame)
+        sides, corrections, shifts, position, self._flat_states = frame
+        self.sides, self.design_corrections = sides.copy(), corrections.copy()  # (c, n + 1)
+        # (p, 2n + 2) distance each vertex moves along its ruling into the plate: the crease
+        # corrections of the design state on both plates of every crease, 0 at free boundaries
+        self.shifts = shifts.copy()
+        self.stack_position = list(position)  # by plate id
+        self._pairs_neighbours = {tuple(sorted((c.plate_a, c.plate_b))) for c in mech.creases}
+
+    def _frame(self) -> tuple:
+        """The hinge sides, the design state's crease corrections, the shifts, the stack
+        position and the flat stack's placement (the thickness and the geometry's only)."""
+        model, mech = self.model, self.mechanism
         alpha = model.alpha_design if model.alpha_design > 0.0 else 0.5 * model.alpha_limit
         probe = mech.deploy(math.radians(min(alpha, 0.5 * model.alpha_limit + 0.5 * alpha)))
         self.sides = crease_sides(mech, probe)
         design = self.place([model.alpha_design])
-        self.design_corrections = design.corrections[0]  # (c, n + 1)
+        corrections = design.corrections[0]
         index = model.plates
-        # (p, 2n + 2) distance each vertex moves along its ruling into the plate: the crease
-        # corrections of the design state on both plates of every crease, 0 at free boundaries
-        self.shifts = np.zeros((index.count, index.vertex_count))
+        shifts = np.zeros((index.count, index.vertex_count))
         for ci, (a, b) in enumerate(index.crease_plates):
             rows_a, rows_b = index.crease_rows(ci)
-            self.shifts[a, rows_a] = self.design_corrections[ci]
-            self.shifts[b, rows_b] = self.design_corrections[ci]
+            shifts[a, rows_a] = corrections[ci]
+            shifts[b, rows_b] = corrections[ci]
         p = index.count
         flat = self.place([0.0])
         heights = flat.near[0, :, :, 2].mean(axis=1)  # local z of the mid-surfaces
         order = np.argsort(heights)
         position = np.empty(p, dtype=int)
         position[order] = np.arange(p)
-        self.stack_position = index.to_output(position).tolist()  # by plate id
-        self._pairs_neighbours = {tuple(sorted((c.plate_a, c.plate_b))) for c in mech.creases}
+        return self.sides, corrections, shifts, index.to_output(position).tolist(), flat
 
     # -- COMPAS data ---------------------------------------------------------------------------
     @property
@@ -299,7 +312,7 @@ class ThickModel(Data):
     @property
     def stack_height(self) -> float:
         """Height of the flat-folded stack, m (Σt for plates folded completely closed)."""
-        faces = self.faces_local(self.place([0.0]))[0]
+        faces = self.faces_local(self._flat_states)[0]  # the placement of [0.0]
         z = faces[..., 2]
         return float(z.max() - z.min())
 
