@@ -164,7 +164,8 @@ def _heights(g, t, blocks, quad_block, local, new):
     at = _take(local, bi, 0, new("at", (m, v), np.intp))
     at += ((s * p + bb) * (2 * n + 2))[:, None]
     x = _take(g.vertices.reshape(-1, 3), at, 0, new("x", (m, v, 3)))  # (M, V, 3)
-    x[t.masks[t.pattern[ba, bb, bi]]] = np.nan  # on the hinge: neither side (fmax, fmin skip it)
+    on_hinge = t.masks[t.pattern[ba, bb, bi]][..., None]  # neither side (fmax, fmin skip it)
+    np.copyto(x, np.nan, where=on_hinge)
     nrm = new("nrm", (m, b, 3))
     np.copyto(nrm, np.moveaxis(_take(t.normal, quads, 1, new("normal", (3, m, b))), 0, -1))
     h = new("h", (v, m, b))
