@@ -104,20 +104,21 @@ def _overlap(qlo, qhi, vlo, vhi):
     return overlap
 
 
-def _step_boxes(points, block, new, name):
-    """Bounding boxes (lo, hi) (k - 1, p, J, 3) of the points ``points`` (k, p, m, ..., 3) of
-    the blocks ``block`` (J, b) over each step, both states; ``new(name, shape)``: the arrays
-    written."""
-    k, p = points.shape[:2]
-    if not points.flags.c_contiguous:  # np.take would copy it afresh
-        kept = new(name + ".points", points.shape)
-        np.copyto(kept, points)
-        points = kept
-    shape = (k, p) + block.shape + points.shape[3:]
-    blocks = _take(points, block, 2, new(name, shape)).reshape(k, p, len(block), -1, 3)
-    both = new(name + ".both", (k - 1, p, len(block), 2 * blocks.shape[3], 3))
-    np.concatenate([blocks[:-1], blocks[1:]], axis=3, out=both)
-    return both.min(axis=3), both.max(axis=3)
+def _step_boxes(first, block, new, name):
+    """Bounding boxes (lo, hi) (k - 1, p, J, 3) over each step (both states) of the blocks
+    ``block`` (J, b) of points ``first`` (m, ..., k, p, 3): the point axis first, so that the
+    extremes run over whole slabs. Every bound is one of the points' coordinates (min and max
+    are exact: the same whatever the order). ``new(name, shape)``: the arrays written."""
+    if not first.flags.c_contiguous:  # np.take would copy it afresh
+        kept = new(name + ".points", first.shape)
+        np.copyto(kept, first)
+        first = kept
+    points = _take(first, block.T, 0, new(name, block.T.shape + first.shape[1:]))
+    axes = (0,) + tuple(range(2, points.ndim - 3))  # the block's points (and their corners)
+    lo, hi = np.minimum.reduce(points, axis=axes), np.maximum.reduce(points, axis=axes)
+    lo = np.minimum(lo[:, :-1], lo[:, 1:])  # (J, k - 1, p, 3)
+    hi = np.maximum(hi[:, :-1], hi[:, 1:])
+    return np.moveaxis(lo, 0, 2), np.moveaxis(hi, 0, 2)
 
 
 def path_events(vertices, n, excluded, tol):
@@ -150,8 +151,8 @@ def path_events(vertices, n, excluded, tol):
     m = n + 1
     local = np.concatenate([ruling_block, m + ruling_block], axis=1)  # (I, 2 BLOCK + 2)
     # boxes of every block over the step from state i to i + 1, widened by the touch tolerance
-    qlo, qhi = _step_boxes(corners, quad_block, new, "quads")
-    vlo, vhi = _step_boxes(vertices, local, new, "rulings")
+    qlo, qhi = _step_boxes(np.moveaxis(corners, (2, 3), (0, 1)), quad_block, new, "quads")
+    vlo, vhi = _step_boxes(np.moveaxis(vertices, 2, 0), local, new, "rulings")
     widen = (touch.max() + reach)[:, None, None, None]
     qlo, vlo = qlo - widen, vlo - widen
     overlap = _overlap(qlo, qhi, vlo, vhi)  # (k - 1, p, J, p, I)
