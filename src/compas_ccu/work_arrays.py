@@ -23,7 +23,7 @@ import threading
 
 import numpy as np
 
-__all__ = ["KEPT_SIZE", "WorkArrays", "array_maker", "slot_maker"]
+__all__ = ["KEPT_SIZE", "WorkArrays", "array_maker", "slot_maker", "take_into"]
 
 #: The largest buffer (in numbers of 8 bytes) kept between calls: 4 MB.
 KEPT_SIZE = 1 << 19
@@ -82,3 +82,11 @@ def slot_maker(work):
         return lambda name, shape, dtype=np.float64: np.empty(shape, dtype)
     count = iter(range(1 << 30))
     return lambda name, shape, dtype=np.float64: work.get(f"slot.{next(count)}", shape, dtype)
+
+
+def take_into(values, rows, axis, out):
+    """``np.take(values, rows, axis=axis)`` written to ``out`` (C-contiguous): the rows must be
+    in range (``mode="clip"``: with the default ``"raise"`` NumPy takes into a new buffer
+    first, then copies it to ``out``). ``values`` should be C-contiguous too (else NumPy
+    copies it first)."""
+    return np.take(values, rows, axis=axis, out=out, mode="clip")

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from compas_ccu.tolerances import ZERO_LENGTH
-from compas_ccu.work_arrays import WorkArrays, array_maker, slot_maker
+from compas_ccu.work_arrays import WorkArrays, array_maker, slot_maker, take_into
 
 __all__ = ["BlockTables", "block_tables", "sided_blocks", "work_arrays"]
 
@@ -77,7 +77,7 @@ def block_tables(g, quad_block, local, excluded, work=None) -> BlockTables:
     _, first, pattern = np.unique(codes, return_index=True, return_inverse=True)
     masks = masks[first]  # (P, V)
     # the vertices of the blocks, the vertex axis first (V, k, p, I, 3): their extremes are quick
-    points = _take(g.vertices, local, 2, new("points", (k, p, count, size, 3)))
+    points = take_into(g.vertices, local, 2, new("points", (k, p, count, size, 3)))
     first = new("first", (size, k, p, count, 3))
     np.copyto(first, np.moveaxis(points, 3, 0))
     boxes = new("boxes", (4, k, p, count, len(masks), 3))  # bound lo, hi; lo, hi
@@ -91,13 +91,13 @@ def block_tables(g, quad_block, local, excluded, work=None) -> BlockTables:
             )
             boxes[2, :, :, :, i], boxes[3, :, :, :, i] = on.min(axis=0), on.max(axis=0)
     rows, width = k * p * len(quad_block), quad_block.shape[1]
-    normal = _take(g.normal, quad_block, 2, new("normal", (k, p) + quad_block.shape + (3,)))
+    normal = take_into(g.normal, quad_block, 2, new("normal", (k, p) + quad_block.shape + (3,)))
     moved = new("moved", (3, rows, width))
     np.copyto(moved.reshape(3, k, p, len(quad_block), width), np.moveaxis(normal, -1, 0))
-    touch = _take(g.touch, quad_block, 2, new("touch", (k, p) + quad_block.shape))
+    touch = take_into(g.touch, quad_block, 2, new("touch", (k, p) + quad_block.shape))
     return BlockTables(
         normal=moved,
-        offset=_take(g.offset, quad_block, 2, new("offset", (k, p) + quad_block.shape)).reshape(
+        offset=take_into(g.offset, quad_block, 2, new("offset", (k, p) + quad_block.shape)).reshape(
             rows, width
         ),
         touch=np.subtract(touch, margin, out=touch).reshape(rows, width),
@@ -115,13 +115,7 @@ def _off_hinge(first, rows, new):
     written to a work array of ``new``."""
     if not len(rows) or rows[-1] - rows[0] == len(rows) - 1:
         return first[rows[0] : rows[-1] + 1] if len(rows) else first[:0]
-    return _take(first, rows, 0, new("on", (len(rows),) + first.shape[1:]))
-
-
-def _take(values, rows, axis, out):
-    """``np.take(values, rows, axis=axis)`` written to ``out`` (the rows are in range: no
-    copy made to check them)."""
-    return np.take(values, rows, axis=axis, out=out, mode="clip")
+    return take_into(first, rows, 0, new("on", (len(rows),) + first.shape[1:]))
 
 
 def _box_bound(t, quads, verts, new):
@@ -130,21 +124,21 @@ def _box_bound(t, quads, verts, new):
     loosened by twice the margin: its box's extreme height ``n . c - offset ± |n| . e`` does.
     ``new(name, shape, dtype)``: the arrays written (the results among them)."""
     m, b = len(quads), t.normal.shape[2]
-    lo, hi = _take(t.bounds, verts, 1, new("box", (2, m, 3)))
+    lo, hi = take_into(t.bounds, verts, 1, new("box", (2, m, 3)))
     c = np.add(lo, hi, out=new("c", (m, 3)))
     c *= 0.5
     e = np.subtract(hi, lo, out=new("e", (m, 3)))
     e *= 0.5
-    nx, ny, nz = _take(t.normal, quads, 1, new("normal", (3, m, b)))  # (M, B) each
+    nx, ny, nz = take_into(t.normal, quads, 1, new("normal", (3, m, b)))  # (M, B) each
     mid, half, term = new("mid", (m, b)), new("half", (m, b)), new("term", (m, b))
     np.multiply(nx, c[:, 0:1], out=mid)
     mid += np.multiply(ny, c[:, 1:2], out=term)
     mid += np.multiply(nz, c[:, 2:3], out=term)
-    mid -= _take(t.offset, quads, 0, term)
+    mid -= take_into(t.offset, quads, 0, term)
     np.multiply(np.abs(nx, out=term), e[:, 0:1], out=half)
     half += np.multiply(np.abs(ny, out=term), e[:, 1:2], out=term)
     half += np.multiply(np.abs(nz, out=term), e[:, 2:3], out=term)
-    loose = _take(t.touch, quads, 0, new("loose", (m, b)))
+    loose = take_into(t.touch, quads, 0, new("loose", (m, b)))
     loose -= t.margin
     up = np.greater(np.add(mid, half, out=term), loose, out=new("up", (m, b), bool))
     np.negative(loose, out=loose)
@@ -161,17 +155,17 @@ def _heights(g, t, blocks, quad_block, local, new):
     k, p, n = g.offset.shape
     m, b, v = len(s), quad_block.shape[1], local.shape[1]
     quads = (s * p + ba) * len(quad_block) + bj
-    at = _take(local, bi, 0, new("at", (m, v), np.intp))
+    at = take_into(local, bi, 0, new("at", (m, v), np.intp))
     at += ((s * p + bb) * (2 * n + 2))[:, None]
-    x = _take(g.vertices.reshape(-1, 3), at, 0, new("x", (m, v, 3)))  # (M, V, 3)
+    x = take_into(g.vertices.reshape(-1, 3), at, 0, new("x", (m, v, 3)))  # (M, V, 3)
     on_hinge = t.masks[t.pattern[ba, bb, bi]][..., None]  # neither side (fmax, fmin skip it)
     np.copyto(x, np.nan, where=on_hinge)
     nrm = new("nrm", (m, b, 3))
-    np.copyto(nrm, np.moveaxis(_take(t.normal, quads, 1, new("normal", (3, m, b))), 0, -1))
+    np.copyto(nrm, np.moveaxis(take_into(t.normal, quads, 1, new("normal", (3, m, b))), 0, -1))
     h = new("h", (v, m, b))
     np.matmul(x, nrm.swapaxes(1, 2), out=h.transpose(1, 0, 2))
-    off = _take(t.offset, quads, 0, new("off", (m, b)))
-    limit = _take(t.touch, quads, 0, new("limit", (m, b)))
+    off = take_into(t.offset, quads, 0, new("off", (m, b)))
+    limit = take_into(t.touch, quads, 0, new("limit", (m, b)))
     extreme, bound = new("extreme", (m, b)), new("bound", (m, b))
     up = np.greater(
         np.fmax.reduce(h, axis=0, out=extreme),
@@ -202,16 +196,16 @@ def _near(g, t, blocks, box, steps, quad_block, new):
     s, ba, bj = blocks
     p, n = g.offset.shape[1:]
     r, b = len(s), quad_block.shape[1]
-    at = _take(quad_block, bj, 0, new("at", (r, b), np.intp))
+    at = take_into(quad_block, bj, 0, new("at", (r, b), np.intp))
     at += ((s * p + ba) * n)[:, None]  # (R, B) into (k, p, n)
-    centre = _take(g.centre.reshape(-1, 3), at, 0, new("centre", (r, b, 3)))  # (R, B, 3)
+    centre = take_into(g.centre.reshape(-1, 3), at, 0, new("centre", (r, b, 3)))  # (R, B, 3)
     lo = np.take(t.lo, box, axis=0)[:, None]
     hi = np.take(t.hi, box, axis=0)[:, None]
     gap, term = new("gap", (r, b, 3)), new("term", (r, b, 3))
     np.maximum(np.subtract(lo, centre, out=gap), 0.0, out=gap)
     gap += np.maximum(np.subtract(centre, hi, out=term), 0.0, out=term)
     reach = np.sqrt(
-        _take(g.radius2.reshape(-1), at, 0, new("reach", (r, b))), out=new("root", (r, b))
+        take_into(g.radius2.reshape(-1), at, 0, new("reach", (r, b))), out=new("root", (r, b))
     )
     reach += g.reach[steps][:, None]
     reach += t.margin

@@ -29,7 +29,7 @@ import numpy as np
 from compas_ccu.kinematics.interference_blocks import sided_blocks, work_arrays
 from compas_ccu.kinematics.plates import plate_quads
 from compas_ccu.tolerances import ZERO_LENGTH
-from compas_ccu.work_arrays import array_maker
+from compas_ccu.work_arrays import array_maker, take_into
 
 __all__ = ["BLOCK", "path_events"]
 
@@ -50,12 +50,6 @@ def _quads(vertices, n):
     centre = corners.mean(axis=-2)
     radius2 = ((corners - centre[..., None, :]) ** 2).sum(axis=-1).max(axis=-1)
     return corners, normal, offset, centre, radius2
-
-
-def _take(values, rows, axis, out):
-    """``np.take(values, rows, axis=axis)`` written to ``out`` (the rows are in range: no
-    copy made to check them)."""
-    return np.take(values, rows, axis=axis, out=out, mode="clip")
 
 
 #: Quads (and rulings) per block of the candidate search.
@@ -113,7 +107,7 @@ def _step_boxes(first, block, new, name):
         kept = new(name + ".points", first.shape)
         np.copyto(kept, first)
         first = kept
-    points = _take(first, block.T, 0, new(name, block.T.shape + first.shape[1:]))
+    points = take_into(first, block.T, 0, new(name, block.T.shape + first.shape[1:]))
     axes = (0,) + tuple(range(2, points.ndim - 3))  # the block's points (and their corners)
     lo, hi = np.minimum.reduce(points, axis=axes), np.maximum.reduce(points, axis=axes)
     lo = np.minimum(lo[:, :-1], lo[:, 1:])  # (J, k - 1, p, 3)
