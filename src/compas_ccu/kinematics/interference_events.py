@@ -14,6 +14,10 @@ block's box first, then the heights of the pairs it keeps). The exact tests run 
 in the batches and the order of all candidates, with the edge planes of every quad computed
 once, so the events are those of the exact tests on every candidate, bit for bit
 (tests/test_kinematics_interference.py, tests/test_kinematics_interference_blocks.py).
+
+The boxes of the blocks and the steps' displacements are written (``out=``) into the work
+arrays kept per thread by :mod:`compas_ccu.kinematics.interference_blocks` (its
+``work_arrays``), as its scan's are: read by this call only, never returned.
 """
 
 from __future__ import annotations
@@ -22,9 +26,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from compas_ccu.kinematics.interference_blocks import sided_blocks
+from compas_ccu.kinematics.interference_blocks import sided_blocks, work_arrays
 from compas_ccu.kinematics.plates import plate_quads
 from compas_ccu.tolerances import ZERO_LENGTH
+from compas_ccu.work_arrays import array_maker, take_into
 
 __all__ = ["BLOCK", "path_events"]
 
@@ -93,9 +98,21 @@ def _overlap(qlo, qhi, vlo, vhi):
     return overlap
 
 
-def _boxes(points, axis):
-    """Bounding boxes (lo, hi) of ``points`` over ``axis`` (and the last but one axis)."""
-    return points.min(axis=axis), points.max(axis=axis)
+def _step_boxes(first, block, new, name):
+    """Bounding boxes (lo, hi) (k - 1, p, J, 3) over each step (both states) of the blocks
+    ``block`` (J, b) of points ``first`` (m, ..., k, p, 3): the point axis first, so that the
+    extremes run over whole slabs. Every bound is one of the points' coordinates (min and max
+    are exact: the same whatever the order). ``new(name, shape)``: the arrays written."""
+    if not first.flags.c_contiguous:  # np.take would copy it afresh
+        kept = new(name + ".points", first.shape)
+        np.copyto(kept, first)
+        first = kept
+    points = take_into(first, block.T, 0, new(name, block.T.shape + first.shape[1:]))
+    axes = (0,) + tuple(range(2, points.ndim - 3))  # the block's points (and their corners)
+    lo, hi = np.minimum.reduce(points, axis=axes), np.maximum.reduce(points, axis=axes)
+    lo = np.minimum(lo[:, :-1], lo[:, 1:])  # (J, k - 1, p, 3)
+    hi = np.maximum(hi[:, :-1], hi[:, 1:])
+    return np.moveaxis(lo, 0, 2), np.moveaxis(hi, 0, 2)
 
 
 def path_events(vertices, n, excluded, tol):
@@ -112,21 +129,24 @@ def path_events(vertices, n, excluded, tol):
     k, p = vertices.shape[:2]
     if k < 2:
         return [], tol
+    new = array_maker(work_arrays, "events.")  # kept: read by this call only (module docstring)
     corners, normal, offset, centre, radius2 = _quads(vertices, n)
     # touching is within the tolerance or the quads' own planarity (radial and inclined
     # layouts mirror across fitted planes: their quads are planar to a few 1e-6 of the size)
     planarity = np.abs(np.einsum("...ci,...i->...c", corners, normal) - offset[..., None])
     touch = np.maximum(tol, 2.0 * planarity.max(axis=-1))  # (k, p, n): per quad
-    # the largest displacement of a vertex in every step
-    reach = np.linalg.norm(np.diff(vertices, axis=0), axis=-1).max(axis=(1, 2))
+    # the largest displacement of a vertex in every step (np.linalg.norm of np.diff)
+    step = np.subtract(vertices[1:], vertices[:-1], out=new("step", (k - 1,) + vertices.shape[1:]))
+    length = np.add.reduce(
+        np.multiply(step, step, out=step), axis=-1, out=new("length", step.shape[:-1])
+    )
+    reach = np.sqrt(length, out=length).max(axis=(1, 2))
     quad_block, ruling_block, edges = _blocks(n)
     m = n + 1
     local = np.concatenate([ruling_block, m + ruling_block], axis=1)  # (I, 2 BLOCK + 2)
     # boxes of every block over the step from state i to i + 1, widened by the touch tolerance
-    qc = corners[:, :, quad_block].reshape(k, p, len(quad_block), -1, 3)
-    qlo, qhi = _boxes(np.concatenate([qc[:-1], qc[1:]], axis=3), axis=3)
-    vc = vertices[:, :, local]
-    vlo, vhi = _boxes(np.concatenate([vc[:-1], vc[1:]], axis=3), axis=3)
+    qlo, qhi = _step_boxes(np.moveaxis(corners, (2, 3), (0, 1)), quad_block, new, "quads")
+    vlo, vhi = _step_boxes(np.moveaxis(vertices, 2, 0), local, new, "rulings")
     widen = (touch.max() + reach)[:, None, None, None]
     qlo, vlo = qlo - widen, vlo - widen
     overlap = _overlap(qlo, qhi, vlo, vhi)  # (k - 1, p, J, p, I)
