@@ -28,7 +28,6 @@ import numpy as np
 
 from compas_ccu.kinematics.interference_blocks import sided_blocks, work_arrays
 from compas_ccu.kinematics.plates import plate_quads
-from compas_ccu.tolerances import ZERO_LENGTH
 from compas_ccu.work_arrays import array_maker, take_into
 
 __all__ = ["BLOCK", "path_events"]
@@ -189,61 +188,6 @@ def _heights(g, states, a, quads, b, verts):
     off = g.offset[states[:, None], a[:, None], quads]  # (N, BLOCK)
     x = g.vertices[states[:, None], b[:, None], verts]  # (N, V, 3)
     return x @ nrm.swapaxes(1, 2) - off[:, None, :], x
-
-
-def _sided(g, candidates, shape, quad_block, local, excluded):
-    """(N,) bool: the candidate block pairs (state, a, J, b, I) of :func:`path_events` that may hold
-    an event: for some quad, a vertex of the block strictly above its plane and one strictly
-    below it (in the state after the step for a crossing, in either state for a
-    pass-through). Only these need the full tests: the others have none.
-
-    Each block's heights are computed once for both steps it belongs to, and compared with the
-    touch tolerance loosened by far more than their rounding, so no block with an event is
-    left out whatever the order of the arithmetic."""
-    ks, a, jb, b, ib = candidates
-    if not len(ks):
-        return np.zeros(0, dtype=bool)
-    shape = (shape[0] + 1,) + shape[1:]  # (k, p, J, p, I): the blocks in every state
-    before = np.ravel_multi_index((ks, a, jb, b, ib), shape)
-    after = np.ravel_multi_index((ks + 1, a, jb, b, ib), shape)
-    needed = np.zeros(int(np.prod(shape)), dtype=bool)
-    needed[before] = needed[after] = True
-    blocks = np.flatnonzero(needed)
-    where = np.zeros(len(needed), dtype=np.intp)
-    where[blocks] = np.arange(len(blocks))
-    s, ba, bj, bb, bi = np.unravel_index(blocks, shape)
-    k, p, n = g.offset.shape
-    quads = (s * p + ba)[:, None] * n + quad_block[bj]  # (M, BLOCK) into (k, p, n)
-    verts = local[bi]  # (M, V)
-    x = np.take(g.vertices.reshape(-1, 3), (s * p + bb)[:, None] * (2 * n + 2) + verts, axis=0)
-    nrm = np.take(g.normal.reshape(-1, 3), quads, axis=0)
-    skip = excluded[ba[:, None], bb[:, None], verts]  # (M, V)
-    x[skip] = np.nan  # on the hinge: neither side (left out of the extremes below)
-    # x . normal (V, M, BLOCK): the vertex axis first, so that its extremes are quick
-    h = np.empty((verts.shape[1], len(blocks), quad_block.shape[1]))
-    np.matmul(x, nrm.swapaxes(1, 2), out=h.transpose(1, 0, 2))
-    margin = ZERO_LENGTH * float(np.abs(g.vertices).max())  # >> the rounding of a height
-    offset = np.take(g.offset, quads)  # (M, BLOCK)
-    t = np.take(g.touch, quads) - margin
-    up = np.fmax.reduce(h, axis=0) > offset + t  # a height above the touch tolerance
-    down = np.fmin.reduce(h, axis=0) < offset - t
-    up0, down0 = up[where[before]], down[where[before]]
-    up1, down1 = up[where[after]], down[where[after]]
-    sided = (up1 & down1) | (up0 & down1) | (down0 & up1)  # (N, BLOCK)
-    rows = np.flatnonzero(sided.any(axis=1))
-    # and near the quad: a crossing point (on an edge of the block's vertices off the hinge)
-    # within the quad's circumradius of its centre, a vertex passing through within that and
-    # the step's reach (in the state after the step): the centre within that of their box
-    block = where[after[rows]]
-    x, off = np.take(x, block, axis=0), np.take(skip, block, axis=0)[..., None]  # (R, V, .)
-    at = quads[block]  # (R, BLOCK)
-    centre = np.take(g.centre.reshape(-1, 3), at, axis=0)  # (R, BLOCK, 3)
-    lo = np.where(off, np.inf, x).min(axis=1)[:, None]
-    hi = np.where(off, -np.inf, x).max(axis=1)[:, None]
-    gap = np.maximum(lo - centre, 0.0) + np.maximum(centre - hi, 0.0)
-    reach = np.sqrt(np.take(g.radius2, at)) + g.reach[ks[rows]][:, None] + margin
-    sided[rows] &= (gap**2).sum(axis=-1) <= reach**2
-    return sided.any(axis=1)
 
 
 def _edge_planes(corners, normal):
