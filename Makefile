@@ -1,7 +1,7 @@
 # Quick start: `make demo` (set up + run the vault example and write its report),
 # `make test` (set up + browser + validators + lint + import contracts + every test).
 # `make test-fast`: the tests not marked slow on 2 processes (no FE engine, Dask cluster, browser
-# or notebook kernel), ~65 s on 2 cores. `make fuzz`: the robustness campaign (docs/robustness.md).
+# or notebook kernel), 51-59 s on 2 cores. `make fuzz`: the robustness campaign (docs/robustness.md).
 # `make explore`: the example design-space sweep (270 variants on a local Dask cluster).
 # `make optimize`: the example optimisation study (300 trials of Optuna's TPE on Dask).
 # `make studio`: the live design studio in the browser on the vault (docs/studio.md).
