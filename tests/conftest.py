@@ -12,6 +12,7 @@ from hypothesis import settings
 
 from compas_ccu.design import Design
 from compas_ccu.fea.engines import get_engine
+from compas_ccu.kinematics.invariants import overlapping_creases
 from compas_ccu.model import load_model
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -159,6 +160,23 @@ def captured_plate_contacts(thick, alphas, *, report=False):
     if not report:
         kwargs = {key: value for key, value in kwargs.items() if key != "smallest"}
     return args, kwargs
+
+
+def sequential_overlap_limit(mechanism, bisections=40):
+    """The overlap limit as plainly as it is defined: one deploy and one overlap test of every
+    crease per bisection of ``[0, alpha_limit]`` (the oracle of
+    :func:`compas_ccu.kinematics.invariants.overlap_limit`, which must find the same angle)."""
+    limit = mechanism.alpha_limit
+    if not overlapping_creases(mechanism, mechanism.deploy(limit)).any():
+        return limit
+    lo, hi = 0.0, limit
+    for _ in range(bisections):
+        mid = 0.5 * (lo + hi)
+        if overlapping_creases(mechanism, mechanism.deploy(np.array([mid]))).any():
+            hi = mid
+        else:
+            lo = mid
+    return lo
 
 
 #: docstring examples that fabricate a design with the default true-shape nesting (seconds

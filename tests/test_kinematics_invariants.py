@@ -14,25 +14,10 @@ from compas_ccu.kinematics import invariants
 from compas_ccu.kinematics.checks import planar_overlaps, self_intersecting, total_turning
 from compas_ccu.kinematics.invariants import crease_polylines, overlap_limit, overlapping_creases
 from compas_ccu.model import load_model
-from conftest import EXAMPLES
+from conftest import EXAMPLES, sequential_overlap_limit
 
 DATA = Path(__file__).resolve().parents[1] / "src" / "compas_ccu" / "data"
 CATALOG = sorted((DATA / "catalog").glob("*.toml"))
-
-
-def sequential_overlap_limit(mechanism, bisections=40):
-    """One deploy and one overlap test of every suspect crease per bisection."""
-    limit = mechanism.alpha_limit
-    if not overlapping_creases(mechanism, mechanism.deploy(limit)).any():
-        return limit
-    lo, hi = 0.0, limit
-    for _ in range(bisections):
-        mid = 0.5 * (lo + hi)
-        if overlapping_creases(mechanism, mechanism.deploy(np.array([mid]))).any():
-            hi = mid
-        else:
-            lo = mid
-    return lo
 
 
 def same_as_sequential(path):

@@ -20,7 +20,7 @@ from compas_ccu.model import load_model
 from compas_ccu.model.self_intersection import adopt_limits, geometry_key
 from compas_ccu.studio import StudioSession
 from compas_ccu.studio.checks import design_checks
-from conftest import EXAMPLES
+from conftest import EXAMPLES, sequential_overlap_limit
 
 DESIGNS = {
     "vault": EXAMPLES / "vault.toml",  # parallel, 10 plates
@@ -28,21 +28,6 @@ DESIGNS = {
     "inclined": catalog_path("fig11a-constant-apex"),  # inclined
     "two plates": EXAMPLES / "cone.toml",  # a single crease: 2 plates
 }
-
-
-def sequential_overlap_limit(mechanism, bisections=40):
-    """The former overlap limit: one deploy and one overlap test per bisection."""
-    limit = mechanism.alpha_limit
-    if not overlapping_creases(mechanism, mechanism.deploy(limit)).any():
-        return limit
-    lo, hi = 0.0, limit
-    for _ in range(bisections):
-        mid = 0.5 * (lo + hi)
-        if overlapping_creases(mechanism, mechanism.deploy(mid)).any():
-            hi = mid
-        else:
-            lo = mid
-    return lo
 
 
 def looped_self_intersecting(points, origins, normals):

@@ -112,16 +112,7 @@ def planar_overlaps(points: np.ndarray, origins: np.ndarray, normals: np.ndarray
     """Which planar polylines overlap themselves, by GEOS alone: each projected onto its plane,
     all tested in one vectorised call (:func:`self_intersecting` asks it for the polylines that
     turn by more than pi; each polyline's answer is its own, whichever are tested together).
-
-    Parameters
-    ----------
-    points : (k, m, 3) float
-    origins, normals : (k, 3) float
-        Planes of the polylines.
-
-    Returns
-    -------
-    (k,) bool
+    Parameters and result as :func:`self_intersecting`'s.
     """
     import shapely
 
