@@ -74,31 +74,34 @@ def unit3(v: np.ndarray) -> np.ndarray:
     return v / norm3(v)[..., None]
 
 
-def coordinate_dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+def coordinate_dot(u: np.ndarray, v: np.ndarray, *, out=None, term=None) -> np.ndarray:
     """:func:`dot` of vectors stored coordinate by coordinate, (3, ...) arrays: the same values
     as :func:`dot` of contiguous (..., 3) vectors, whose ``einsum`` sums the three products as
-    ``(0 + 2) + 1``, on long contiguous rows."""
-    out = u[0] * v[0]
-    out += u[2] * v[2]
-    out += u[1] * v[1]
+    ``(0 + 2) + 1``, on long contiguous rows. With ``out`` and ``term`` (arrays of the result's
+    shape, e.g. kept work arrays) written there, the same operations."""
+    out = np.multiply(u[0], v[0], out=out)
+    out += np.multiply(u[2], v[2], out=term)
+    out += np.multiply(u[1], v[1], out=term)
     return out
 
 
-def coordinate_cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """:func:`cross3` of vectors stored coordinate by coordinate, (3, ...) arrays."""
-    out = np.empty(np.broadcast_shapes(u.shape, v.shape))
-    np.subtract(u[1] * v[2], u[2] * v[1], out=out[0])
-    np.subtract(u[2] * v[0], u[0] * v[2], out=out[1])
-    np.subtract(u[0] * v[1], u[1] * v[0], out=out[2])
+def coordinate_cross(u: np.ndarray, v: np.ndarray, *, out=None, one=None, two=None) -> np.ndarray:
+    """:func:`cross3` of vectors stored coordinate by coordinate, (3, ...) arrays; with ``out``
+    (3, ...) and ``one``, ``two`` (arrays of the shape of ``out[0]``) written there."""
+    if out is None:
+        out = np.empty(np.broadcast_shapes(u.shape, v.shape))
+    for i, j, c in ((1, 2, 0), (2, 0, 1), (0, 1, 2)):
+        np.subtract(np.multiply(u[i], v[j], out=one), np.multiply(u[j], v[i], out=two), out=out[c])
     return out
 
 
-def coordinate_unit(v: np.ndarray) -> np.ndarray:
-    """:func:`unit3` of vectors stored coordinate by coordinate, (3, ...) arrays."""
-    size = v[0] * v[0]
-    size += v[1] * v[1]
-    size += v[2] * v[2]
-    return v / np.sqrt(size, out=size)
+def coordinate_unit(v: np.ndarray, *, in_place: bool = False, size=None, term=None) -> np.ndarray:
+    """:func:`unit3` of vectors stored coordinate by coordinate, (3, ...) arrays; with
+    ``in_place`` written over ``v`` (``size``, ``term``: arrays of the shape of ``v[0]``)."""
+    size = np.multiply(v[0], v[0], out=size)
+    size += np.multiply(v[1], v[1], out=term)
+    size += np.multiply(v[2], v[2], out=term)
+    return np.divide(v, np.sqrt(size, out=size), out=v if in_place else None)
 
 
 def reflect(v: np.ndarray, normal: np.ndarray) -> np.ndarray:

@@ -15,8 +15,7 @@ it: what leaves the collision search is copied out (the caller's arrays are made
 
 from __future__ import annotations
 
-import numpy as np
-
+from compas_ccu.geometry import coordinate_cross, coordinate_dot, coordinate_unit
 from compas_ccu.work_arrays import KEPT_SIZE, WorkArrays, array_maker, slot_maker
 
 __all__ = [
@@ -35,26 +34,18 @@ work_arrays = WorkArrays()
 
 
 def dot_into(u, v, out, term):
-    """:func:`compas_ccu.geometry.coordinate_dot` of ``u``, ``v`` (3, ...) written to ``out``,
-    the same sums in the same order (``term``: an array of the shape of ``out``)."""
-    np.multiply(u[0], v[0], out=out)
-    out += np.multiply(u[2], v[2], out=term)
-    out += np.multiply(u[1], v[1], out=term)
-    return out
+    """:func:`compas_ccu.geometry.coordinate_dot` of ``u``, ``v`` (3, ...) written to ``out``
+    (``term``: an array of the shape of ``out``)."""
+    return coordinate_dot(u, v, out=out, term=term)
 
 
 def cross_into(u, v, out, one, two):
     """:func:`compas_ccu.geometry.coordinate_cross` of ``u``, ``v`` written to ``out`` (3,
     ...) (``one``, ``two``: arrays of the shape of ``out[0]``)."""
-    for i, j, c in ((1, 2, 0), (2, 0, 1), (0, 1, 2)):
-        np.subtract(np.multiply(u[i], v[j], out=one), np.multiply(u[j], v[i], out=two), out=out[c])
-    return out
+    return coordinate_cross(u, v, out=out, one=one, two=two)
 
 
 def unit_into(v, size, term):
     """``v`` (3, ...) made :func:`compas_ccu.geometry.coordinate_unit` in place (``size``,
     ``term``: arrays of the shape of ``v[0]``)."""
-    np.multiply(v[0], v[0], out=size)
-    size += np.multiply(v[1], v[1], out=term)
-    size += np.multiply(v[2], v[2], out=term)
-    return np.divide(v, np.sqrt(size, out=size), out=v)
+    return coordinate_unit(v, in_place=True, size=size, term=term)
