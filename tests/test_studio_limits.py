@@ -308,3 +308,51 @@ def test_two_threads_asking_for_a_limit_measure_it_once(monkeypatch):
         assert limits["collision_free_alpha"] == found[0]
         assert limits.measure("overlap_alpha", lambda: None) == model.overlap_alpha
         assert "certificate" in model.limits and "certificate" not in limits  # made again
+
+
+def test_the_view_of_an_edit_does_not_wait_for_its_path_limits(tmp_path, monkeypatch):
+    """The view worker draws a new model at once; until the checks worker has measured the
+    path limits the read-out says so and the slider has no overlap mark, then both are shown."""
+    pytest.importorskip("viser")
+    import threading
+
+    import compas_ccu.studio.jobs as jobs
+    from compas_ccu.model.self_intersection import measured_collision_free_alpha
+    from compas_ccu.studio.app import Studio
+    from studio_page import free_port
+
+    shutil.copy(EXAMPLES / "vault.toml", tmp_path / "vault.toml")
+    release = threading.Event()
+
+    def held_checks(model, **options):
+        assert release.wait(60)
+        return design_checks(model, **options)
+
+    monkeypatch.setattr(jobs, "design_checks", held_checks)
+    session = StudioSession.start(tmp_path / "vault.toml", out=tmp_path / "out")
+    app = Studio(session, port=free_port())
+    try:
+        release.set()
+        assert app.wait_idle(120)
+        release.clear()
+        frames = app.frames
+        assert app.apply_action(lambda: app.session.edit("crease", "rise", 0.8))
+        model = app.session.model
+        assert app._view.wait_idle(60) and app.frames > frames  # drawn, checks still held
+        assert measured_collision_free_alpha(model) is None and not app._checker.idle
+        assert "rise <b>0.800 m</b>" in app.status.content
+        assert "checking the path" in app.status.content
+        assert [m.label for m in app.slider._marks] == ["0", "design", "limit"]
+        release.set()
+        assert app.wait_idle(120)
+        assert measured_collision_free_alpha(model) == pytest.approx(model.overlap_alpha)
+        assert "checking the path" not in app.status.content and "beyond" not in app.status.content
+        labels = {m.label: m.value for m in app.slider._marks}
+        assert labels["overlap"] == pytest.approx(model.overlap_alpha, rel=1e-12)
+        app.alpha = model.overlap_alpha + 1.0  # past the first overlap: the read-out says so
+        app.redraw()
+        assert app.wait_idle(60)
+        assert f"beyond the overlap angle {model.overlap_alpha:.4g}°" in app.status.content
+    finally:
+        release.set()
+        app.stop()

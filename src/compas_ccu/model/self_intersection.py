@@ -22,6 +22,7 @@ __all__ = [
     "check_overlap",
     "path_certificate",
     "collision_free_alpha",
+    "measured_collision_free_alpha",
     "check_interference",
     "geometry_key",
     "adopt_limits",
@@ -161,6 +162,22 @@ def collision_free_alpha(model) -> float:
         return math.degrees(min(overlap, found.clear if found is not None else overlap))
 
     return model.limits.measure("collision_free_alpha", measure)
+
+
+def measured_collision_free_alpha(model) -> float | None:
+    """:func:`collision_free_alpha` of ``model`` if it has been measured (on this model or on
+    one of the same geometry, :func:`adopt_limits`), else None; never measures it. For a
+    caller that must not wait for the path scan (the studio draws a new model while its
+    checks measure it); :attr:`CCUModel.overlap_alpha` is then measured too.
+
+    >>> from compas_ccu.model import load_model
+    >>> model = load_model("examples/cone.toml")
+    >>> measured_collision_free_alpha(model) is None
+    True
+    >>> round(model.collision_free_alpha, 4) == round(measured_collision_free_alpha(model), 4)
+    True
+    """
+    return model.limits.get("collision_free_alpha")
 
 
 def geometry_key(model) -> str:

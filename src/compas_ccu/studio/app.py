@@ -264,20 +264,22 @@ class Studio(StudioWidgets, StudioEvents, StudioJobs):
         self.slider.max = float(np.floor(model.alpha_limit * 100) / 100)
         self.alpha = min(self.alpha, self.slider.max)
         self.slider.value = round(self.alpha, 2)
-        self._marks(model, None)
+        # the path limits are the checks worker's (it sets every mark with the panel): the view
+        # worker starts at once, not after the path scan
+        self._marks(model, None, path=False)
         self.checks_panel.content = "<i>measuring ...</i>"
         self.patterns_panel.content = "<i>drawing ...</i>"
         self._view.submit()
         self._checker.submit(self.session.generation, model)
         self._status()
 
-    def _marks(self, model, collision) -> None:
-        """The slider's marks: design, overlap and collision angles, the limit."""
+    def _marks(self, model, collision, *, path: bool = True) -> None:
+        """The slider's marks: design, overlap and collision angles, the limit (``path=False``:
+        the overlap and crossing angles only if they are measured already)."""
         from viser._messages import GuiSliderMark
 
-        self.slider._marks = tuple(
-            GuiSliderMark(v, t) for v, t in slider_marks(model, collision, self.slider.max)
-        )
+        marks = slider_marks(model, collision, self.slider.max, path=path)
+        self.slider._marks = tuple(GuiSliderMark(v, t) for v, t in marks)
 
     def _status(self) -> None:
         s = self.session

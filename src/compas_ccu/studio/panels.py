@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import html
 
+from compas_ccu.model.self_intersection import measured_collision_free_alpha
+
 __all__ = ["STATUS_COLORS", "message_html", "status_html", "checks_html", "patterns_html"]
 
 #: Text colours of the four check states.
@@ -22,6 +24,21 @@ def message_html(text: str, status: str = "fail", *, size: str = "0.85em", id: s
         f"<div{ident} style='color:{STATUS_COLORS[status]};font-size:{size}'>"
         f"{html.escape(text)}</div>"
     )
+
+
+def _beyond_html(model, alpha: float) -> str:
+    """What the read-out says of the state at ``alpha`` degrees: beyond the first crossing or
+    overlap, nothing, or that the path is still being checked (its limits not measured yet)."""
+    free = measured_collision_free_alpha(model)
+    if free is None:
+        return " <span style='color:#777777'>· checking the path …</span>"
+    if alpha <= free:
+        return ""
+    if free < model.overlap_alpha:
+        text = f"beyond {free:.4g}°: two plates pass through each other"
+    else:
+        text = f"beyond the overlap angle {model.overlap_alpha:.4g}°: a crease overlaps itself"
+    return f" <span style='color:{STATUS_COLORS['fail']}'>{text}</span>"
 
 
 def status_html(session, view, *, state: str, message: str = "", failed=()) -> str:
@@ -48,19 +65,7 @@ def status_html(session, view, *, state: str, message: str = "", failed=()) -> s
     ]
     model = session.model
     if model is not None and view is not None:
-        crossing = model.collision_free_alpha < model.overlap_alpha
-        over = (
-            f" <span style='color:{STATUS_COLORS['fail']}'>"
-            + (
-                f"beyond {model.collision_free_alpha:.4g}°: two plates pass through each other"
-                if crossing
-                else f"beyond the overlap angle {model.overlap_alpha:.4g}°: a crease overlaps "
-                "itself"
-            )
-            + "</span>"
-            if view.overlapping
-            else ""
-        )
+        over = _beyond_html(model, view.alpha)
         out.append(
             f"<div id='ccu-readout'>α = <b>{view.alpha:.2f}°</b> · span <b>{view.span:.3f} m</b>"
             f" · rise <b>{view.rise:.3f} m</b>{over}</div>"

@@ -69,8 +69,6 @@ class ViewState:
         Of the leading crease (``structure.metrics``).
     legend : dict
         ``title``, ``rows`` [(rgb, text)] or ``scale`` (colormap name, lo, hi, unit), ``note``.
-    overlapping : bool
-        The state lies beyond the angle at which a crease overlaps itself.
     vertex_colors : (p, v, 3) uint8 or None
         sRGB colour of every plate vertex (the plates are then drawn in these, interpolated,
         instead of ``plate_colors``: the distance to a target, :mod:`compas_ccu.studio.target`).
@@ -86,7 +84,6 @@ class ViewState:
     span: float
     rise: float
     legend: dict
-    overlapping: bool = False
     plate_ids: list = field(default_factory=list)
     solids: list = field(default_factory=list)
     vertex_colors: np.ndarray | None = None
@@ -239,7 +236,6 @@ def view_state(
         span=structure.metrics["span"],
         rise=structure.metrics["rise"],
         legend=legend,
-        overlapping=alpha > model.collision_free_alpha,
         plate_ids=list(model.plate_ids),
     )
     if solids and thick is not None:

@@ -10,6 +10,7 @@ Target. :func:`slider_marks` gives the marks of the slider.
 from __future__ import annotations
 
 from compas_ccu.catalog import catalog_entries
+from compas_ccu.model.self_intersection import measured_collision_free_alpha
 from compas_ccu.studio.controls import (
     check_field_text,
     design_controls,
@@ -30,21 +31,27 @@ MARK_GAP = 0.08
 _MARK_RANK = {"collision": 0, "crossing": 1, "overlap": 2, "design": 3, "limit": 4, "0": 5}
 
 
-def slider_marks(model, collision, top: float) -> list:
+def slider_marks(model, collision, top: float, *, path: bool = True) -> list:
     """``[(alpha, label), ...]`` of the α slider: 0, the design α, the overlap angle, the angle
     where two plates first cross (when before the overlap), the thick plates' collision and the
     limit ``top``; of marks closer than :data:`MARK_GAP` of the range only the
     more telling one keeps its label (collision, overlap, design, limit, 0), so none overlap.
+    With ``path=False`` the overlap and crossing angles are marked only if they are measured
+    already (:func:`~compas_ccu.model.self_intersection.measured_collision_free_alpha`).
 
     >>> from compas_ccu.model import load_model
-    >>> slider_marks(load_model("examples/vault.toml"), None, 88.95)
+    >>> model = load_model("examples/vault.toml")
+    >>> slider_marks(model, None, 88.95, path=False)
+    [(0.0, '0'), (30.0, 'design'), (88.95, 'limit')]
+    >>> slider_marks(model, None, 88.95)
     [(0.0, '0'), (30.0, 'design'), (68.15320448590005, 'overlap'), (88.95, 'limit')]
     """
     marks = [(0.0, "0"), (float(model.alpha_design), "design"), (float(top), "limit")]
-    if model.overlap_alpha < model.alpha_limit:
-        marks.append((float(model.overlap_alpha), "overlap"))
-    if model.collision_free_alpha < model.overlap_alpha:  # two plates cross first
-        marks.append((float(model.collision_free_alpha), "crossing"))
+    if path or measured_collision_free_alpha(model) is not None:
+        if model.overlap_alpha < model.alpha_limit:
+            marks.append((float(model.overlap_alpha), "overlap"))
+        if model.collision_free_alpha < model.overlap_alpha:  # two plates cross first
+            marks.append((float(model.collision_free_alpha), "crossing"))
     if collision is not None:
         marks.append((float(collision["alpha"]), "collision"))
     labelled = []
