@@ -63,10 +63,12 @@ class StudioJobs:
             return
         alpha = min(max(float(self.alpha), 0.0), model.alpha_limit)
         layers = {k: bool(box.value) for k, box in self.layers.items()}
-        thick = self._thick_model(generation, model)
-        thick = None if isinstance(thick, Exception) else thick
-        relaxed = self._relaxed.get((generation, round(alpha, 6)))
         coloring = self.coloring
+        thick = None  # built here only when drawn: else the checks worker builds it
+        if layers["solids"] or coloring == "bending utilisation":
+            thick = self._thick_model(generation, model)
+            thick = None if isinstance(thick, Exception) else thick
+        relaxed = self._relaxed.get((generation, round(alpha, 6)))
         view = view_state(
             model, alpha, coloring=coloring if coloring in COLORINGS else COLORINGS[0],
             vertices=relaxed, thick=thick, solids=layers["solids"],
@@ -85,6 +87,7 @@ class StudioJobs:
         self.target_panel.show_figures()
         self.last_view = view
         self._status()
+        self.server.flush()  # sent now, not at the end of viser's 1/60 s window
         self.render_seconds += time.perf_counter() - t0
         self.frames += 1
 
@@ -119,6 +122,7 @@ class StudioJobs:
                 self._marks(model, checks.collision)
                 self.checks_panel.content = checks_html(checks)
                 self._status()
+            self.server.flush()
             self.checks_shown += 1
             svg, too_large = cut_patterns_svg(model, sheet=design_sheet(model.design.values))
             if self.session.generation == generation:
