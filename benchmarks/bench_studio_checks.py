@@ -13,8 +13,8 @@ that share the GIL, so the checks panel waits for the view's Python as well):
 - **build**: the edit validated and the new model built (``StudioSession.edit``; with the
   recovery copy where the studio writes it there);
 - **view**: the thick plates built for the view and the first frame of the new model
-  (:func:`compas_ccu.studio.view.view_state` at the design angle with them; it asks for the
-  overlap and collision-free angles);
+  (:func:`compas_ccu.studio.view.view_state` at the design angle with them; before
+  2026-12-06 it asked for the overlap and collision-free angles, which the checks measure now);
 - **checks**: :func:`compas_ccu.studio.checks.design_checks` (key figures, thick plates' first
   collision, bending; with the view's thick plates where the studio shares them) and whatever
   the studio does before it sends the checks panel (the cut patterns, where it draws them

@@ -100,3 +100,17 @@ def test_the_series_of_phi2_is_taken_only_where_it_is_used():
     small = np.abs(x) < 1e-2
     series = sum((-1) ** k * (k - 1) / k * x ** (k - 2) for k in range(2, 10))
     assert (whole[small] == series[small]).all()
+
+
+@pytest.mark.parametrize(
+    "alphas", [[30.0], [10.0, 10.0], [20.0, 10.0, 30.0], [0.0, float("nan"), 30.0]]
+)
+def test_a_path_of_one_state_or_out_of_order_is_refused_in_one_line(alphas):
+    from compas_ccu.errors import OptionError
+
+    thick = ThickModel(load_model("examples/cone.toml"))
+    with pytest.raises(OptionError, match=r"at least 2 reference angles in increasing order"):
+        thick.actuation(alphas)
+    with pytest.raises(OptionError, match=r"path_states must be an integer >= 2 .*got 1"):
+        thick.summary(path_states=1)
+    assert np.isfinite(thick.actuation([10.0, 20.0]).force).all()  # two states suffice

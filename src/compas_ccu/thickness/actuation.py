@@ -37,6 +37,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
 from compas_ccu.model.checks import check_path
 from compas_ccu.model.records import leading_span
 from compas_ccu.strips.curvature import plate_curvature
@@ -330,6 +331,12 @@ def path_actuation(thick, alphas=None) -> Actuation:
     if alphas is None:
         alphas = np.linspace(0.0, thick.model.alpha_design, 21)
     alphas = np.atleast_1d(np.asarray(alphas, dtype=float))
+    if len(alphas) < 2 or not np.all(np.diff(alphas) > 0.0):  # NaN fails too
+        shown = np.round(alphas[:6], 6).tolist() + (["..."] if len(alphas) > 6 else [])
+        raise OptionError(
+            "the actuation force is dE/dα along a path: give at least 2 reference angles in "
+            f"increasing order, got {shown}"
+        )
     model = thick.model
     check_path(model, len(alphas))  # as CCUModel.path, whose vertices and spans these are
     limits = getattr(model, "limits", None)

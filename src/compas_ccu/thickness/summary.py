@@ -11,11 +11,18 @@ from __future__ import annotations
 
 import numpy as np
 
+from compas_ccu.errors import OptionError
+
 __all__ = ["thick_summary"]
 
 
 def thick_summary(thick, path_states: int = 41) -> dict:
     """:meth:`ThickModel.summary` of ``thick`` over ``path_states`` states to the design."""
+    if isinstance(path_states, bool) or int(path_states) != path_states or path_states < 2:
+        raise OptionError(
+            "path_states must be an integer >= 2 (the flat stack and the design state at "
+            f"least), got {path_states!r}"
+        )
     alphas = np.linspace(0.0, thick.model.alpha_design, path_states)
     st = thick.place(alphas)
     metrics = thick.metrics(st)
